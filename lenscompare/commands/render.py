@@ -1,0 +1,66 @@
+"""``lenscompare render SCENE -o OUT.exr``: a native render to linear EXR."""
+
+from __future__ import annotations
+
+import json
+
+from ..errors import InputError
+from ..scene import MODELS, SAMPLERS, load_scene
+
+__all__ = ["add_parser", "run"]
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        import argparse
+
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
+
+
+def non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        import argparse
+
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
+    return value
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("render", help="render a scene with the native tracer",
+                              description="Render SCENE with the native tracer into a linear float EXR.")
+    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
+    p.add_argument("--model", choices=MODELS, help="camera model (default: the scene's)")
+    p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (shipped name or file)")
+    p.add_argument("--spp", type=positive_int, help="samples per pixel")
+    p.add_argument("--sampler", choices=SAMPLERS)
+    p.add_argument("--seed", type=non_negative_int)
+    p.add_argument("--threads", type=positive_int, help="worker threads (default: all cores)")
+    p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..image import write_exr
+    from ..render import render
+
+    if not str(args.output).lower().endswith(".exr"):
+        raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
+    scene = load_scene(args.scene)
+    if args.lens is not None:
+        scene = scene.with_camera(lens=args.lens)
+    image = render(scene, model=args.model, spp=args.spp, sampler=args.sampler, seed=args.seed,
+                   threads=args.threads)
+    write_exr(args.output, image)
+    if args.json:
+        print(json.dumps({**image.metadata, "output": str(args.output)}))
+    return 0

@@ -1,0 +1,113 @@
+"""Images: linear float RGB with metadata, OpenEXR files and sRGB PNG previews.
+
+Pixels are linear (radiance, or normalised irradiance for the lens system),
+float32, shape (height, width, 3), row 0 at the top of the picture.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .atomic import atomic_output
+from .errors import InputError
+
+__all__ = ["Image", "write_exr", "read_exr", "write_png_preview", "srgb_encode"]
+
+_METADATA_KEY = "lenscompare"
+
+
+@dataclass(frozen=True)
+class Image:
+    """A linear RGB image and what produced it.
+
+    Attributes
+    ----------
+    pixels : ndarray, float32, shape (H, W, 3)
+        Linear RGB; row 0 is the top of the picture.
+    metadata : dict
+        JSON-serialisable provenance (model, spp, seed, timing, ...).
+    """
+
+    pixels: np.ndarray
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def height_px(self) -> int:
+        return self.pixels.shape[0]
+
+    @property
+    def width_px(self) -> int:
+        return self.pixels.shape[1]
+
+
+def write_exr(path: str | os.PathLike, image: Image, *, option: str = "-o") -> None:
+    """Write a linear float32 OpenEXR file (channels R, G, B), atomically.
+
+    The metadata goes into a string header attribute ``lenscompare`` as JSON.
+    """
+    import OpenEXR
+
+    pixels = np.ascontiguousarray(image.pixels, dtype=np.float32)
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        _METADATA_KEY: json.dumps(image.metadata, sort_keys=True),
+    }
+    channels = {name: np.ascontiguousarray(pixels[:, :, i]) for i, name in enumerate("RGB")}
+    with atomic_output(path, option=option) as tmp:
+        with OpenEXR.File(header, channels) as exr:
+            exr.write(str(tmp))
+
+
+def read_exr(path: str | os.PathLike) -> Image:
+    """Read an OpenEXR file with R, G, B channels (half or float) as float32.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read or has no R, G, B channels.
+    """
+    import OpenEXR
+
+    source = os.fspath(path)
+    try:
+        with OpenEXR.File(source, separate_channels=True) as exr:
+            header = dict(exr.header())  # the binding empties it on close
+            channels = {name: channel.pixels for name, channel in exr.channels().items()}
+    except Exception as error:  # the binding raises plain RuntimeError/OSError
+        raise InputError(source, f"cannot read as OpenEXR ({error})") from None
+    missing = [c for c in "RGB" if c not in channels]
+    if missing:
+        raise InputError(source, f"has no {', '.join(missing)} channel(s) (found: {', '.join(sorted(channels))})")
+    pixels = np.stack([np.asarray(channels[c], dtype=np.float32) for c in "RGB"], axis=-1)
+    metadata: dict[str, Any] = {}
+    raw = header.get(_METADATA_KEY)
+    if isinstance(raw, (str, bytes)):
+        try:
+            metadata = json.loads(raw)
+        except json.JSONDecodeError:
+            metadata = {}
+    return Image(pixels, metadata)
+
+
+def srgb_encode(linear: np.ndarray, *, exposure: float = 1.0) -> np.ndarray:
+    """Linear RGB -> 8-bit sRGB (IEC 61966-2-1 curve via colour-science), clipped."""
+    import colour
+
+    scaled = np.clip(np.nan_to_num(np.asarray(linear, dtype=float) * exposure), 0.0, 1.0)
+    encoded = colour.cctf_encoding(scaled, function="sRGB")
+    return np.round(encoded * 255.0).astype(np.uint8)
+
+
+def write_png_preview(path: str | os.PathLike, image: Image, *, exposure: float = 1.0) -> None:
+    """Write an sRGB-encoded 8-bit PNG preview, atomically."""
+    import imageio.v3 as iio
+
+    data = srgb_encode(image.pixels, exposure=exposure)
+    with atomic_output(path) as tmp:
+        iio.imwrite(tmp, data, extension=".png")

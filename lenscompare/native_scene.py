@@ -1,0 +1,81 @@
+"""Scene objects -> the flat arrays the native tracer builds its Embree scene from.
+
+Spheres stay exact (Embree sphere points); a box becomes its six faces and a
+rectangle one quad.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _native
+from .scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+
+__all__ = ["build_native_scene", "box_quads", "rectangle_quad"]
+
+
+def rectangle_quad(corner, edge1, edge2) -> np.ndarray:
+    """The four corners, in order round the parallelogram, shape (4, 3)."""
+    c, e1, e2 = (np.asarray(v, dtype=float) for v in (corner, edge1, edge2))
+    return np.array([c, c + e1, c + e1 + e2, c + e2])
+
+
+def box_quads(lo, hi) -> np.ndarray:
+    """The six faces of an axis-aligned box, shape (6, 4, 3)."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    size = hi - lo
+    ex, ey, ez = np.diag(size)
+    return np.array([
+        rectangle_quad(lo, ey, ez), rectangle_quad(lo + ex, ey, ez),  # -x, +x
+        rectangle_quad(lo, ex, ez), rectangle_quad(lo + ey, ex, ez),  # -y, +y
+        rectangle_quad(lo, ex, ey), rectangle_quad(lo + ez, ex, ey),  # -z, +z
+    ])
+
+
+def build_native_scene(scene: Scene) -> "_native.Scene":
+    """Build the Embree scene for ``scene`` (a BVH build: milliseconds for our scenes)."""
+    names = list(scene.materials)
+    index = {name: i for i, name in enumerate(names)}
+    spheres, sphere_material, quads, quad_material = [], [], [], []
+    for obj in scene.objects:
+        if isinstance(obj, Sphere):
+            spheres.append([*obj.center, obj.radius])
+            sphere_material.append(index[obj.material])
+        elif isinstance(obj, Box):
+            faces = box_quads(obj.min, obj.max)
+            quads.extend(faces)
+            quad_material.extend([index[obj.material]] * len(faces))
+        elif isinstance(obj, Rectangle):
+            quads.append(rectangle_quad(obj.corner, obj.edge1, obj.edge2))
+            quad_material.append(index[obj.material])
+
+    kinds, colors, emissions, checker_colors, checker_sizes = [], [], [], [], []
+    for name in names:
+        m = scene.materials[name]
+        if isinstance(m, EmissiveMaterial):
+            kinds.append(_native.MATERIAL_EMISSIVE)
+            colors.append(m.color)
+            emissions.append((0.0, 0.0, 0.0))
+            checker_colors.append((0.0, 0.0, 0.0))
+            checker_sizes.append(0.0)
+        elif isinstance(m, DiffuseMaterial):
+            kinds.append(_native.MATERIAL_DIFFUSE)
+            colors.append(m.color)
+            emissions.append(m.emission)
+            checker_colors.append(m.checker.color if m.checker else (0.0, 0.0, 0.0))
+            checker_sizes.append(m.checker.size_m if m.checker else 0.0)
+
+    def f32(values, shape):
+        return np.ascontiguousarray(np.asarray(values, dtype=np.float32).reshape(shape))
+
+    def i32(values):
+        return np.ascontiguousarray(np.asarray(values, dtype=np.int32).reshape(-1))
+
+    return _native.Scene(
+        f32(spheres, (-1, 4)), i32(sphere_material),
+        f32(quads, (-1, 4, 3)), i32(quad_material),
+        i32(kinds), f32(colors, (-1, 3)), f32(emissions, (-1, 3)), f32(checker_colors, (-1, 3)),
+        f32(checker_sizes, (-1,)),
+        f32([l.position for l in scene.lights], (-1, 3)), f32([l.color for l in scene.lights], (-1, 3)),
+        tuple(float(c) for c in scene.background),
+    )

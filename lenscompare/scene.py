@@ -1,0 +1,316 @@
+"""Scene files (TOML, the contract of DESIGN.md) loaded into frozen, typed values.
+
+Parse at the edge, typed values inside: :func:`load_scene` is the only place a
+scene file is read, and it rejects anything outside the schema — unknown key,
+wrong type, missing material, non-positive size, NaN — with one
+:class:`~lenscompare.errors.InputError` naming the file, the key and what was
+expected.  Scene lengths are metres; camera lengths are millimetres and say so.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Union
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+from ._schema import Table
+from .errors import InputError
+
+__all__ = [
+    "MODELS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
+    "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "PointLight", "Scene",
+    "load_scene", "parse_scene",
+]
+
+Vec3 = tuple[float, float, float]
+
+MODELS = ("pinhole", "thin", "thick", "lens")
+SAMPLERS = ("random", "jittered")
+DISK_MAPPINGS = ("concentric", "polar")
+
+
+@dataclass(frozen=True)
+class Camera:
+    """The ``[camera]`` table. Positions in metres, lens quantities in mm."""
+
+    model: str
+    position: Vec3
+    look_at: Vec3
+    up: Vec3
+    focus_distance_m: float
+    resolution: tuple[int, int]
+    film_mm: tuple[float, float] = (36.0, 24.0)
+    focal_length_mm: float | None = None
+    f_number: float | None = None
+    lens: str | None = None  # shipped name or path (resolved against the scene's folder)
+    principal_plane_gap_mm: float | None = None
+
+    @property
+    def width_px(self) -> int:
+        return self.resolution[0]
+
+    @property
+    def height_px(self) -> int:
+        return self.resolution[1]
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """The ``[render]`` table; command-line flags override it."""
+
+    spp: int = 64
+    sampler: str = "jittered"
+    seed: int = 0
+    disk_mapping: str = "concentric"
+
+
+@dataclass(frozen=True)
+class EmissiveMaterial:
+    name: str
+    color: Vec3  # radiance
+
+
+@dataclass(frozen=True)
+class Checker:
+    color: Vec3     # albedo of the odd cubes
+    size_m: float   # cube edge
+
+
+@dataclass(frozen=True)
+class DiffuseMaterial:
+    name: str
+    color: Vec3  # albedo (of the even checker cubes)
+    checker: Checker | None = None
+    emission: Vec3 = (0.0, 0.0, 0.0)
+
+
+Material = Union[EmissiveMaterial, DiffuseMaterial]
+
+
+@dataclass(frozen=True)
+class Sphere:
+    center: Vec3
+    radius: float
+    material: str
+
+
+@dataclass(frozen=True)
+class Box:
+    min: Vec3
+    max: Vec3
+    material: str
+
+
+@dataclass(frozen=True)
+class Rectangle:
+    corner: Vec3
+    edge1: Vec3
+    edge2: Vec3
+    material: str
+
+
+SceneObject = Union[Sphere, Box, Rectangle]
+
+
+@dataclass(frozen=True)
+class PointLight:
+    position: Vec3
+    color: Vec3  # radiant intensity, no distance falloff
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A whole scene file. ``source`` is the file it came from (for messages)."""
+
+    camera: Camera
+    render: RenderSettings
+    background: Vec3
+    materials: dict[str, Material]
+    objects: tuple[SceneObject, ...]
+    lights: tuple[PointLight, ...]
+    name: str = ""
+    description: str = ""
+    source: str = "<scene>"
+    base_dir: Path = field(default_factory=Path.cwd)
+
+    def with_camera(self, **changes) -> "Scene":
+        """A copy with some camera fields replaced (e.g. ``model="pinhole"``)."""
+        return replace(self, camera=replace(self.camera, **changes))
+
+    def with_render(self, **changes) -> "Scene":
+        """A copy with some render settings replaced; ``None`` values keep the file's."""
+        changes = {k: v for k, v in changes.items() if v is not None}
+        return replace(self, render=replace(self.render, **changes))
+
+
+def load_scene(path: str | os.PathLike) -> Scene:
+    """Read and validate a scene file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A TOML scene file following DESIGN.md.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    InputError
+        The file is unreadable or breaks the schema; the message names the
+        file, the key and what was expected.
+    """
+    source = os.fspath(path)
+    try:
+        text = Path(source).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(source, f"cannot read scene file ({error.__class__.__name__}: {error})") from None
+    return parse_scene(text, source=source, base_dir=Path(source).resolve().parent)
+
+
+def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = None) -> Scene:
+    """Validate scene TOML text; see :func:`load_scene`."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise InputError(source, f"not valid TOML ({error})") from None
+    root = Table(data, source=source)
+    root.check_keys(["name", "description", "camera", "render", "background", "materials", "objects", "lights"])
+
+    materials = _read_materials(root.table("materials"))
+    objects = tuple(_read_object(t, materials) for t in root.tables("objects"))
+    lights = tuple(_read_light(t) for t in root.tables("lights"))
+    background = root.table("background")
+    background.check_keys(["color"])
+    return Scene(
+        camera=_read_camera(root.table("camera", required=True)),
+        render=_read_render(root.table("render")),
+        background=background.vector("color", 3, default=(0.0, 0.0, 0.0), non_negative=True),
+        materials=materials,
+        objects=objects,
+        lights=lights,
+        name=root.string("name", default=Path(source).stem),
+        description=root.string("description", default=""),
+        source=source,
+        base_dir=base_dir or Path.cwd(),
+    )
+
+
+def _read_camera(t: Table) -> Camera:
+    t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
+                  "film_mm", "resolution", "lens", "principal_plane_gap_mm"])
+    position = t.vector("position", 3)
+    look_at = t.vector("look_at", 3)
+    up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
+    view = [b - a for a, b in zip(position, look_at)]
+    view_length = math.sqrt(sum(v * v for v in view))
+    if view_length == 0.0:
+        raise t.error("look_at", "equals camera.position (expected a point the camera looks toward)")
+    up_length = math.sqrt(sum(u * u for u in up))
+    cross = (view[1] * up[2] - view[2] * up[1], view[2] * up[0] - view[0] * up[2], view[0] * up[1] - view[1] * up[0])
+    if up_length == 0.0 or math.sqrt(sum(c * c for c in cross)) <= 1e-9 * view_length * up_length:
+        raise t.error("up", "is zero or parallel to the view direction (expected a vector across it)")
+
+    film_mm = t.vector("film_mm", 2, default=(36.0, 24.0), positive=True)
+    resolution = t.vector("resolution", 2, integer=True, positive=True)
+    film_aspect, pixel_aspect = film_mm[0] / film_mm[1], resolution[0] / resolution[1]
+    if abs(film_aspect / pixel_aspect - 1.0) > 1e-6:
+        raise t.error("resolution", f"aspect {resolution[0]}x{resolution[1]} = {pixel_aspect:.6g} differs from "
+                      f"camera.film_mm aspect {film_mm[0]:g}x{film_mm[1]:g} = {film_aspect:.6g} "
+                      "(pixels must be square)")
+
+    focal_length_mm = t.number("focal_length_mm", default=None, positive=True)
+    focus_distance_m = t.number("focus_distance", positive=True)
+    if focal_length_mm is not None and not focus_distance_m * 1000.0 > focal_length_mm:
+        raise t.error("focus_distance", f"{focus_distance_m:g} m is not beyond the focal length "
+                      f"{focal_length_mm:g} mm (nothing can be focused there)")
+    return Camera(
+        model=t.string("model", choices=MODELS),
+        position=position,
+        look_at=look_at,
+        up=up,
+        focus_distance_m=focus_distance_m,
+        resolution=resolution,
+        film_mm=film_mm,
+        focal_length_mm=focal_length_mm,
+        f_number=t.number("f_number", default=None, positive=True),
+        lens=t.string("lens", default=None),
+        principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None),
+    )
+
+
+def _read_render(t: Table) -> RenderSettings:
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping"])
+    defaults = RenderSettings()
+    return RenderSettings(
+        spp=t.integer("spp", default=defaults.spp, minimum=1),
+        sampler=t.string("sampler", default=defaults.sampler, choices=SAMPLERS),
+        seed=t.integer("seed", default=defaults.seed, minimum=0),
+        disk_mapping=t.string("disk_mapping", default=defaults.disk_mapping, choices=DISK_MAPPINGS),
+    )
+
+
+def _read_materials(t: Table) -> dict[str, Material]:
+    materials: dict[str, Material] = {}
+    for name in t.data:
+        m = t.table(name)
+        kind = m.string("type", choices=("emissive", "diffuse"))
+        if kind == "emissive":
+            m.check_keys(["type", "color"])
+            materials[name] = EmissiveMaterial(name, m.vector("color", 3, non_negative=True))
+            continue
+        m.check_keys(["type", "color", "checker", "emission"])
+        checker = None
+        if m.has("checker"):
+            c = m.table("checker")
+            c.check_keys(["color", "size"])
+            checker = Checker(color=c.vector("color", 3, non_negative=True), size_m=c.number("size", positive=True))
+        materials[name] = DiffuseMaterial(
+            name,
+            color=m.vector("color", 3, non_negative=True),
+            checker=checker,
+            emission=m.vector("emission", 3, default=(0.0, 0.0, 0.0), non_negative=True),
+        )
+    return materials
+
+
+def _material_name(t: Table, materials: dict[str, Material]) -> str:
+    name = t.string("material")
+    if name not in materials:
+        known = ", ".join(sorted(materials)) or "none defined"
+        raise t.error("material", f"no material named {name!r} (defined: {known})")
+    return name
+
+
+def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
+    kind = t.string("type", choices=("sphere", "box", "rectangle"))
+    if kind == "sphere":
+        t.check_keys(["type", "center", "radius", "material"])
+        return Sphere(t.vector("center", 3), t.number("radius", positive=True), _material_name(t, materials))
+    if kind == "box":
+        t.check_keys(["type", "min", "max", "material"])
+        lo, hi = t.vector("min", 3), t.vector("max", 3)
+        if not all(h > l for l, h in zip(lo, hi)):
+            raise t.error("max", f"expected every component above min {list(lo)}, got {list(hi)}")
+        return Box(lo, hi, _material_name(t, materials))
+    t.check_keys(["type", "corner", "edge1", "edge2", "material"])
+    e1, e2 = t.vector("edge1", 3), t.vector("edge2", 3)
+    cross = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0])
+    if not math.sqrt(sum(c * c for c in cross)) > 0.0:
+        raise t.error("edge2", "is zero or parallel to edge1 (the rectangle has no area)")
+    return Rectangle(t.vector("corner", 3), e1, e2, _material_name(t, materials))
+
+
+def _read_light(t: Table) -> PointLight:
+    t.check_keys(["type", "position", "color"])
+    t.string("type", choices=("point",))
+    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True))

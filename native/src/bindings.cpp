@@ -1,0 +1,176 @@
+// Python bindings for the private module lenscompare._native. Only hot loops
+// live here; Python validates every argument before it reaches this file.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/tuple.h>
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+
+#include "cameras/pinhole.h"
+#include "cameras/thin_lens.h"
+#include "raw_throughput.h"
+#include "render.h"
+#include "samplers.h"
+#include "scene.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+using namespace lc;
+
+namespace {
+
+template <class T, nb::ssize_t... Shape>
+using CArray = nb::ndarray<T, nb::shape<Shape...>, nb::c_contig, nb::device::cpu>;
+
+using Triple = std::array<double, 3>;
+
+Vec3d vec(const Triple& t) { return {t[0], t[1], t[2]}; }
+Vec3f vecf(const float* p) { return {p[0], p[1], p[2]}; }
+
+Frame make_frame(const Triple& origin, const Triple& right, const Triple& up, const Triple& forward) {
+    return Frame{vec(origin), vec(right), vec(up), vec(forward)};
+}
+
+FilmToScreen make_film(int width_px, int height_px, double screen_half_width, double screen_half_height) {
+    return FilmToScreen{width_px, height_px, screen_half_width, screen_half_height};
+}
+
+SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_t, -1> sphere_material,
+                  CArray<const float, -1, 4, 3> quads, CArray<const int32_t, -1> quad_material,
+                  CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
+                  CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
+                  CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
+                  CArray<const float, -1, 3> light_intensity, const Triple& background) {
+    SceneArrays a;
+    a.spheres = spheres.data();
+    a.sphere_material = sphere_material.data();
+    a.n_spheres = int(spheres.shape(0));
+    a.quads = quads.data();
+    a.quad_material = quad_material.data();
+    a.n_quads = int(quads.shape(0));
+    for (size_t i = 0; i < material_kind.shape(0); ++i) {
+        a.materials.push_back(Material{MaterialKind(material_kind(i)), vecf(&material_color(i, 0)),
+                                       vecf(&material_emission(i, 0)), vecf(&checker_color(i, 0)), checker_size_m(i)});
+    }
+    for (size_t i = 0; i < light_position_m.shape(0); ++i)
+        a.lights.push_back(PointLight{vecf(&light_position_m(i, 0)), vecf(&light_intensity(i, 0))});
+    a.background = Vec3f(vec(background));
+    return a;
+}
+
+template <class Camera>
+std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
+                                              uint64_t seed, int threads, int row_begin, int row_end,
+                                              CArray<float, -1, -1, 3> out) {
+    RenderSettings s;
+    s.width_px = int(out.shape(1));
+    s.height_px = int(out.shape(0));
+    s.spp = spp;
+    s.sampler = SamplerKind(sampler);
+    s.seed = seed;
+    s.threads = threads;
+    if (s.width_px != camera.film.width_px || s.height_px != camera.film.height_px)
+        throw std::invalid_argument("output array does not match the camera's resolution");
+    if (row_begin < 0 || row_end > s.height_px || row_begin > row_end) throw std::invalid_argument("bad row range");
+    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
+    return {stats.samples, stats.rays_passed};
+}
+
+// Rays for explicit samples, for geometric tests of a camera from Python.
+template <class Camera>
+void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens_sample,
+                      CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+    for (size_t i = 0; i < raster_px.shape(0); ++i) {
+        MaybeRay ray = camera.generate_ray({raster_px(i, 0), raster_px(i, 1)}, {lens_sample(i, 0), lens_sample(i, 1)});
+        Vec3d o = ray ? ray->origin : Vec3d{}, d = ray ? ray->direction : Vec3d{};
+        origin(i, 0) = o.x, origin(i, 1) = o.y, origin(i, 2) = o.z;
+        direction(i, 0) = d.x, direction(i, 1) = d.y, direction(i, 2) = d.z;
+        weight(i) = ray ? ray->weight : 0.0f;  // 0 marks a vignetted sample
+    }
+}
+
+template <class Camera>
+void bind_camera_functions(nb::module_& m) {
+    m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
+          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>());
+    m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
+          "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>());
+}
+
+}  // namespace
+
+NB_MODULE(_native, m) {
+    m.doc() = "lenscompare's native tracer (private: use the lenscompare package).";
+
+    m.attr("SAMPLER_RANDOM") = int(SamplerKind::Random);
+    m.attr("SAMPLER_JITTERED") = int(SamplerKind::Jittered);
+    m.attr("DISK_POLAR") = int(DiskMapping::Polar);
+    m.attr("DISK_CONCENTRIC") = int(DiskMapping::Concentric);
+    m.attr("MATERIAL_EMISSIVE") = int(MaterialKind::Emissive);
+    m.attr("MATERIAL_DIFFUSE") = int(MaterialKind::Diffuse);
+
+    nb::class_<Scene>(m, "Scene")
+        .def("__init__",
+             [](Scene* self, CArray<const float, -1, 4> spheres, CArray<const int32_t, -1> sphere_material,
+                CArray<const float, -1, 4, 3> quads, CArray<const int32_t, -1> quad_material,
+                CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
+                CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
+                CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
+                CArray<const float, -1, 3> light_intensity, const Triple& background) {
+                 // Scene copies what it needs: the arrays may go once this returns.
+                 new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
+                                               material_color, material_emission, checker_color, checker_size_m,
+                                               light_position_m, light_intensity, background));
+             });
+
+    nb::class_<PinholeCamera>(m, "PinholeCamera")
+        .def("__init__",
+             [](PinholeCamera* self, const Triple& origin, const Triple& right, const Triple& up, const Triple& forward,
+                int width_px, int height_px, double screen_half_width, double screen_half_height) {
+                 new (self) PinholeCamera{make_frame(origin, right, up, forward),
+                                          make_film(width_px, height_px, screen_half_width, screen_half_height)};
+             },
+             "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
+             "screen_half_height"_a);
+
+    nb::class_<ThinLensCamera>(m, "ThinLensCamera")
+        .def("__init__",
+             [](ThinLensCamera* self, const Triple& origin, const Triple& right, const Triple& up,
+                const Triple& forward, int width_px, int height_px, double screen_half_width,
+                double screen_half_height, double lens_radius_m, double focus_distance_m, int disk_mapping) {
+                 new (self) ThinLensCamera{make_frame(origin, right, up, forward),
+                                           make_film(width_px, height_px, screen_half_width, screen_half_height),
+                                           lens_radius_m, focus_distance_m, DiskMapping(disk_mapping)};
+             },
+             "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
+             "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
+
+    bind_camera_functions<PinholeCamera>(m);
+    bind_camera_functions<ThinLensCamera>(m);
+
+    m.def("pixel_samples",
+          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens) {
+              fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
+                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()));
+          },
+          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a);
+
+    m.def("map_to_disk",
+          [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {
+              for (size_t i = 0; i < u.shape(0); ++i) {
+                  Point2f p = map_to_disk({u(i, 0), u(i, 1)}, DiskMapping(mapping));
+                  out(i, 0) = p.x, out(i, 1) = p.y;
+              }
+          },
+          "u"_a, "mapping"_a, "out"_a);
+
+    m.def("raw_primary_throughput",
+          [](const Scene& scene, const PinholeCamera& camera, int spp, int threads) {
+              RawThroughput r = measure_raw_primary_throughput(scene, camera, spp, threads);
+              return std::make_tuple(r.seconds, r.rays, r.hits);
+          },
+          "scene"_a, "camera"_a, "spp"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>());
+}

@@ -1,0 +1,34 @@
+// What every camera model returns for one (film sample, lens sample).
+#pragma once
+
+#include <optional>
+
+#include "vec.h"
+
+namespace lc {
+
+struct CameraRay {
+    Vec3d origin;     // world space, metres
+    Vec3d direction;  // world space, unit length
+    float weight;     // radiance scale: 1 for pinhole/thin/thick
+};
+
+// A camera's generate_ray returns std::nullopt for a vignetted sample.
+using MaybeRay = std::optional<CameraRay>;
+
+// Raster position -> direction in camera space for an ideal perspective
+// projection: the film (width film_w, distance d' behind the lens) mapped in
+// front of the lens at z = 1. Raster x grows right, raster y grows down.
+struct FilmToScreen {
+    int width_px = 1, height_px = 1;
+    double screen_half_width = 1.0;   // (film width / 2) / film distance
+    double screen_half_height = 1.0;  // (film height / 2) / film distance
+
+    Vec3d direction(Point2f raster_px) const {
+        double sx = (2.0 * raster_px.x / width_px - 1.0) * screen_half_width;
+        double sy = (1.0 - 2.0 * raster_px.y / height_px) * screen_half_height;
+        return {sx, sy, 1.0};
+    }
+};
+
+}  // namespace lc

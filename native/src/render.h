@@ -1,0 +1,79 @@
+// The render loop, written once and instantiated per camera model: per pixel,
+// the sampler fills the pixel's film and lens samples, the camera turns each
+// into a ray (or nothing, when vignetted), the scene returns radiance.
+// Every pixel owns its random stream, so the image is the same for any thread
+// count and any tiling.
+#pragma once
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "cameras/camera_ray.h"
+#include "samplers.h"
+#include "scene.h"
+
+namespace lc {
+
+struct RenderSettings {
+    int width_px = 0, height_px = 0;
+    int spp = 1;
+    SamplerKind sampler = SamplerKind::Jittered;
+    uint64_t seed = 0;
+    int threads = 0;  // 0: all cores
+};
+
+struct RenderStats {
+    uint64_t samples = 0;      // camera samples drawn
+    uint64_t rays_passed = 0;  // samples that became a ray (not vignetted)
+};
+
+constexpr int kTileSize = 16;
+
+// Renders rows [row_begin, row_end) into rgb (height x width x 3, row 0 at the top).
+template <class Camera>
+RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
+                        int row_end, float* rgb) {
+    std::atomic<uint64_t> rays_passed{0};
+    tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
+        tbb::parallel_for(rows_cols, [&](const tbb::blocked_range2d<int>& tile) {
+            std::vector<Point2f> film(size_t(s.spp)), lens(size_t(s.spp));
+            uint64_t tile_passed = 0;
+            for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
+                for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+                    uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+                    fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
+                    // Double accumulation: 1024 spp of float radiance would lose bits.
+                    double r = 0, g = 0, b = 0;
+                    for (int i = 0; i < s.spp; ++i) {
+                        Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
+                        MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
+                        if (!ray) continue;
+                        ++tile_passed;
+                        Vec3f L = scene.radiance(ray->origin, ray->direction);
+                        r += double(L.x) * ray->weight;
+                        g += double(L.y) * ray->weight;
+                        b += double(L.z) * ray->weight;
+                    }
+                    float* out = rgb + 3 * pixel_index;
+                    out[0] = float(r / s.spp);
+                    out[1] = float(g / s.spp);
+                    out[2] = float(b / s.spp);
+                }
+            }
+            rays_passed += tile_passed;
+        });
+    });
+    RenderStats stats;
+    stats.samples = uint64_t(row_end - row_begin) * uint64_t(s.width_px) * uint64_t(s.spp);
+    stats.rays_passed = rays_passed.load();
+    return stats;
+}
+
+}  // namespace lc

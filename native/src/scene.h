@@ -1,0 +1,76 @@
+// The scene as Embree sees it, plus the shading the contract fixes: emissive
+// surfaces, Lambert diffuse lit by point lights with hard shadows and no
+// distance falloff (POV-Ray's default), background colour for misses.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "vec.h"
+
+namespace lc {
+
+enum class MaterialKind : int { Emissive = 0, Diffuse = 1 };
+
+struct Material {
+    MaterialKind kind;
+    Vec3f color;          // emissive radiance, or diffuse albedo
+    Vec3f emission;       // added to the lit diffuse result
+    Vec3f checker_color;  // albedo of the odd checker cubes
+    float checker_size_m; // 0: no checker
+};
+
+struct PointLight {
+    Vec3f position_m;
+    Vec3f intensity;  // radiant intensity, no falloff
+};
+
+// Flat arrays in the layout Python hands over (C-contiguous float32/int32).
+struct SceneArrays {
+    const float* spheres = nullptr;  // n_spheres x 4: centre xyz, radius (m)
+    const int32_t* sphere_material = nullptr;
+    int n_spheres = 0;
+    const float* quads = nullptr;    // n_quads x 4 corners x 3 (m), corners in order round the quad
+    const int32_t* quad_material = nullptr;
+    int n_quads = 0;
+    std::vector<Material> materials;
+    std::vector<PointLight> lights;
+    Vec3f background;
+};
+
+class Scene {
+  public:
+    explicit Scene(const SceneArrays& arrays);
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    // Radiance arriving at origin from direction (unit): the one function the
+    // render loop calls per camera ray.
+    Vec3f radiance(const Vec3d& origin, const Vec3d& direction) const;
+
+    // Nearest hit distance (m) or +inf; used by the raw-throughput benchmark.
+    float first_hit_distance(const Vec3f& origin, const Vec3f& direction) const;
+
+    RTCScene embree_scene() const { return scene_; }
+
+  private:
+    Vec3f shade_diffuse(const Material& material, const Vec3f& p, const Vec3f& n_facing) const;
+    bool occluded(const Vec3f& from, const Vec3f& to) const;
+
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    unsigned sphere_geom_id_ = RTC_INVALID_GEOMETRY_ID;
+    std::vector<int32_t> sphere_material_, quad_material_;
+    std::vector<Material> materials_;
+    std::vector<PointLight> lights_;
+    Vec3f background_;
+};
+
+// POV-Ray's checker: parity of floor(p/size + 0.001) summed over the axes
+// (pattern.cpp, Small_Tolerance = 0.001 in pattern space). Even -> first colour.
+bool checker_is_odd(const Vec3f& p_m, float size_m);
+
+}  // namespace lc
