@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -50,21 +51,31 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
                     fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
                     // Double accumulation: 1024 spp of float radiance would lose bits.
-                    double r = 0, g = 0, b = 0;
-                    for (int i = 0; i < s.spp; ++i) {
-                        Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
-                        MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
-                        if (!ray) continue;
-                        ++tile_passed;
-                        Vec3f L = scene.radiance(ray->origin, ray->direction);
-                        r += double(L.x) * ray->weight;
-                        g += double(L.y) * ray->weight;
-                        b += double(L.z) * ray->weight;
+                    double sum[3] = {0, 0, 0};
+                    for (int first = 0; first < s.spp; first += kPacketSize) {
+                        // Camera rays for the next samples, vignetted ones left out
+                        RayBatch batch;
+                        float weight[kPacketSize];
+                        for (int i = first; i < std::min(first + kPacketSize, s.spp); ++i) {
+                            Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
+                            MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
+                            if (!ray) continue;
+                            batch.origin[batch.count] = Vec3f(ray->origin);
+                            batch.direction[batch.count] = Vec3f(ray->direction);
+                            weight[batch.count++] = ray->weight;
+                        }
+                        if (batch.count == 0) continue;
+                        tile_passed += uint64_t(batch.count);
+                        Vec3f radiance[kPacketSize];
+                        scene.radiance(batch, radiance);
+                        for (int j = 0; j < batch.count; ++j) {
+                            sum[0] += double(radiance[j].x) * weight[j];
+                            sum[1] += double(radiance[j].y) * weight[j];
+                            sum[2] += double(radiance[j].z) * weight[j];
+                        }
                     }
                     float* out = rgb + 3 * pixel_index;
-                    out[0] = float(r / s.spp);
-                    out[1] = float(g / s.spp);
-                    out[2] = float(b / s.spp);
+                    for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / s.spp);
                 }
             }
             rays_passed += tile_passed;

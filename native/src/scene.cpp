@@ -93,52 +93,88 @@ Scene::~Scene() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-bool Scene::occluded(const Vec3f& from, const Vec3f& to) const {
-    Vec3f d = to - from;
-    float dist = length(d);
+const Material& Scene::material_of(unsigned geom_id, unsigned prim_id) const {
+    int index = geom_id == sphere_geom_id_ ? sphere_material_[prim_id] : quad_material_[prim_id];
+    return materials_[size_t(index)];
+}
+
+void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay ray;
-    ray.org_x = from.x, ray.org_y = from.y, ray.org_z = from.z;
-    ray.dir_x = d.x / dist, ray.dir_y = d.y / dist, ray.dir_z = d.z / dist;
-    ray.tnear = 0.0f;
-    ray.tfar = dist * (1.0f - 1e-5f);
-    ray.time = 0.0f;
-    ray.mask = 0xFFFFFFFFu;
-    ray.id = 0;
-    ray.flags = 0;
-    rtcOccluded1(scene_, &context, &ray);
-    return ray.tfar == -kInf;
-}
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
-Vec3f Scene::shade_diffuse(const Material& m, const Vec3f& p, const Vec3f& n) const {
-    Vec3f albedo = (m.checker_size_m > 0.0f && checker_is_odd(p, m.checker_size_m)) ? m.checker_color : m.color;
-    Vec3f result = m.emission;
-    Vec3f p_lifted = p + n * surface_offset(p);
-    for (const PointLight& light : lights_) {
-        Vec3f to_light = light.position_m - p;
-        float dist = length(to_light);
-        float cos_theta = dot(n, to_light) / dist;
-        if (!(cos_theta > 0.0f)) continue;  // light behind the surface (or degenerate)
-        if (occluded(p_lifted, light.position_m)) continue;
-        result += albedo * light.intensity * cos_theta;
+    // Camera rays
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRayHit8 hits;
+    for (int i = 0; i < kPacketSize; ++i) {
+        bool used = i < rays.count;
+        valid[i] = used ? -1 : 0;
+        Vec3f o = used ? rays.origin[i] : Vec3f{}, d = used ? rays.direction[i] : Vec3f{0, 0, 1};
+        hits.ray.org_x[i] = o.x, hits.ray.org_y[i] = o.y, hits.ray.org_z[i] = o.z;
+        hits.ray.dir_x[i] = d.x, hits.ray.dir_y[i] = d.y, hits.ray.dir_z[i] = d.z;
+        hits.ray.tnear[i] = 0.0f;
+        hits.ray.tfar[i] = kInf;
+        hits.ray.time[i] = 0.0f;
+        hits.ray.mask[i] = 0xFFFFFFFFu;
+        hits.ray.id[i] = unsigned(i);
+        hits.ray.flags[i] = 0;
+        hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        hits.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    return result;
-}
+    rtcIntersect8(valid, scene_, &context, &hits);
 
-Vec3f Scene::radiance(const Vec3d& origin, const Vec3d& direction) const {
-    RTCRayHit rh = intersect(scene_, Vec3f(origin), Vec3f(direction));
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return background_;
+    // Surface points of the diffuse hits; misses and emitters are final already.
+    bool diffuse[kPacketSize] = {};
+    Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];
+    for (int i = 0; i < rays.count; ++i) {
+        if (hits.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+            out[i] = background_;
+            continue;
+        }
+        const Material& m = material_of(hits.hit.geomID[i], hits.hit.primID[i]);
+        if (m.kind == MaterialKind::Emissive) {
+            out[i] = m.color;
+            continue;
+        }
+        diffuse[i] = true;
+        p[i] = rays.origin[i] + rays.direction[i] * hits.ray.tfar[i];
+        n[i] = normalize(Vec3f{hits.hit.Ng_x[i], hits.hit.Ng_y[i], hits.hit.Ng_z[i]});
+        if (dot(n[i], rays.direction[i]) > 0.0f) n[i] = -n[i];  // two-sided: shade the side the ray sees
+        albedo[i] = (m.checker_size_m > 0.0f && checker_is_odd(p[i], m.checker_size_m)) ? m.checker_color : m.color;
+        out[i] = m.emission;
+    }
 
-    int material_index = rh.hit.geomID == sphere_geom_id_ ? sphere_material_[rh.hit.primID] : quad_material_[rh.hit.primID];
-    const Material& m = materials_[size_t(material_index)];
-    if (m.kind == MaterialKind::Emissive) return m.color;
-
-    Vec3f dir{rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
-    Vec3f p = Vec3f{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z} + dir * rh.ray.tfar;
-    Vec3f n = normalize(Vec3f{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
-    if (dot(n, dir) > 0.0f) n = -n;  // two-sided: shade the side the ray sees
-    return shade_diffuse(m, p, n);
+    // Shadow rays, one packet per light
+    for (const PointLight& light : lights_) {
+        alignas(32) int shadow_valid[kPacketSize];
+        alignas(32) RTCRay8 shadow;
+        float cos_theta[kPacketSize] = {};
+        bool any = false;
+        for (int i = 0; i < kPacketSize; ++i) {
+            shadow_valid[i] = 0;
+            if (i >= rays.count || !diffuse[i]) continue;
+            Vec3f to_light = light.position_m - p[i];
+            cos_theta[i] = dot(n[i], to_light) / length(to_light);
+            if (!(cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
+            Vec3f from = p[i] + n[i] * surface_offset(p[i]);
+            Vec3f d = light.position_m - from;
+            float dist = length(d);
+            shadow.org_x[i] = from.x, shadow.org_y[i] = from.y, shadow.org_z[i] = from.z;
+            shadow.dir_x[i] = d.x / dist, shadow.dir_y[i] = d.y / dist, shadow.dir_z[i] = d.z / dist;
+            shadow.tnear[i] = 0.0f;
+            shadow.tfar[i] = dist * (1.0f - 1e-5f);
+            shadow.time[i] = 0.0f;
+            shadow.mask[i] = 0xFFFFFFFFu;
+            shadow.id[i] = unsigned(i);
+            shadow.flags[i] = 0;
+            shadow_valid[i] = -1;
+            any = true;
+        }
+        if (!any) continue;
+        rtcOccluded8(shadow_valid, scene_, &context, &shadow);
+        for (int i = 0; i < rays.count; ++i)
+            if (shadow_valid[i] && shadow.tfar[i] != -kInf) out[i] += albedo[i] * light.intensity * cos_theta[i];
+    }
 }
 
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {

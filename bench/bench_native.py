@@ -1,0 +1,76 @@
+"""Native tracer throughput on showcase.toml: pinhole and thin lens against raw Embree.
+
+Prints one JSON object. The raw figure is Embree's single-ray primary
+throughput (rtcIntersect1 on pinhole rays, no shading, no sampler) on the same
+geometry, measured in the same run; the goal is thin-lens samples/s >= 70 %
+of it. Two figures per model, because the scene's shading is not camera work:
+``*_primary_only`` renders the same scene with its lights removed (camera
+rays, sampler, lens mapping and emission/background lookups: the camera path
+that raw is the ceiling of), and the full figure adds Lambert shading with one
+shadow ray per light per diffuse hit (two lights here).
+
+Usage: python bench/bench_native.py [--spp N] [--threads T] [--repeats R]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import dataclasses
+import platform
+from pathlib import Path
+
+from lenscompare import _native
+from lenscompare.cameras import native_camera
+from lenscompare.native_scene import build_native_scene
+from lenscompare.render import render
+from lenscompare.scene import load_scene
+
+SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
+
+
+def best_samples_per_second(scene, model, spp, threads, repeats):
+    runs = [render(scene, model=model, spp=spp, threads=threads, progress=False) for _ in range(repeats)]
+    return max(r.metadata["samples_per_second"] for r in runs)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--spp", type=int, default=64)
+    parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+
+    scene = load_scene(SCENE)
+    raw_rays_per_second = 0.0
+    camera, _ = native_camera(scene, "pinhole")
+    native_scene = build_native_scene(scene)
+    for _ in range(args.repeats):
+        seconds, rays, _hits = _native.raw_primary_throughput(native_scene, camera, args.spp, args.threads)
+        raw_rays_per_second = max(raw_rays_per_second, rays / seconds)
+
+    results = {
+        "benchmark": "native_throughput",
+        "scene": scene.name,
+        "resolution": list(scene.camera.resolution),
+        "spp": args.spp,
+        "threads": args.threads,
+        "machine": platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "raw_embree_primary_rays_per_second": raw_rays_per_second,
+    }
+    unlit = dataclasses.replace(scene, lights=())
+    for model in ("pinhole", "thin"):
+        for label, variant in ((f"{model}_primary_only", unlit), (model, scene)):
+            sps = best_samples_per_second(variant, model, args.spp, args.threads, args.repeats)
+            results[f"{label}_samples_per_second"] = sps
+            results[f"{label}_fraction_of_raw"] = sps / raw_rays_per_second
+    results["goal_thin_fraction_of_raw"] = 0.7
+    results["goal_met_primary_only"] = results["thin_primary_only_fraction_of_raw"] >= 0.7
+    results["goal_met_with_shading"] = results["thin_fraction_of_raw"] >= 0.7
+    print(json.dumps(results, indent=2))
+
+
+if __name__ == "__main__":
+    main()

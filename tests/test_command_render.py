@@ -1,0 +1,89 @@
+"""``lenscompare render``: the command-line contract of DESIGN.md."""
+
+import json
+
+import numpy as np
+import pytest
+
+from lenscompare.image import read_exr
+
+from helpers import run_cli
+from test_scene import BAD_SCENES
+
+
+def test_render_writes_exr_and_json(write_scene, minimal_scene_text, tmp_path):
+    scene = write_scene(minimal_scene_text)
+    out = tmp_path / "out.exr"
+    result = run_cli("render", scene, "-o", out, "--json", "--spp", "2", "--threads", "1")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    for key in ("model", "spp", "seconds", "samples_per_second", "output"):
+        assert key in report
+    assert report["model"] == "thin" and report["spp"] == 2 and report["output"] == str(out)
+    image = read_exr(out)
+    assert image.pixels.shape == (24, 36, 3) and image.pixels.dtype == np.float32
+    assert image.metadata["model"] == "thin"
+    assert result.stderr == ""  # no progress bar when not on a terminal
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []  # no temporary left
+
+
+def test_model_flag_overrides_scene(write_scene, minimal_scene_text, tmp_path):
+    result = run_cli("render", write_scene(minimal_scene_text), "-o", tmp_path / "p.exr", "--model", "pinhole",
+                     "--json", "--spp", "1")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["model"] == "pinhole"
+
+
+def _assert_clean_input_error(result, *needles):
+    assert result.returncode == 2, (result.returncode, result.stderr)
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    for needle in needles:
+        assert needle in lines[0], lines[0]
+
+
+@pytest.mark.parametrize("case", sorted(BAD_SCENES), ids=str)
+def test_bad_scene_exit_2_no_output(case, write_scene, minimal_scene_text, tmp_path):
+    this, that, key = BAD_SCENES[case]
+    scene = write_scene(minimal_scene_text.replace(this, that, 1), name="broken.toml")
+    out = tmp_path / "out.exr"
+    _assert_clean_input_error(run_cli("render", scene, "-o", out), "broken.toml", key)
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.toml"]
+
+
+def test_failed_run_keeps_existing_output(write_scene, minimal_scene_text, tmp_path):
+    out = tmp_path / "keep.exr"
+    out.write_bytes(b"a good earlier render")
+    scene = write_scene(minimal_scene_text.replace("radius = 0.1", "radius = -0.1"), name="broken.toml")
+    _assert_clean_input_error(run_cli("render", scene, "-o", out), "broken.toml", "objects[0].radius")
+    assert out.read_bytes() == b"a good earlier render"
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--spp", "0"], "--spp"),
+    (["--spp", "many"], "--spp"),
+    (["--seed", "-3"], "--seed"),
+    (["--threads", "0"], "--threads"),
+    (["--model", "fisheye"], "--model"),
+    (["--sampler", "best"], "--sampler"),
+])
+def test_bad_options_exit_2(args, needle, write_scene, minimal_scene_text, tmp_path):
+    out = tmp_path / "out.exr"
+    _assert_clean_input_error(run_cli("render", write_scene(minimal_scene_text), "-o", out, *args), needle)
+    assert not out.exists()
+
+
+def test_missing_scene_and_bad_output_folder(write_scene, minimal_scene_text, tmp_path):
+    _assert_clean_input_error(run_cli("render", tmp_path / "nope.toml", "-o", tmp_path / "o.exr"), "nope.toml")
+    _assert_clean_input_error(run_cli("render", write_scene(minimal_scene_text), "-o", tmp_path / "no" / "o.exr"),
+                              "-o", "does not exist")
+    _assert_clean_input_error(run_cli("render", write_scene(minimal_scene_text), "-o", tmp_path / "o.png"), "-o")
+
+
+def test_model_specific_missing_key(write_scene, minimal_scene_text, tmp_path):
+    scene = write_scene(minimal_scene_text.replace("f_number = 2.8\n", ""), name="nofstop.toml")
+    _assert_clean_input_error(run_cli("render", scene, "-o", tmp_path / "o.exr"), "nofstop.toml", "camera.f_number")
+    # The pinhole does not need an f-number.
+    assert run_cli("render", scene, "-o", tmp_path / "o.exr", "--model", "pinhole", "--spp", "1").returncode == 0
