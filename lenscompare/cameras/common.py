@@ -6,7 +6,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["camera_frame", "check_focus_reachable", "focal_length_mm", "require", "screen_half_extent"]
+__all__ = ["camera_frame", "check_focus_reachable", "focal_length_mm", "require", "scene_prescription",
+           "screen_half_extent"]
 
 
 def camera_frame(camera):
@@ -40,10 +41,23 @@ def focal_length_mm(scene, model: str) -> float:
     """
     camera = scene.camera
     if camera.lens is not None:
-        from ..lenses import effective_focal_length_for_scene
+        from ..lenses import paraxial_data
 
-        return effective_focal_length_for_scene(scene)
+        return paraxial_data(scene_prescription(scene, model)).effective_focal_length_mm
     return require(scene, camera.focal_length_mm, "focal_length_mm", model)
+
+
+def scene_prescription(scene, model: str):
+    """The prescription ``camera.lens`` names: a shipped name, or a path
+    (relative paths are taken from the scene file's folder)."""
+    from pathlib import Path
+
+    from ..lenses import load_prescription, shipped_lens_names
+
+    name = require(scene, scene.camera.lens, "lens", model)
+    if name in shipped_lens_names() or Path(name).is_absolute():
+        return load_prescription(name)
+    return load_prescription(Path(scene.base_dir) / name)
 
 
 def check_focus_reachable(scene, focal_length: float) -> None:

@@ -1,5 +1,5 @@
 """Sub-commands of the command line, in the order ``--help`` lists them."""
 
-from . import preview, render
+from . import lens, preview, render
 
-COMMANDS = [render, preview]
+COMMANDS = [render, lens, preview]

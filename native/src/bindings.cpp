@@ -4,11 +4,17 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 #include <array>
+#include <cmath>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <cstdint>
 #include <stdexcept>
 
+#include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
 #include "cameras/thin_lens.h"
 #include "raw_throughput.h"
@@ -62,6 +68,14 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
 }
 
 template <class Camera>
+std::pair<int, int> resolution_px(const Camera& camera) {
+    if constexpr (std::is_same_v<Camera, LensSystemCamera>)
+        return {camera.width_px, camera.height_px};
+    else
+        return {camera.film.width_px, camera.film.height_px};
+}
+
+template <class Camera>
 std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
                                               uint64_t seed, int threads, int row_begin, int row_end,
                                               CArray<float, -1, -1, 3> out) {
@@ -72,7 +86,7 @@ std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& 
     s.sampler = SamplerKind(sampler);
     s.seed = seed;
     s.threads = threads;
-    if (s.width_px != camera.film.width_px || s.height_px != camera.film.height_px)
+    if (std::make_pair(s.width_px, s.height_px) != resolution_px(camera))
         throw std::invalid_argument("output array does not match the camera's resolution");
     if (row_begin < 0 || row_end > s.height_px || row_begin > row_end) throw std::invalid_argument("bad row range");
     RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
@@ -148,8 +162,52 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
 
+    nb::class_<LensSystemCamera>(m, "LensSystemCamera")
+        .def("__init__",
+             [](LensSystemCamera* self, const Triple& origin, const Triple& right, const Triple& up,
+                const Triple& forward, int width_px, int height_px, double film_width_mm, double film_height_mm,
+                CArray<const double, -1> curvature_per_mm, CArray<const double, -1> vertex_z_mm,
+                CArray<const double, -1> semi_aperture_mm, CArray<const double, -1> n_scene_side,
+                CArray<const double, -1> n_film_side, CArray<const bool, -1> is_stop, double film_z_mm,
+                double entrance_pupil_z_mm, bool brute_force_pupil) {
+                 std::vector<LensElement> elements;
+                 for (size_t i = 0; i < curvature_per_mm.shape(0); ++i)
+                     elements.push_back(LensElement{curvature_per_mm(i), vertex_z_mm(i), semi_aperture_mm(i),
+                                                    n_scene_side(i), n_film_side(i), is_stop(i)});
+                 if (elements.empty()) throw std::invalid_argument("a lens system needs surfaces");
+                 double max_film_radius_mm = 0.5 * std::hypot(film_width_mm, film_height_mm);
+                 auto pupil = std::make_shared<const ExitPupil>(elements, film_z_mm, max_film_radius_mm,
+                                                                brute_force_pupil);
+                 new (self) LensSystemCamera{make_frame(origin, right, up, forward), std::move(elements), film_z_mm,
+                                             entrance_pupil_z_mm, film_width_mm, film_height_mm, width_px,
+                                             height_px, std::move(pupil)};
+                 calibrate_centre_irradiance(self);
+             },
+             "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
+             "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
+             "n_film_side"_a, "is_stop"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
+             nb::call_guard<nb::gil_scoped_release>())
+        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
+        .def("pupil_polygon",
+             [](const LensSystemCamera& c, int segment) {
+                 const PupilPolygon& p = c.pupil->segment(segment);
+                 return std::make_tuple(p.empty, p.centre_x_mm, std::vector<double>(p.radius_mm.begin(), p.radius_mm.end()),
+                                        p.area_mm2);
+             },
+             "segment"_a);
+
+    m.def("count_lens_passes",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
+              LensPassCounts c = count_lens_passes(camera, reinterpret_cast<const Point2f*>(raster_px.data()),
+                                                   reinterpret_cast<const Point2f*>(lens.data()),
+                                                   size_t(raster_px.shape(0)));
+              return std::make_tuple(c.samples, c.traced, c.passed);
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>());
+
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
+    bind_camera_functions<LensSystemCamera>(m);
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens) {

@@ -1,0 +1,67 @@
+"""Lens systems: prescriptions, paraxial data, focusing and the real-ray trace.
+
+Pure Python and numpy.  One job per module:
+
+- :mod:`.prescription` reads and validates pbrt lens files;
+- :mod:`.paraxial` gives first-order data (focal lengths, principal planes,
+  pupils, f-number) and stops a lens down;
+- :mod:`.focus` places the film for a focus distance;
+- :mod:`.trace` is the exact ray trace (the native tracer ports it to C++);
+- :mod:`.analysis` measures distortion, relative illumination and the image
+  circle with it.
+
+Lengths are mm, focus distances m; axial positions are mm from the first
+vertex, positive toward the film.
+"""
+
+from .analysis import (
+    chief_ray_distortion_percent,
+    chief_ray_film_height_mm,
+    image_circle_radius_mm,
+    real_f_number,
+    relative_illumination,
+)
+from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
+from .paraxial import (
+    ParaxialData,
+    aperture_stop_index,
+    paraxial_data,
+    ray_transfer_matrix,
+    stop_semi_aperture_for_f_number,
+    stopped_down,
+)
+from .prescription import (
+    Prescription,
+    Surface,
+    load_prescription,
+    parse_prescription,
+    sag_mm,
+    shipped_lens_names,
+)
+from .trace import TracedRays, trace_from_film, trace_from_scene
+
+__all__ = [
+    "Prescription",
+    "Surface",
+    "load_prescription",
+    "parse_prescription",
+    "sag_mm",
+    "shipped_lens_names",
+    "ParaxialData",
+    "aperture_stop_index",
+    "paraxial_data",
+    "ray_transfer_matrix",
+    "stop_semi_aperture_for_f_number",
+    "stopped_down",
+    "closest_focus_distance_m",
+    "film_distance_mm",
+    "front_most_z_mm",
+    "TracedRays",
+    "trace_from_film",
+    "trace_from_scene",
+    "chief_ray_distortion_percent",
+    "chief_ray_film_height_mm",
+    "image_circle_radius_mm",
+    "real_f_number",
+    "relative_illumination",
+]

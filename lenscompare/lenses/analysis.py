@@ -1,0 +1,358 @@
+"""Real-ray measurements of a lens: distortion, relative illumination, image circle.
+
+Built on :mod:`.trace` (same lens frame: z = 0 at the first vertex, positive
+toward the film, mm).  Field angles are in degrees from the axis; objects are
+at infinity unless a focus distance (m from the entrance pupil) is given.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+from .focus import film_distance_mm, front_most_z_mm
+from .paraxial import (
+    aperture_stop_index,
+    paraxial_data,
+    ray_transfer_matrix,
+    stopped_down,
+)
+from .prescription import Prescription, sag_mm
+from .trace import trace_from_film, trace_from_scene
+
+__all__ = [
+    "chief_ray_distortion_percent",
+    "chief_ray_film_height_mm",
+    "relative_illumination",
+    "image_circle_radius_mm",
+    "real_f_number",
+]
+
+_MM_PER_M = 1000.0
+
+
+def chief_ray_film_height_mm(prescription: Prescription, field_angle_deg: float, *,
+                             focus_distance_m: float = math.inf) -> float:
+    """Film height (mm) of the real chief ray at a field angle.
+
+    The chief ray comes from a point at ``field_angle_deg`` above the axis
+    (seen from the entrance pupil; at infinity, or on the plane of focus) and
+    passes through the centre of the aperture stop; it is found by root finding
+    on its height at the first vertex plane.  Apertures are ignored for
+    this ray (a vignetted chief ray still defines the image height).  The film
+    is at the paraxial focus for ``focus_distance_m``.  The image is inverted,
+    so the height is negative for a positive angle.
+
+    Raises
+    ------
+    InputError
+        When the field angle is not in [0, 90) degrees or the chief ray does
+        not get through the lens (misses a surface or is totally reflected).
+    """
+    theta = _field_angle_rad(prescription, field_angle_deg)
+    return _chief_ray_film_height_mm(prescription, theta, focus_distance_m)
+
+
+def chief_ray_distortion_percent(prescription: Prescription, field_angle_deg: float, *,
+                                 focus_distance_m: float = math.inf) -> float:
+    """Distortion (%) of the real chief ray against the paraxial image height.
+
+    ``100 * (y_real / y_paraxial - 1)``: y_real from
+    :func:`chief_ray_film_height_mm`; y_paraxial the height of the paraxial
+    chief ray (slope tan(theta) through the entrance-pupil centre) on the same
+    film plane, which is ``f * tan(theta)`` for an object at infinity.
+    Negative is barrel distortion.
+
+    Parameters
+    ----------
+    prescription : Prescription
+    field_angle_deg : float
+        Field angle, degrees, in [0, 90).
+    focus_distance_m : float, optional
+        Object plane distance from the entrance pupil, m (default infinity).
+
+    Returns
+    -------
+    float
+        Distortion in percent; 0 on the axis.
+    """
+    if field_angle_deg == 0:
+        return 0.0
+    y_real = chief_ray_film_height_mm(prescription, field_angle_deg,
+                                      focus_distance_m=focus_distance_m)
+    y_ideal = _paraxial_chief_ray_film_height_mm(prescription, math.radians(field_angle_deg),
+                                                 focus_distance_m)
+    return 100.0 * (y_real / y_ideal - 1.0)
+
+
+def relative_illumination(prescription: Prescription, field_angle_deg: float, *,
+                          f_number: float | None = None, samples_across: int = 400) -> float:
+    """Relative illumination: film irradiance at a field angle over that on the axis.
+
+    A distant object of uniform radiance L lights the film point where the
+    chief ray at angle theta lands.  The flux from a patch of sky of solid
+    angle dOmega is ``L * A(theta) * cos(theta) * dOmega``, where A(theta) is
+    the area of the parallel beam at theta that gets through every aperture,
+    measured in a plane perpendicular to the axis (``A cos theta`` is its
+    cross-section).  That flux spreads over the film area
+    ``dA = y * (dy/dtheta) / sin(theta) * dOmega`` (y the real chief-ray film
+    height).  Hence
+
+        RI(theta) = [A(theta) cos(theta) sin(theta) / (y dy/dtheta)] / [A(0) / f^2],
+
+    which is ``cos^4(theta)`` times the vignetting ``A(theta) / A(0)`` for a
+    lens without distortion, and also counts the image compression of a
+    barrel-distorting lens.  A(theta) is the count of passing rays of a square
+    grid of ``samples_across``^2 parallel rays over everything that could reach
+    the first surface, times the cell area.  Transmission losses are ignored.
+
+    Parameters
+    ----------
+    prescription : Prescription
+    field_angle_deg : float
+        Field angle, degrees, in [0, 90).
+    f_number : float, optional
+        Stop the lens down to this paraxial f-number first (default: wide open).
+    samples_across : int, optional
+        Grid size per side (default 400; the error is about 1/samples_across).
+
+    Returns
+    -------
+    float
+        Relative illumination, exactly 1 on the axis, 0 when nothing gets
+        through.
+    """
+    if f_number is not None:
+        prescription = stopped_down(prescription, f_number)
+    theta = _field_angle_rad(prescription, field_angle_deg)
+    if theta == 0.0:
+        return 1.0
+    on_axis = _passing_beam_area_mm2(prescription, 0.0, samples_across)
+    area = _passing_beam_area_mm2(prescription, theta, samples_across)
+    if on_axis == 0 or area == 0:
+        return 0.0
+    focal_length = paraxial_data(prescription).effective_focal_length_mm
+    # Image area per solid angle from the real chief-ray mapping (central difference).
+    step = 1e-5
+    height = _chief_ray_film_height_mm(prescription, theta, math.inf)
+    slope = (_chief_ray_film_height_mm(prescription, theta + step, math.inf)
+             - _chief_ray_film_height_mm(prescription, theta - step, math.inf)) / (2.0 * step)
+    film_area_per_solid_angle = height * slope / math.sin(theta)
+    return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis / focal_length ** 2)
+
+
+def image_circle_radius_mm(prescription: Prescription, *, focus_distance_m: float = math.inf,
+                           samples_across: int = 32, tolerance_mm: float = 1e-3) -> float:
+    """Largest film radius (mm) from which any ray gets through the lens.
+
+    From film points on the x axis, rays are aimed at points of the rear
+    surface inside its clear aperture: a square grid of ``samples_across``^2
+    and, finer, ``64 * samples_across`` along the meridional line, where the
+    last rays get through.  The radius is found by a scan and then bisection
+    down to ``tolerance_mm``.  The film is at the paraxial focus for
+    ``focus_distance_m``.
+
+    Returns
+    -------
+    float
+        Image-circle radius, mm; 0 when not even the film centre sees light.
+    """
+    film_z = prescription.total_track_mm + film_distance_mm(prescription, focus_distance_m)
+
+    def lit(radius_mm):
+        return _any_ray_passes_from_film(prescription, film_z, radius_mm, samples_across)
+
+    if not lit(0.0):
+        return 0.0
+    # Scan outward to the first dark radius, then bisect the last step.
+    step = max(prescription.surfaces[-1].semi_aperture_mm, film_z - prescription.total_track_mm)
+    step = max(step, 1.0) / 8.0
+    r_lit, r_dark = 0.0, step
+    while lit(r_dark):
+        r_lit, r_dark = r_dark, r_dark + step
+        if r_dark > 1e6:
+            return math.inf
+    while r_dark - r_lit > tolerance_mm:
+        middle = 0.5 * (r_lit + r_dark)
+        r_lit, r_dark = (middle, r_dark) if lit(middle) else (r_lit, middle)
+    return r_lit
+
+
+def real_f_number(prescription: Prescription, *, tolerance_mm: float = 1e-9) -> float:
+    """Real-ray f-number: EFL over the diameter of the widest axial beam that passes.
+
+    The beam from a distant point on the axis is limited by every aperture,
+    not only the stop; its radius (the real entrance-pupil radius on the axis)
+    is found by bisection on the height of rays parallel to the axis.  This is
+    the definition behind the real-ray f-numbers in the shared lens README.
+
+    Returns
+    -------
+    float
+        ``effective_focal_length_mm / (2 * radius)``.
+    """
+    start_z = front_most_z_mm(prescription) - 1.0
+
+    def passes(y):
+        return bool(trace_from_scene(prescription, [0.0, y, start_z], [0.0, 0.0, 1.0]).passed)
+
+    # The first surface's aperture bounds the beam, however the lens bends it.
+    inside, outside = 0.0, prescription.surfaces[0].semi_aperture_mm * (1.0 + 1e-6)
+    if not passes(inside):
+        raise InputError(prescription.name, "not even the axial ray gets through the lens")
+    while outside - inside > tolerance_mm:
+        middle = 0.5 * (inside + outside)
+        inside, outside = (middle, outside) if passes(middle) else (inside, middle)
+    return paraxial_data(prescription).effective_focal_length_mm / (2.0 * inside)
+
+
+def _field_angle_rad(prescription: Prescription, field_angle_deg: float) -> float:
+    """Field angle in radians, after checking that it is in [0, 90) degrees."""
+    if not 0.0 <= field_angle_deg < 90.0:
+        raise InputError(prescription.name, f"field angle must be in [0, 90) degrees, got "
+                         f"{field_angle_deg!r}", key="field_angle")
+    return math.radians(field_angle_deg)
+
+
+def _chief_ray_film_height_mm(prescription: Prescription, theta: float,
+                              focus_distance_m: float) -> float:
+    """Film height of the real chief ray at a signed field angle (radians)."""
+    origin, direction = _chief_ray(prescription, theta, focus_distance_m)
+    film_z = prescription.total_track_mm + film_distance_mm(prescription, focus_distance_m)
+    rays = trace_from_scene(prescription, origin, direction, clip=False)
+    if not rays.passed:
+        raise InputError(prescription.name, f"the chief ray at {math.degrees(theta):g} deg "
+                         f"does not get through the lens", key="field_angle")
+    o, d = rays.origins_mm, rays.directions
+    return float(o[1] + d[1] * (film_z - o[2]) / d[2])
+
+
+def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float):
+    """Object-space origin and direction of the real chief ray at field angle theta.
+
+    The rays from the object point are labelled by the height y0 at which
+    they cross the first vertex plane (z = 0).  A vectorised scan over every
+    y0 that could reach the first surface brackets the zero of the height at
+    the stop; the bracket nearest the paraxial chief ray is then refined.
+    """
+    data = paraxial_data(prescription)
+    start_z = front_most_z_mm(prescription) - 1.0
+    stop = aperture_stop_index(prescription)
+    first = prescription.surfaces[0]
+    # Slope dy/dz of the ray through height y0 at z = 0.  Written so that a
+    # far object (1e12 m) costs no precision and infinity gives -tan(theta).
+    distance_mm = focus_distance_m * _MM_PER_M
+    lever_mm = distance_mm - data.entrance_pupil_position_mm  # object to first vertex
+    along = 1.0 if math.isinf(distance_mm) else distance_mm / lever_mm
+
+    def rays_through(y0):
+        y0 = np.atleast_1d(np.asarray(y0, dtype=np.float64))
+        slope = y0 / lever_mm - math.tan(theta) * along
+        directions = np.stack([np.zeros_like(slope), slope, np.ones_like(slope)], axis=1)
+        directions /= np.linalg.norm(directions, axis=1)[:, None]
+        origins = np.stack([np.zeros_like(y0), y0, np.zeros_like(y0)], axis=1)
+        return origins + directions * (start_z / directions[:, 2])[:, None], directions
+
+    def stop_height(y0):
+        rays = trace_from_scene(prescription, *rays_through(y0), clip=False, last=stop)
+        return np.where(rays.passed, rays.origins_mm[:, 1], np.nan)
+
+    # Between the plane z = 0 and the first surface a ray drifts sideways by
+    # at most |sag| tan(theta).
+    reach = (first.semi_aperture_mm
+             + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(math.tan(theta)))
+    y0 = np.linspace(-1.5 * reach, 1.5 * reach, 601)
+    heights = stop_height(y0)
+    with np.errstate(invalid="ignore"):
+        brackets = np.flatnonzero(heights[:-1] * heights[1:] <= 0)  # NaN pairs drop out
+    if brackets.size == 0:
+        raise InputError(prescription.name, f"no chief ray through the stop centre at "
+                         f"{math.degrees(theta):g} deg", key="field_angle")
+    paraxial_y0 = math.tan(theta) * data.entrance_pupil_position_mm
+    i = brackets[np.argmin(np.abs(y0[brackets] - paraxial_y0))]
+    y = _bracketed_root(lambda x: float(stop_height(x)[0]), y0[i], y0[i + 1],
+                        heights[i], heights[i + 1])
+    origins, directions = rays_through(y)
+    return origins[0], directions[0]
+
+
+def _paraxial_chief_ray_film_height_mm(prescription: Prescription, theta: float,
+                                       focus_distance_m: float) -> float:
+    """Height on the film of the paraxial ray with slope -tan(theta) through the pupil centre."""
+    pupil_z = paraxial_data(prescription).entrance_pupil_position_mm
+    slope = -math.tan(theta)
+    y_out, w_out = ray_transfer_matrix(prescription) @ np.array([-slope * pupil_z, slope])
+    return float(y_out + film_distance_mm(prescription, focus_distance_m) * w_out)
+
+
+def _bracketed_root(function, a: float, b: float, fa: float, fb: float, *,
+                    tolerance_mm: float = 1e-12) -> float:
+    """Root of a continuous function in [a, b], f(a) f(b) <= 0 (Illinois method).
+
+    Regula falsi that halves the weight of a stale end, so it keeps the
+    bracket and converges fast on the nearly linear functions met here.
+    """
+    if fa == 0.0:
+        return a
+    for _ in range(200):
+        if fb == 0.0 or abs(b - a) <= tolerance_mm:
+            return b
+        c = b - fb * (b - a) / (fb - fa)
+        fc = function(c)
+        if not math.isfinite(fc):  # a blocked ray inside the bracket: bisect instead
+            c = 0.5 * (a + b)
+            fc = function(c)
+            if not math.isfinite(fc):
+                break
+        if fc * fb < 0:
+            a, fa = b, fb
+        else:
+            fa *= 0.5  # the same end stays: weigh it less
+        b, fb = c, fc
+    return b
+
+
+def _passing_beam_area_mm2(prescription: Prescription, theta: float, samples_across: int) -> float:
+    """Area (mm^2, perpendicular to the axis) of a parallel beam at theta that passes."""
+    first = prescription.surfaces[0]
+    # Between the first vertex plane and the first surface a ray drifts
+    # sideways by at most |sag| tan(theta): cover that too.
+    half = (first.semi_aperture_mm
+            + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * math.tan(theta)) * 1.01
+    centres = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * half - half
+    x, y = np.meshgrid(centres, centres)
+    direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
+    start_z = front_most_z_mm(prescription) - 1.0
+    # Grid in the first vertex plane, moved back along the ray to start_z.
+    points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    origins = points - direction * (0.0 - start_z) / direction[2]
+    rays = trace_from_scene(prescription, origins, direction)
+    cell = (2.0 * half / samples_across) ** 2
+    return float(np.count_nonzero(rays.passed)) * cell
+
+
+def _any_ray_passes_from_film(prescription: Prescription, film_z: float, radius_mm: float,
+                              samples_across: int) -> bool:
+    """Whether any ray from film point (radius, 0) gets through the lens."""
+    rear = prescription.surfaces[-1]
+    # Aim at points of the rear surface itself, inside its clear aperture:
+    # every ray that can get through meets it at one of them.  The last rays
+    # to get through at the rim of the image circle lie in the meridional
+    # plane (y = 0) by symmetry, often at the rim, so that line is sampled
+    # finely up to just inside the rim (exactly on it, rounding may fail the
+    # aperture test).
+    h = rear.semi_aperture_mm * (1.0 - 1e-9)
+    centres = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * h - h
+    x, y = np.meshgrid(centres, centres)
+    line = np.linspace(-h, h, 64 * samples_across + 1)
+    x = np.concatenate([x.ravel(), line])
+    y = np.concatenate([y.ravel(), np.zeros_like(line)])
+    inside = x * x + y * y <= h * h
+    x, y = x[inside], y[inside]
+    z = prescription.total_track_mm + sag_mm(rear.curvature_per_mm, np.hypot(x, y))
+    targets = np.stack([x, y, z], axis=1)
+    origin = np.array([radius_mm, 0.0, film_z])
+    rays = trace_from_film(prescription, origin, targets - origin)
+    return bool(rays.passed.any())

@@ -1,0 +1,161 @@
+#include "lens/exit_pupil.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lc {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kScanCells = 24;      // coarse grid that finds where light passes
+constexpr int kMarchSteps = 48;     // outward steps per boundary search
+constexpr int kBisections = 14;     // refinement of each boundary point
+constexpr double kRelativeMargin = 1.01;   // polygon enlargement: covers chords and ring interpolation
+constexpr double kAbsoluteMargin = 0.002;  // ... as a fraction of the scan half-width
+
+struct Direction2 {
+    double x, y;
+};
+
+// cos and sin of the polygon's angles, computed once.
+const std::array<Direction2, kPupilAngles>& unit_directions() {
+    static const std::array<Direction2, kPupilAngles> table = [] {
+        std::array<Direction2, kPupilAngles> t{};
+        for (int k = 0; k < kPupilAngles; ++k)
+            t[size_t(k)] = {std::cos(2.0 * kPi * k / kPupilAngles), std::sin(2.0 * kPi * k / kPupilAngles)};
+        return t;
+    }();
+    return table;
+}
+
+struct PupilGeometry {
+    const std::vector<LensElement>* elements;
+    double film_z_mm, plane_z_mm;
+
+    bool passes(double film_x_mm, double px, double py) const {
+        LensRay ray{{film_x_mm, 0.0, film_z_mm}, normalize(Vec3d{px - film_x_mm, py, plane_z_mm - film_z_mm})};
+        return trace_from_film(*elements, &ray);
+    }
+};
+
+// Largest distance from (cx, 0) along angle psi at which light from film_x
+// still passes, or 0 when none does.
+double boundary_distance(const PupilGeometry& g, double film_x, double cx, double psi, double max_distance) {
+    double cos_psi = std::cos(psi), sin_psi = std::sin(psi);
+    double step = max_distance / kMarchSteps;
+    int last_pass = -1;
+    for (int i = 0; i <= kMarchSteps; ++i)
+        if (g.passes(film_x, cx + i * step * cos_psi, i * step * sin_psi)) last_pass = i;
+    if (last_pass < 0) return 0.0;
+    double lo = last_pass * step, hi = lo + step;
+    for (int i = 0; i < kBisections; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (g.passes(film_x, cx + mid * cos_psi, mid * sin_psi) ? lo : hi) = mid;
+    }
+    return hi;
+}
+
+PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], double scan_half_mm) {
+    PupilPolygon poly;
+    // Where does light pass at all? Centre of the passing scan points.
+    double sum_x = 0.0;
+    int count = 0;
+    for (int r = 0; r < 3; ++r)
+        for (int iy = 0; iy < kScanCells; ++iy)
+            for (int ix = 0; ix < kScanCells; ++ix) {
+                double px = -scan_half_mm + (ix + 0.5) * 2.0 * scan_half_mm / kScanCells;
+                double py = -scan_half_mm + (iy + 0.5) * 2.0 * scan_half_mm / kScanCells;
+                if (g.passes(film_radii[r], px, py)) sum_x += px, ++count;
+            }
+    if (count == 0) return poly;  // outside the image circle
+    poly.empty = false;
+    poly.centre_x_mm = sum_x / count;
+
+    // Boundary per angle: the farthest passing point over the ring's radii.
+    std::array<double, kPupilAngles> raw{};
+    for (int k = 0; k < kPupilAngles; ++k) {
+        double psi = 2.0 * kPi * k / kPupilAngles;
+        for (int r = 0; r < 3; ++r)
+            raw[size_t(k)] = std::max(raw[size_t(k)], boundary_distance(g, film_radii[r], poly.centre_x_mm, psi,
+                                                                        2.0 * scan_half_mm));
+    }
+    // Enlarge a little: covers the chords between sampled angles (0.12 % of
+    // the radius for a convex region) and the boundary between the ring's radii.
+    for (int k = 0; k < kPupilAngles; ++k)
+        poly.radius_mm[size_t(k)] = raw[size_t(k)] * kRelativeMargin + kAbsoluteMargin * scan_half_mm;
+    // Triangle fan areas -> CDF.
+    double total = 0.0;
+    double wedge = std::sin(2.0 * kPi / kPupilAngles) * 0.5;
+    for (int k = 0; k < kPupilAngles; ++k) {
+        total += wedge * poly.radius_mm[size_t(k)] * poly.radius_mm[size_t((k + 1) % kPupilAngles)];
+        poly.cdf[size_t(k)] = total;
+    }
+    for (double& c : poly.cdf) c /= total;
+    poly.cdf.back() = 1.0;
+    poly.area_mm2 = total;
+    return poly;
+}
+
+}  // namespace
+
+PupilPolygon bounding_disk(double radius_mm) {
+    PupilPolygon poly;
+    poly.empty = false;
+    poly.radius_mm.fill(radius_mm / std::cos(kPi / kPupilAngles));  // the 64-gon holds the disk
+    for (int k = 0; k < kPupilAngles; ++k) poly.cdf[size_t(k)] = double(k + 1) / kPupilAngles;
+    poly.area_mm2 = kPupilAngles * std::sin(2.0 * kPi / kPupilAngles) * 0.5 * poly.radius_mm[0] * poly.radius_mm[0];
+    return poly;
+}
+
+ExitPupil::ExitPupil(const std::vector<LensElement>& elements, double film_z_mm, double max_film_radius_mm,
+                     bool brute_force)
+    : segments_(size_t(kPupilSegments)), plane_z_mm_(elements.back().vertex_z_mm),
+      max_film_radius_mm_(max_film_radius_mm) {
+    if (brute_force) {
+        std::fill(segments_.begin(), segments_.end(), bounding_disk(1.5 * elements.back().semi_aperture_mm));
+        return;
+    }
+    PupilGeometry g{&elements, film_z_mm, plane_z_mm_};
+    // Light reaching the rear vertex plane lies within about the rear clear
+    // aperture; the scan covers twice that to be safe.
+    double largest = 0.0;
+    for (const LensElement& e : elements) largest = std::max(largest, e.semi_aperture_mm);
+    double scan_half_mm = std::max(2.0 * elements.back().semi_aperture_mm, 1e-3);
+    scan_half_mm = std::min(scan_half_mm, 2.0 * largest);
+    tbb::parallel_for(0, kPupilSegments, [&](int i) {
+        double r0 = max_film_radius_mm_ * i / kPupilSegments;
+        double r1 = max_film_radius_mm_ * (i + 1) / kPupilSegments;
+        double radii[3] = {r0, 0.5 * (r0 + r1), r1};
+        segments_[size_t(i)] = build_polygon(g, radii, scan_half_mm);
+    });
+}
+
+int ExitPupil::segment_index(double film_radius_mm) const {
+    int i = int(film_radius_mm / max_film_radius_mm_ * kPupilSegments);
+    return std::clamp(i, 0, kPupilSegments - 1);
+}
+
+bool ExitPupil::sample(double film_radius_mm, Point2f u, PupilSample* out) const {
+    const PupilPolygon& poly = segments_[size_t(segment_index(film_radius_mm))];
+    if (poly.empty) return false;
+    // Pick a triangle of the fan by area with u.y, reusing u.y within it for
+    // the position across the triangle; u.x alone sets the distance from the
+    // centre, so radial strata stay as fine as the sampler's.
+    const auto& cdf = poly.cdf;
+    int k = int(std::upper_bound(cdf.begin(), cdf.end(), double(u.y)) - cdf.begin());
+    k = std::min(k, kPupilAngles - 1);
+    double lo = k == 0 ? 0.0 : cdf[size_t(k - 1)];
+    double across = std::clamp((double(u.y) - lo) / std::max(cdf[size_t(k)] - lo, 1e-300), 0.0, 1.0);
+    const auto& unit = unit_directions();
+    int k1 = (k + 1) % kPupilAngles;
+    double r0 = poly.radius_mm[size_t(k)], r1 = poly.radius_mm[size_t(k1)];
+    double s = std::sqrt(double(u.x)), t = across;
+    double bx = s * ((1.0 - t) * r0 * unit[size_t(k)].x + t * r1 * unit[size_t(k1)].x);
+    double by = s * ((1.0 - t) * r0 * unit[size_t(k)].y + t * r1 * unit[size_t(k1)].y);
+    *out = PupilSample{poly.centre_x_mm + bx, by, poly.area_mm2};
+    return true;
+}
+
+}  // namespace lc

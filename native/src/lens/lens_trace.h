@@ -1,0 +1,127 @@
+// Exact ray trace through a rotationally symmetric lens system, in double
+// precision. Lens frame (shared with lenscompare/lenses/trace.py): z along the
+// optical axis, z = 0 at the first vertex, +z toward the film; mm.
+//
+// At every surface, film side first: intersect the sphere through the vertex
+// (a plane for curvature 0) on the vertex-side cap; test the clear aperture;
+// refract by Snell's law. No hit, a miss of the aperture, total internal
+// reflection or a ray that turns back toward the film all block the ray.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "vec.h"
+
+namespace lc {
+
+struct LensElement {
+    double curvature_per_mm;  // 1/R, 0 for planes and the stop
+    double vertex_z_mm;
+    double semi_aperture_mm;
+    double n_scene_side;      // index of the medium in front (scene side)
+    double n_film_side;       // index of the medium behind (film side)
+    bool is_stop;
+};
+
+struct LensRay {
+    Vec3d origin_mm;
+    Vec3d direction;  // unit
+};
+
+// Roots this little behind the origin still count: a ray leaving one surface
+// where the next touches it (cemented, zero thickness) starts on both.
+constexpr double kBehindToleranceMm = 1e-9;
+
+// Where the ray meets the surface's physical cap; false when it does not.
+inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* t_out) {
+    const Vec3d& o = ray.origin_mm;
+    const Vec3d& d = ray.direction;
+    if (e.curvature_per_mm == 0.0) {
+        if (d.z == 0.0) return false;
+        double t = (e.vertex_z_mm - o.z) / d.z;
+        if (!(t >= -kBehindToleranceMm)) return false;
+        *t_out = t;
+        return true;
+    }
+    // Sphere of radius R centred at vertex + R on the axis, written with the
+    // curvature c = 1/R so that nearly flat surfaces (R = 1e9) lose no bits:
+    // c |p - C|^2 = R  <=>  c (x^2 + y^2 + (z - v)^2) - 2 (z - v) = 0.
+    const double c = e.curvature_per_mm;
+    Vec3d p{o.x, o.y, o.z - e.vertex_z_mm};
+    double a = c * dot(d, d);
+    double b = 2.0 * (c * dot(p, d) - d.z);
+    double k = c * dot(p, p) - 2.0 * p.z;
+    double disc = b * b - 4.0 * a * k;
+    if (!(disc >= 0.0)) return false;
+    double sq = std::sqrt(disc);
+    // Numerically stable pair of roots.
+    double q = -0.5 * (b + std::copysign(sq, b));
+    double t0 = a != 0.0 ? q / a : INFINITY;
+    double t1 = q != 0.0 ? k / q : INFINITY;
+    if (t0 > t1) std::swap(t0, t1);
+    for (double t : {t0, t1}) {
+        if (!(t >= -kBehindToleranceMm) || !std::isfinite(t)) continue;
+        // The physical cap is the half of the sphere on the vertex side:
+        // c (z - v) < 1, i.e. z short of the centre.
+        double z_rel = p.z + t * d.z;
+        if (c * z_rel < 1.0) {
+            *t_out = t;
+            return true;
+        }
+    }
+    return false;
+}
+
+// Unit normal of the surface at p (lens frame), pointing toward the film for
+// the vertex region.
+inline Vec3d surface_normal(const LensElement& e, const Vec3d& p) {
+    if (e.curvature_per_mm == 0.0) return {0.0, 0.0, 1.0};
+    const double c = e.curvature_per_mm;
+    // (C - p) / R = (0,0,1) - c (p - vertex): exact even for tiny c.
+    Vec3d n{-c * p.x, -c * p.y, 1.0 - c * (p.z - e.vertex_z_mm)};
+    return normalize(n);
+}
+
+// Snell refraction of unit d at unit normal n (either orientation) from index
+// n1 into n2; false on total internal reflection.
+inline bool refract(const Vec3d& d, Vec3d n, double n1, double n2, Vec3d* out) {
+    double cos_i = -dot(n, d);
+    if (cos_i < 0.0) {
+        n = -n;
+        cos_i = -cos_i;
+    }
+    double eta = n1 / n2;
+    double sin2_t = eta * eta * std::fmax(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) return false;
+    double cos_t = std::sqrt(1.0 - sin2_t);
+    // Unit length to rounding already (unit d and n): no normalisation needed.
+    *out = d * eta + n * (eta * cos_i - cos_t);
+    return true;
+}
+
+// Cross one surface travelling toward the scene (-z); false when blocked.
+inline bool cross_toward_scene(const LensElement& e, LensRay* ray) {
+    double t;
+    if (!intersect_surface(e, *ray, &t)) return false;
+    Vec3d p = ray->origin_mm + ray->direction * t;
+    if (p.x * p.x + p.y * p.y > e.semi_aperture_mm * e.semi_aperture_mm) return false;
+    ray->origin_mm = p;
+    if (e.is_stop || e.n_scene_side == e.n_film_side) return true;
+    Vec3d refracted;
+    if (!refract(ray->direction, surface_normal(e, p), e.n_film_side, e.n_scene_side, &refracted)) return false;
+    if (!(refracted.z < 0.0)) return false;  // turned back toward the film (pbrt-v3 #92)
+    ray->direction = refracted;
+    return true;
+}
+
+// Trace from the film side through every element to the scene side. On
+// success the ray starts on the first surface and travels toward -z.
+inline bool trace_from_film(const std::vector<LensElement>& elements, LensRay* ray) {
+    if (!(ray->direction.z < 0.0)) return false;
+    for (auto e = elements.rbegin(); e != elements.rend(); ++e)
+        if (!cross_toward_scene(*e, ray)) return false;
+    return true;
+}
+
+}  // namespace lc
