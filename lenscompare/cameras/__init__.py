@@ -7,11 +7,11 @@ and build the matching native camera. One file per model.
 from __future__ import annotations
 
 from ..errors import InputError
-from . import lens, pinhole, thin
+from . import lens, pinhole, thick, thin
 
 __all__ = ["native_camera", "NATIVE_MODELS"]
 
-_BUILDERS = {"pinhole": pinhole.build, "thin": thin.build, "lens": lens.build}
+_BUILDERS = {"pinhole": pinhole.build, "thin": thin.build, "thick": thick.build, "lens": lens.build}
 NATIVE_MODELS = tuple(_BUILDERS)
 
 

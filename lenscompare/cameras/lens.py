@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _native
-from ..lenses import film_distance_mm, paraxial_data, stopped_down
+from ..lenses import aperture_stop_index, film_distance_mm, paraxial_data, stopped_down
 from .common import camera_frame, scene_prescription
 
 __all__ = ["build", "lens_elements"]
@@ -37,6 +37,7 @@ def lens_elements(prescription) -> dict[str, np.ndarray]:
         "n_scene_side": np.array([prescription.n_before(i) for i in range(len(surfaces))], dtype=float),
         "n_film_side": np.array([s.n_after for s in surfaces], dtype=float),
         "is_stop": np.array([s.is_stop for s in surfaces], dtype=bool),
+        "stop_index": aperture_stop_index(prescription),
     }
 
 

@@ -25,10 +25,10 @@ __all__ = ["build", "DISK_MAPPING_CODES"]
 DISK_MAPPING_CODES = {"polar": _native.DISK_POLAR, "concentric": _native.DISK_CONCENTRIC}
 
 
-def build(scene):
+def build(scene, *, model: str = "thin"):
     camera = scene.camera
-    f_mm = focal_length_mm(scene, "thin")
-    n = require(scene, camera.f_number, "f_number", "thin")
+    f_mm = focal_length_mm(scene, model)
+    n = require(scene, camera.f_number, "f_number", model)
     check_focus_reachable(scene, f_mm)
     film_distance_mm = focus_film_distance_mm(camera.focus_distance_m * 1000.0, f_mm)
     half_w, half_h = screen_half_extent(scene, film_distance_mm)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from ..errors import InputError
 from ..scene import MODELS, SAMPLERS, load_scene
@@ -57,7 +58,11 @@ def run(args) -> int:
         raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
     scene = load_scene(args.scene)
     if args.lens is not None:
-        scene = scene.with_camera(lens=args.lens)
+        # A path on the command line is relative to where the user is, not to the scene file.
+        lens = args.lens
+        if Path(lens).exists():
+            lens = str(Path(lens).resolve())
+        scene = scene.with_camera(lens=lens)
     image = render(scene, model=args.model, spp=args.spp, sampler=args.sampler, seed=args.seed,
                    threads=args.threads)
     write_exr(args.output, image)

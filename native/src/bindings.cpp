@@ -16,6 +16,7 @@
 
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
+#include "cameras/thick_lens.h"
 #include "cameras/thin_lens.h"
 #include "raw_throughput.h"
 #include "render.h"
@@ -71,6 +72,8 @@ template <class Camera>
 std::pair<int, int> resolution_px(const Camera& camera) {
     if constexpr (std::is_same_v<Camera, LensSystemCamera>)
         return {camera.width_px, camera.height_px};
+    else if constexpr (std::is_same_v<Camera, ThickLensCamera>)
+        return resolution_px(camera.at_front_principal_plane);
     else
         return {camera.film.width_px, camera.film.height_px};
 }
@@ -162,21 +165,30 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
 
+    nb::class_<ThickLensCamera>(m, "ThickLensCamera")
+        .def("__init__",
+             [](ThickLensCamera* self, const ThinLensCamera& at_front_principal_plane, double principal_plane_gap_m) {
+                 new (self) ThickLensCamera{at_front_principal_plane, principal_plane_gap_m};
+             },
+             "at_front_principal_plane"_a, "principal_plane_gap_m"_a);
+
     nb::class_<LensSystemCamera>(m, "LensSystemCamera")
         .def("__init__",
              [](LensSystemCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double film_width_mm, double film_height_mm,
                 CArray<const double, -1> curvature_per_mm, CArray<const double, -1> vertex_z_mm,
                 CArray<const double, -1> semi_aperture_mm, CArray<const double, -1> n_scene_side,
-                CArray<const double, -1> n_film_side, CArray<const bool, -1> is_stop, double film_z_mm,
-                double entrance_pupil_z_mm, bool brute_force_pupil) {
+                CArray<const double, -1> n_film_side, CArray<const bool, -1> is_stop, int stop_index,
+                double film_z_mm, double entrance_pupil_z_mm, bool brute_force_pupil) {
                  std::vector<LensElement> elements;
                  for (size_t i = 0; i < curvature_per_mm.shape(0); ++i)
                      elements.push_back(LensElement{curvature_per_mm(i), vertex_z_mm(i), semi_aperture_mm(i),
                                                     n_scene_side(i), n_film_side(i), is_stop(i)});
                  if (elements.empty()) throw std::invalid_argument("a lens system needs surfaces");
+                 if (stop_index < 0 || size_t(stop_index) >= elements.size())
+                     throw std::invalid_argument("stop_index out of range");
                  double max_film_radius_mm = 0.5 * std::hypot(film_width_mm, film_height_mm);
-                 auto pupil = std::make_shared<const ExitPupil>(elements, film_z_mm, max_film_radius_mm,
+                 auto pupil = std::make_shared<const ExitPupil>(elements, stop_index, film_z_mm, max_film_radius_mm,
                                                                 brute_force_pupil);
                  new (self) LensSystemCamera{make_frame(origin, right, up, forward), std::move(elements), film_z_mm,
                                              entrance_pupil_z_mm, film_width_mm, film_height_mm, width_px,
@@ -185,7 +197,7 @@ NB_MODULE(_native, m) {
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
-             "n_film_side"_a, "is_stop"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
+             "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
              nb::call_guard<nb::gil_scoped_release>())
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
         .def("pupil_polygon",
@@ -207,6 +219,7 @@ NB_MODULE(_native, m) {
 
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
+    bind_camera_functions<ThickLensCamera>(m);
     bind_camera_functions<LensSystemCamera>(m);
 
     m.def("pixel_samples",

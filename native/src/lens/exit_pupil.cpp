@@ -32,13 +32,46 @@ const std::array<Direction2, kPupilAngles>& unit_directions() {
 
 struct PupilGeometry {
     const std::vector<LensElement>* elements;
+    int stop_index;
     double film_z_mm, plane_z_mm;
 
+    LensRay ray_through(double film_x_mm, double px, double py) const {
+        return {{film_x_mm, 0.0, film_z_mm}, normalize(Vec3d{px - film_x_mm, py, plane_z_mm - film_z_mm})};
+    }
+
     bool passes(double film_x_mm, double px, double py) const {
-        LensRay ray{{film_x_mm, 0.0, film_z_mm}, normalize(Vec3d{px - film_x_mm, py, plane_z_mm - film_z_mm})};
+        LensRay ray = ray_through(film_x_mm, px, py);
         return trace_from_film(*elements, &ray);
     }
+
+    // Height at which a ray aimed at (px, 0) crosses the stop, rims ignored;
+    // false if it never gets there.
+    bool stop_height(double film_x_mm, double px, double* height) const {
+        LensRay ray = ray_through(film_x_mm, px, 0.0);
+        for (int i = int(elements->size()) - 1; i > stop_index; --i)
+            if (!cross_toward_scene((*elements)[size_t(i)], &ray, false)) return false;
+        double t;
+        if (!intersect_surface((*elements)[size_t(stop_index)], ray, &t)) return false;
+        *height = ray.origin_mm.x + t * ray.direction.x;
+        return true;
+    }
 };
+
+// Where the chief ray (through the stop centre) from film_x crosses the
+// sampling plane, by the secant method; false when it cannot be found. It
+// finds the pupil even when the stop is so small that a scan misses it.
+bool chief_ray_plane_x(const PupilGeometry& g, double film_x, double scale_mm, double* plane_x) {
+    double x0 = 0.0, x1 = 0.1 * scale_mm, h0, h1;
+    if (!g.stop_height(film_x, x0, &h0) || !g.stop_height(film_x, x1, &h1)) return false;
+    for (int i = 0; i < 50 && std::fabs(h1) > 1e-12 * scale_mm; ++i) {
+        if (h1 == h0) return false;
+        double x2 = x1 - h1 * (x1 - x0) / (h1 - h0);
+        x0 = x1, h0 = h1, x1 = x2;
+        if (!std::isfinite(x1) || !g.stop_height(film_x, x1, &h1)) return false;
+    }
+    *plane_x = x1;
+    return std::fabs(h1) <= 1e-6 * scale_mm;
+}
 
 // Largest distance from (cx, 0) along angle psi at which light from film_x
 // still passes, or 0 when none does.
@@ -69,9 +102,16 @@ PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], d
                 double py = -scan_half_mm + (iy + 0.5) * 2.0 * scan_half_mm / kScanCells;
                 if (g.passes(film_radii[r], px, py)) sum_x += px, ++count;
             }
-    if (count == 0) return poly;  // outside the image circle
+    // Anchor: the chief ray of the middle radius when it gets through (it
+    // finds tiny stops the scan misses), else the centre of the scan's hits.
+    double chief_x;
+    if (chief_ray_plane_x(g, film_radii[1], scan_half_mm, &chief_x) && g.passes(film_radii[1], chief_x, 0.0))
+        poly.centre_x_mm = chief_x;
+    else if (count > 0)
+        poly.centre_x_mm = sum_x / count;
+    else
+        return poly;  // outside the image circle
     poly.empty = false;
-    poly.centre_x_mm = sum_x / count;
 
     // Boundary per angle: the farthest passing point over the ring's radii.
     std::array<double, kPupilAngles> raw{};
@@ -109,15 +149,15 @@ PupilPolygon bounding_disk(double radius_mm) {
     return poly;
 }
 
-ExitPupil::ExitPupil(const std::vector<LensElement>& elements, double film_z_mm, double max_film_radius_mm,
-                     bool brute_force)
+ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
+                     double max_film_radius_mm, bool brute_force)
     : segments_(size_t(kPupilSegments)), plane_z_mm_(elements.back().vertex_z_mm),
       max_film_radius_mm_(max_film_radius_mm) {
     if (brute_force) {
         std::fill(segments_.begin(), segments_.end(), bounding_disk(1.5 * elements.back().semi_aperture_mm));
         return;
     }
-    PupilGeometry g{&elements, film_z_mm, plane_z_mm_};
+    PupilGeometry g{&elements, stop_index, film_z_mm, plane_z_mm_};
     // Light reaching the rear vertex plane lies within about the rear clear
     // aperture; the scan covers twice that to be safe.
     double largest = 0.0;

@@ -36,8 +36,9 @@ class ExitPupil {
     ExitPupil() = default;
     // brute_force: a disk of 1.5 rear semi-apertures for every ring instead of
     // the traced polygons, the reference the tight sampler is tested against.
-    ExitPupil(const std::vector<LensElement>& elements, double film_z_mm, double max_film_radius_mm,
-              bool brute_force = false);
+    // stop_index: the aperture stop (its centre anchors each polygon).
+    ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
+              double max_film_radius_mm, bool brute_force = false);
 
     // Uniform sample of the polygon for a film point at radius r; false when
     // the ring is outside the image circle.

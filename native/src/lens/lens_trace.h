@@ -101,11 +101,13 @@ inline bool refract(const Vec3d& d, Vec3d n, double n1, double n2, Vec3d* out) {
 }
 
 // Cross one surface travelling toward the scene (-z); false when blocked.
-inline bool cross_toward_scene(const LensElement& e, LensRay* ray) {
+// Without the aperture test it follows a ray the rims would stop (used to
+// find chief rays).
+inline bool cross_toward_scene(const LensElement& e, LensRay* ray, bool test_aperture = true) {
     double t;
     if (!intersect_surface(e, *ray, &t)) return false;
     Vec3d p = ray->origin_mm + ray->direction * t;
-    if (p.x * p.x + p.y * p.y > e.semi_aperture_mm * e.semi_aperture_mm) return false;
+    if (test_aperture && p.x * p.x + p.y * p.y > e.semi_aperture_mm * e.semi_aperture_mm) return false;
     ray->origin_mm = p;
     if (e.is_stop || e.n_scene_side == e.n_film_side) return true;
     Vec3d refracted;

@@ -1,0 +1,27 @@
+// Thick lens (paper section 2.3): rays from the film reach the rear principal
+// plane H', are translated parallel to the axis to the front principal plane
+// H, and leave as from a thin lens of the same focal length.
+//
+// camera.position is H (DESIGN.md) and focus_distance is measured from H, so
+// the translation changes neither the ray's height nor its direction in front
+// of H: in object space the thick lens is the thin lens at H. The gap moves
+// the film and the lens body (film to object = d + gap + d'), which is what
+// lens layouts and the lens-system comparison see.
+#pragma once
+
+#include "cameras/thin_lens.h"
+
+namespace lc {
+
+struct ThickLensCamera {
+    ThinLensCamera at_front_principal_plane;  // origin at H
+    double principal_plane_gap_m;             // signed H -> H', toward the film
+
+    MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
+        // Point on H' and its translation to H share (x, y): the ray leaving H
+        // is the thin-lens ray through the same lens sample.
+        return at_front_principal_plane.generate_ray(raster_px, lens_sample);
+    }
+};
+
+}  // namespace lc

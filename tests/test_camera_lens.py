@@ -1,0 +1,215 @@
+"""Full lens system camera: hard cases, exit-pupil sampling, distortion and
+relative illumination of the Double Gauss against independent values.
+
+Reference values: ../shared/data/lenses/README.md (optiland 0.6.3 and
+rayoptics; Double Gauss distortion -0.221 % at 10 deg and -1.07 % at 20 deg
+against f tan(theta), relative illumination about 0.70 and 0.29).
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from lenscompare import _native
+from lenscompare.cameras import lens as lens_model
+from lenscompare.cameras import native_camera
+from lenscompare.lenses import chief_ray_distortion_percent, chief_ray_film_height_mm, load_prescription
+from lenscompare.metrics import find_point_sources, relative_illumination_at
+from lenscompare.render import render
+from lenscompare.scene import parse_scene
+
+from helpers import REPO, camera_scene_text, sphere_text
+
+SHIPPED = ["dgauss.50mm", "wide.22mm", "fisheye.10mm", "telephoto.250mm"]
+SINGLET = str(REPO / "tests" / "data" / "lenses" / "thin_singlet.dat")
+
+
+def lens_scene(lens, *, f_number=None, focus_distance=3.0, resolution=(360, 240), film_mm=(36.0, 24.0), spp=16,
+               objects="", background=None):
+    text = camera_scene_text(model="lens", focus_distance=focus_distance, resolution=resolution, film_mm=film_mm,
+                             spp=spp, objects=objects)
+    text = text.replace("focal_length_mm = 50.0\n", "").replace("f_number = 2.8\n", "")
+    text = text.replace('model = "lens"', f'model = "lens"\nlens = "{lens}"'
+                        + (f"\nf_number = {f_number!r}" if f_number else ""))
+    if background is not None:
+        text += f"\n[background]\ncolor = [{background!r}, {background!r}, {background!r}]\n"
+    return parse_scene(text)
+
+
+def rays(camera, raster_px, lens_samples):
+    n = len(raster_px)
+    origin, direction, weight = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.float32)
+    _native.generate_rays(camera, np.ascontiguousarray(raster_px, np.float32),
+                          np.ascontiguousarray(lens_samples, np.float32), origin, direction, weight)
+    return origin, direction, weight
+
+
+@pytest.mark.parametrize("lens", SHIPPED + [SINGLET])
+@pytest.mark.parametrize("f_number", [None, 64.0])
+def test_rays_are_finite_everywhere_on_the_film(lens, f_number):
+    """Grazing rays at rims, TIR, rays turning back, corners outside the image
+    circle, a tiny stop: every sample gives a finite ray or none, never NaN."""
+    focus = 10.0 if lens.startswith("telephoto") else 2.0
+    camera, _ = native_camera(lens_scene(lens, f_number=f_number, focus_distance=focus), "lens")
+    rng = np.random.default_rng(3)
+    n = 60000
+    raster = rng.random((n, 2)) * [360, 240]
+    raster[:200] = [[0, 0], [360, 240], [0, 240], [360, 0]] * 50  # the four corners exactly
+    lens_u = rng.random((n, 2))
+    lens_u[200:400] = [[0.9999999, 0.5], [0.0, 0.0], [0.5, 0.9999999], [1e-7, 1e-7]] * 50  # rims and centre
+    origin, direction, weight = rays(camera, raster, lens_u)
+    assert np.all(np.isfinite(origin)) and np.all(np.isfinite(direction)) and np.all(np.isfinite(weight))
+    assert np.all(weight >= 0.0)
+    passed = weight > 0
+    assert passed.any()
+    np.testing.assert_allclose(np.linalg.norm(direction[passed], axis=1), 1.0, atol=1e-9)
+
+
+def test_fisheye_corners_are_black_and_cost_no_trace():
+    camera, _ = native_camera(lens_scene("fisheye.10mm"), "lens")
+    corners = np.array([[0.5, 0.5], [359.5, 239.5]] * 500, np.float32)
+    samples, traced, passed = _native.count_lens_passes(camera, corners, np.full((1000, 2), 0.5, np.float32))
+    assert (samples, traced, passed) == (1000, 0, 0)
+    image = render(lens_scene("fisheye.10mm", resolution=(90, 60), spp=4, background=1.0), threads=2)
+    assert image.pixels[0, 0].max() == 0.0 and image.pixels[-1, -1].max() == 0.0
+    assert image.pixels[30, 45].min() > 0.9
+
+
+@pytest.mark.parametrize("lens", SHIPPED)
+def test_at_least_90_percent_of_traced_rays_pass_at_full_aperture(lens):
+    focus = 10.0 if lens.startswith("telephoto") else 3.0
+    camera, _ = native_camera(lens_scene(lens, focus_distance=focus), "lens")
+    rng = np.random.default_rng(0)
+    raster = (rng.random((100000, 2)) * [360, 240]).astype(np.float32)
+    samples, traced, passed = _native.count_lens_passes(camera, raster, rng.random((100000, 2)).astype(np.float32))
+    assert passed / traced >= 0.9, passed / traced
+
+
+@pytest.mark.parametrize("lens", SHIPPED)
+def test_pupil_sampler_is_unbiased_against_the_whole_rear_element(lens):
+    """Film irradiance (uniform scene) from the traced pupil polygons equals
+    brute-force sampling of a disk 1.5x the rear element, within 4 sigma."""
+    scene = lens_scene(lens, focus_distance=10.0 if lens.startswith("telephoto") else 3.0)
+    tight, _ = lens_model.build(scene)
+    brute, _ = lens_model.build(scene, brute_force_pupil=True)
+    n = 300000
+    u = np.random.default_rng(7).random((n, 2))
+    for x_px in (180.0, 270.0, 345.0):
+        raster = np.tile([x_px, 120.0], (n, 1))
+        estimates = []
+        for camera in (tight, brute):
+            _, _, w = rays(camera, raster, u)
+            raw = w.astype(float) / camera.inverse_centre_irradiance  # undo each camera's own normalisation
+            estimates.append((raw.mean(), raw.std() / math.sqrt(n)))
+        (a, sa), (b, sb) = estimates
+        assert abs(a - b) <= 4 * math.hypot(sa, sb) + 1e-12, (lens, x_px, a, b, sa, sb)
+
+
+def test_uniform_scene_reads_one_at_the_centre():
+    image = render(lens_scene("dgauss.50mm", resolution=(36, 24), spp=1024, background=1.0), threads=2)
+    assert image.pixels[11:13, 17:19].mean() == pytest.approx(1.0, abs=0.01)
+
+
+def test_double_gauss_relative_illumination_from_a_rendered_flat_field():
+    """Relative illumination at 10 and 20 deg within 0.03 of optiland's 0.70 and 0.29."""
+    scene = lens_scene("dgauss.50mm", focus_distance=1e6, film_mm=(44.0, 44.0), resolution=(176, 176), spp=256,
+                       background=1.0)
+    image = render(scene, threads=2)
+    prescription = load_prescription("dgauss.50mm")
+    pitch_mm = 44.0 / 176
+    for angle_deg, expected in ((10.0, 0.70), (20.0, 0.29)):
+        radius_px = abs(chief_ray_film_height_mm(prescription, angle_deg)) / pitch_mm
+        measured = relative_illumination_at(image.pixels, radius_px, n_bins=44)
+        print(f"RI at {angle_deg} deg: {measured:.4f} (optiland about {expected})")
+        assert measured == pytest.approx(expected, abs=0.03)
+
+
+def test_double_gauss_distortion_from_a_rendered_dot_grid():
+    """Dots at 10 and 20 deg, 50 m away, stopped to f/22 so spot centroids follow
+    chief rays: distortion within 0.05 percentage points of -0.221 % and -1.07 %."""
+    distance_m = 50.0
+    prescription = load_prescription("dgauss.50mm")
+    objects = ""
+    for angle in (10.0, 20.0):
+        r = distance_m * math.tan(math.radians(angle))
+        for phi in range(0, 360, 90):
+            c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
+            objects += sphere_text((r * c, r * s, distance_m), 0.15)  # image about 2.3 px wide
+    width = 330
+    pitch_mm = 44.0 / width
+    scene = lens_scene("dgauss.50mm", f_number=22.0, focus_distance=distance_m, film_mm=(44.0, 44.0),
+                       resolution=(width, width), spp=64, objects=objects)
+    image = render(scene, threads=2)
+    sources = find_point_sources(image.pixels)
+    assert len(sources) == 8
+    centre = np.array([width / 2, width / 2])
+    radius_mm = np.array([np.linalg.norm(np.array(s.centroid_px) - centre) * pitch_mm for s in sources])
+    results = []
+    for angle, published in ((10.0, -0.221), (20.0, -1.07)):
+        chief_pct = chief_ray_distortion_percent(prescription, angle, focus_distance_m=distance_m)
+        chief_mm = abs(chief_ray_film_height_mm(prescription, angle, focus_distance_m=distance_m))
+        ideal_mm = chief_mm / (1 + chief_pct / 100)
+        near = radius_mm[np.abs(radius_mm - chief_mm) < 2.0]
+        assert len(near) == 4
+        measured_pct = 100 * (near.mean() / ideal_mm - 1)
+        print(f"{angle} deg: rendered {measured_pct:+.4f} %, chief ray {chief_pct:+.4f} %, published {published} %")
+        results.append((measured_pct, chief_pct, published))
+    for measured_pct, chief_pct, published in results:
+        assert measured_pct == pytest.approx(chief_pct, abs=0.05)
+        assert measured_pct == pytest.approx(published, abs=0.05)
+
+
+def test_focus_closer_than_the_lens_can_reach_is_refused(write_scene):
+    from lenscompare.errors import InputError
+
+    with pytest.raises(InputError, match=r"camera.focus_distance.*closest"):
+        native_camera(lens_scene("dgauss.50mm", focus_distance=0.04), "lens")
+
+
+def test_faster_than_the_lens_is_refused():
+    from lenscompare.errors import InputError
+
+    with pytest.raises(InputError, match=r"camera.f_number: f/1.4 is faster"):
+        native_camera(lens_scene("dgauss.50mm", f_number=1.4), "lens")
+
+
+def test_focus_at_a_very_large_distance_is_finite():
+    image = render(lens_scene("dgauss.50mm", focus_distance=1e12, resolution=(36, 24), spp=4, background=1.0),
+                   threads=2)
+    assert np.all(np.isfinite(image.pixels)) and image.pixels.max() > 0.5
+
+
+def test_thick_lens_with_zero_gap_equals_the_thin_lens_bit_for_bit():
+    from helpers import REFERENCE_SCENES
+    from lenscompare.scene import load_scene
+
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml").with_camera(resolution=(90, 60),
+                                                                         principal_plane_gap_mm=0.0)
+    thin = render(scene, model="thin", spp=8, threads=2)
+    thick = render(scene, model="thick", spp=8, threads=2)
+    assert thin.pixels.tobytes() == thick.pixels.tobytes()
+
+
+def test_thin_singlet_lens_system_converges_to_the_thick_lens():
+    """A 2 mm thick, 100 mm singlet: the full-lens image (divided by its own flat
+    field, to turn irradiance back into radiance) approaches the thick-lens image
+    of the same lens as the stop closes and aberrations vanish."""
+    from helpers import REFERENCE_SCENES
+    from lenscompare.metrics import relative_rmse
+    from lenscompare.scene import load_scene
+
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml").with_camera(resolution=(96, 64), lens=SINGLET,
+                                                                         focus_distance_m=3.0)
+    errors = {}
+    for n in (6.0, 12.0, 24.0):
+        stopped = scene.with_camera(f_number=n)
+        full = render(stopped, model="lens", spp=256, seed=1, threads=2).pixels
+        flat = render(dataclasses.replace(stopped, objects=(), background=(1.0, 1.0, 1.0)), model="lens", spp=256,
+                      seed=1, threads=2).pixels
+        thick = render(stopped, model="thick", spp=256, seed=1, threads=2).pixels
+        errors[n] = relative_rmse(thick, full / flat)
+    print("relative RMSE full/flat vs thick:", {k: round(v, 4) for k, v in errors.items()})
+    assert errors[24.0] < errors[6.0]
+    assert errors[24.0] < 0.05
