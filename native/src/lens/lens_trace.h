@@ -78,9 +78,10 @@ inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* 
 inline Vec3d surface_normal(const LensElement& e, const Vec3d& p) {
     if (e.curvature_per_mm == 0.0) return {0.0, 0.0, 1.0};
     const double c = e.curvature_per_mm;
-    // (C - p) / R = (0,0,1) - c (p - vertex): exact even for tiny c.
-    Vec3d n{-c * p.x, -c * p.y, 1.0 - c * (p.z - e.vertex_z_mm)};
-    return normalize(n);
+    // (C - p) / R = (0,0,1) - c (p - vertex): unit length because p lies on
+    // the sphere (to rounding, which the refraction tolerates), and exact
+    // even for tiny c.
+    return {-c * p.x, -c * p.y, 1.0 - c * (p.z - e.vertex_z_mm)};
 }
 
 // Snell refraction of unit d at unit normal n (either orientation) from index
