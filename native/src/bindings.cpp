@@ -217,6 +217,14 @@ NB_MODULE(_native, m) {
           },
           "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>());
 
+    m.def("measure_lens_throughput",
+          [](const LensSystemCamera& camera, uint64_t n, int threads) {
+              LensPassCounts c;
+              double seconds = measure_lens_throughput(camera, n, threads, &c);
+              return std::make_tuple(seconds, c.samples, c.traced, c.passed);
+          },
+          "camera"_a, "n"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>());
+
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
     bind_camera_functions<ThickLensCamera>(m);

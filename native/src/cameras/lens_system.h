@@ -77,4 +77,8 @@ struct LensPassCounts {
 LensPassCounts count_lens_passes(const LensSystemCamera& camera, const Point2f* raster_px, const Point2f* lens,
                                  size_t n);
 
+// Lens-only throughput: n random (film, pupil) samples traced through the
+// lens on `threads` threads, no scene. Returns the seconds taken.
+double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int threads, LensPassCounts* counts);
+
 }  // namespace lc

@@ -1,5 +1,15 @@
 #include "cameras/lens_system.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "rng.h"
+
 namespace lc {
 
 void calibrate_centre_irradiance(LensSystemCamera* camera) {
@@ -31,6 +41,37 @@ LensPassCounts count_lens_passes(const LensSystemCamera& camera, const Point2f* 
         if (trace_from_film(camera.elements, &ray)) ++counts.passed;
     }
     return counts;
+}
+
+double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int threads, LensPassCounts* counts) {
+    constexpr uint64_t kChunk = 4096;
+    std::atomic<uint64_t> traced{0}, passed{0};
+    auto start = std::chrono::steady_clock::now();
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, (n + kChunk - 1) / kChunk), [&](const auto& chunks) {
+            uint64_t local_traced = 0, local_passed = 0;
+            for (uint64_t chunk = chunks.begin(); chunk < chunks.end(); ++chunk) {
+                Pcg32 rng(0, chunk);
+                for (uint64_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+                    Point2f raster{rng.next_float() * camera.width_px, rng.next_float() * camera.height_px};
+                    Point2f u{rng.next_float(), rng.next_float()};
+                    LensRay ray;
+                    double area;
+                    if (!camera.sample_lens_ray(raster, u, &ray, &area)) continue;
+                    ++local_traced;
+                    local_passed += trace_from_film(camera.elements, &ray);
+                }
+            }
+            traced += local_traced;
+            passed += local_passed;
+        });
+    });
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    counts->samples = n;
+    counts->traced = traced.load();
+    counts->passed = passed.load();
+    return seconds;
 }
 
 }  // namespace lc

@@ -1,0 +1,82 @@
+"""Lens-system camera costs: against the pinhole, per lens, and the lens alone.
+
+Prints one JSON object:
+- samples/s of the ``lens`` model (Double Gauss) against the pinhole on
+  showcase.toml, same resolution, spp and threads (goal >= 0.7x);
+- per shipped lens at full aperture: exit-pupil precomputation seconds (goal
+  <= 0.5 s), the fraction of traced rays that pass (goal >= 0.9), and the
+  fraction of film samples traced at all (the fisheye's corners are not);
+- lens rays per second through the Double Gauss alone, no scene (goal >= 20x
+  optiland's vectorised trace, about 0.5 M rays/s on two cores).
+
+Usage: python bench/bench_lens.py [--spp N] [--threads T] [--rays N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+from lenscompare import _native
+from lenscompare.cameras import native_camera
+from lenscompare.render import render
+from lenscompare.scene import load_scene
+
+SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
+LENSES = {"dgauss.50mm": 3.0, "wide.22mm": 3.0, "fisheye.10mm": 3.0, "telephoto.250mm": 10.0}
+OPTILAND_RAYS_PER_SECOND = 0.5e6
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--spp", type=int, default=16)
+    parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--rays", type=int, default=4_000_000)
+    args = parser.parse_args()
+
+    scene = load_scene(SCENE).with_camera(lens="dgauss.50mm", f_number=None)
+    sps = {model: max(render(scene, model=model, spp=args.spp, threads=args.threads, progress=False)
+                      .metadata["samples_per_second"] for _ in range(2))
+           for model in ("pinhole", "lens")}
+    results = {
+        "benchmark": "lens_system",
+        "scene": scene.name,
+        "resolution": list(scene.camera.resolution),
+        "spp": args.spp,
+        "threads": args.threads,
+        "pinhole_samples_per_second": sps["pinhole"],
+        "lens_samples_per_second": sps["lens"],
+        "lens_over_pinhole": sps["lens"] / sps["pinhole"],
+        "goal_lens_over_pinhole": 0.7,
+        "lenses": {},
+    }
+    for name, focus_m in LENSES.items():
+        lens_scene = scene.with_camera(lens=name, focus_distance_m=focus_m)
+        start = time.perf_counter()
+        camera, _ = native_camera(lens_scene, "lens")
+        setup_s = time.perf_counter() - start
+        seconds, samples, traced, passed = _native.measure_lens_throughput(camera, args.rays, args.threads)
+        results["lenses"][name] = {
+            "setup_seconds": setup_s,
+            "traced_fraction_of_samples": traced / samples,
+            "passed_fraction_of_traced": passed / traced,
+            "lens_rays_per_second": traced / seconds,
+        }
+    dgauss = results["lenses"]["dgauss.50mm"]
+    results["dgauss_lens_rays_per_second"] = dgauss["lens_rays_per_second"]
+    results["dgauss_over_optiland"] = dgauss["lens_rays_per_second"] / OPTILAND_RAYS_PER_SECOND
+    results["goal_over_optiland"] = 20.0
+    results["goals_met"] = {
+        "lens_over_pinhole": results["lens_over_pinhole"] >= 0.7,
+        "pass_fraction": all(v["passed_fraction_of_traced"] >= 0.9 for v in results["lenses"].values()),
+        "setup_seconds": all(v["setup_seconds"] <= 0.5 for v in results["lenses"].values()),
+        "over_optiland": results["dgauss_over_optiland"] >= 20.0,
+    }
+    print(json.dumps(results, indent=2))
+
+
+if __name__ == "__main__":
+    main()
