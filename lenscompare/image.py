@@ -75,6 +75,8 @@ def read_exr(path: str | os.PathLike) -> Image:
     import OpenEXR
 
     source = os.fspath(path)
+    if not os.path.isfile(source):  # checked here: the library would print its own message too
+        raise InputError(source, "no such file")
     try:
         with OpenEXR.File(source, separate_channels=True) as exr:
             header = dict(exr.header())  # the binding empties it on close
