@@ -8,7 +8,7 @@ VENV        := .venv
 PY          := $(VENV)/bin/python
 PIP         := $(VENV)/bin/pip
 LENSCOMPARE := $(VENV)/bin/lenscompare
-APT_PACKAGES := povray libembree-dev libtbb-dev
+APT_PACKAGES := povray libembree-dev libtbb-dev chromium
 NATIVE_SOURCES := $(shell find native -name '*.cpp' -o -name '*.h')
 
 .PHONY: demo test install system-deps bench clean

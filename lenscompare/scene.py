@@ -25,7 +25,7 @@ from ._schema import Table
 from .errors import InputError
 
 __all__ = [
-    "MODELS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
+    "MODELS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
     "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "PointLight", "Scene",
     "load_scene", "parse_scene",
 ]
@@ -33,6 +33,7 @@ __all__ = [
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered")
 DISK_MAPPINGS = ("concentric", "polar")
 
@@ -138,6 +139,7 @@ class Scene:
     lights: tuple[PointLight, ...]
     name: str = ""
     description: str = ""
+    measure: tuple[str, ...] = ("similarity",)  # what the report measures on this scene
     source: str = "<scene>"
     base_dir: Path = field(default_factory=Path.cwd)
 
@@ -184,7 +186,8 @@ def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = N
     except tomllib.TOMLDecodeError as error:
         raise InputError(source, f"not valid TOML ({error})") from None
     root = Table(data, source=source)
-    root.check_keys(["name", "description", "camera", "render", "background", "materials", "objects", "lights"])
+    root.check_keys(["name", "description", "measure", "camera", "render", "background", "materials", "objects",
+                     "lights"])
 
     materials = _read_materials(root.table("materials"))
     objects = tuple(_read_object(t, materials) for t in root.tables("objects"))
@@ -200,9 +203,17 @@ def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = N
         lights=lights,
         name=root.string("name", default=Path(source).stem),
         description=root.string("description", default=""),
+        measure=_read_measure(root),
         source=source,
         base_dir=base_dir or Path.cwd(),
     )
+
+
+def _read_measure(root: Table) -> tuple[str, ...]:
+    value = root.data.get("measure", ["similarity"])
+    if not isinstance(value, list) or not all(isinstance(v, str) and v in MEASUREMENTS for v in value):
+        raise root.error("measure", f"expected an array of names from {', '.join(MEASUREMENTS)}, got {value!r}")
+    return tuple(dict.fromkeys(value))
 
 
 def _read_camera(t: Table) -> Camera:

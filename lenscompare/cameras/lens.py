@@ -63,6 +63,7 @@ def build(scene, *, brute_force_pupil: bool = False):
         "lens_sha256": prescription.sha256,
         "focal_length_mm": data.effective_focal_length_mm,
         "f_number": data.f_number,
-        "film_distance_mm": film_distance,
+        "film_distance_mm": film_distance,  # from the last vertex
+        "film_distance_from_rear_principal_plane_mm": film_z_mm - data.rear_principal_plane_mm,
         "entrance_pupil_position_mm": data.entrance_pupil_position_mm,
     }

@@ -1,5 +1,5 @@
 """Sub-commands of the command line, in the order ``--help`` lists them."""
 
-from . import lens, preview, render
+from . import lens, povray, preview, render, report
 
-COMMANDS = [render, lens, preview]
+COMMANDS = [render, povray, report, lens, preview]

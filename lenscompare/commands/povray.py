@@ -1,0 +1,68 @@
+"""``lenscompare povray SCENE -o OUT.exr``: the POV-Ray reference render of a scene.
+
+Same output contract as ``lenscompare render``: a linear float EXR (channels R,
+G, B) written atomically, and with ``--json`` one JSON object on stdout with at
+least ``model``, ``spp``, ``seconds``, ``samples_per_second`` and ``output``.
+POV-Ray renders the thin lens and the pinhole only; thick / lens exit 2. A
+missing or failing POV-Ray exits 1 with POV-Ray's own last lines.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ..scene import MODELS, load_scene
+from .render import positive_int
+
+__all__ = ["add_parser", "run"]
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = 0.0
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return value
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "povray", help="render a scene with POV-Ray (the independent reference)",
+        description="Render SCENE with POV-Ray 3.7 through the thin lens or the pinhole into a linear float EXR. "
+                    "--spp is camera rays per pixel: the thin lens's blur_samples; for the pinhole rounded up "
+                    "to n*n+1 (POV-Ray's anti-aliasing grid plus the centre ray, at most 82).")
+    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
+    p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
+    p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
+    p.add_argument("--spp", type=positive_int, help="camera rays per pixel (default: the scene's render.spp)")
+    p.add_argument("--threads", type=positive_int, help="POV-Ray worker threads (default: all cores)")
+    p.add_argument("--povray", default="povray", metavar="BINARY", help="the POV-Ray binary (default: povray)")
+    p.add_argument("--timeout", type=positive_float, metavar="SECONDS", help="stop POV-Ray after this long")
+    p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..image import write_exr
+    from ..povray import render_povray
+
+    if not str(args.output).lower().endswith(".exr"):
+        raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
+    folder = Path(args.output).parent
+    if not folder.is_dir():  # say so before a long render, not after
+        raise InputError("-o", f"folder {str(folder)!r} for {str(args.output)!r} does not exist")
+    scene = load_scene(args.scene)
+    if args.lens is not None:
+        scene = scene.with_camera(lens=args.lens)
+    image = render_povray(scene, model=args.model, spp=args.spp, threads=args.threads, povray=args.povray,
+                          timeout_s=args.timeout)
+    write_exr(args.output, image)
+    if args.json:
+        print(json.dumps({**image.metadata, "output": str(args.output)}))
+    return 0

@@ -1,0 +1,153 @@
+"""``lenscompare report``: render every scene through every model and POV-Ray,
+measure what each model does, and write ``index.html`` + ``results.json``."""
+
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+from .. import __version__
+from ..atomic import atomic_output
+from ..errors import InputError
+from ..progress import progress_bar
+from ..scene import MODELS, Scene
+from . import measure, plots
+from .html import render_page
+from .runs import POVRAY_MODELS, ReportSettings, prepare_scene, render_scene
+
+__all__ = ["build_report", "ReportSettings"]
+
+# Published Double Gauss values (../shared/data/lenses/README.md, optiland 0.6.3).
+DGAUSS_DISTORTION = [(10.0, -0.221), (20.0, -1.07)]
+DGAUSS_RELATIVE_ILLUMINATION = [(10.0, 0.70), (20.0, 0.29)]
+
+
+def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: ReportSettings | None = None, *,
+                 progress: bool | None = None) -> dict:
+    """Render, measure and write the report; return the results dictionary.
+
+    Parameters
+    ----------
+    scenes : list of Scene
+    out_dir : path
+        Created if missing; ``index.html``, ``results.json``, ``renders/`` and
+        ``plots/`` are written into it (each file atomically).
+    settings : ReportSettings, optional
+        Lens, quick mode, threads, whether to run POV-Ray.
+    """
+    settings = settings or ReportSettings()
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise InputError("-o", f"{str(out)!r} exists and is not a folder")
+    for sub in ("", "renders", "plots", "figures"):
+        (out / sub).mkdir(parents=True, exist_ok=True)
+
+    start = time.perf_counter()
+    prepared = [prepare_scene(s, settings) for s in scenes]
+    renders_per_scene = len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
+    results = {"settings": {"lens": settings.lens, "quick": settings.quick, "threads": settings.threads,
+                            "povray": settings.povray},
+               "scenes": {}, "renders": [], "notes": []}
+    with progress_bar(renders_per_scene * len(scenes), description="report", unit="render",
+                      enabled=progress) as bar:
+        for scene, notes in prepared:
+            runs, render_notes = render_scene(scene, out, settings, progress=bar)
+            results["scenes"][scene.name] = _measure_scene(scene, runs, out, notes + render_notes)
+            results["renders"].extend(r.summary() for r in runs)
+
+    results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
+    results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
+    results["total_seconds"] = time.perf_counter() - start
+    results["provenance"] = _provenance(scenes, prepared, settings)
+    with atomic_output(out / "results.json") as tmp:
+        tmp.write_text(json.dumps(results, indent=2, default=_json_default))
+    with atomic_output(out / "index.html") as tmp:
+        tmp.write_text(render_page(results), encoding="utf-8")
+    return results
+
+
+def _measure_scene(scene: Scene, runs, out: Path, notes: list[str]) -> dict:
+    by_label = {r.label: r for r in runs}
+    entry = {"description": scene.description, "notes": notes, "measure": list(scene.measure),
+             "renders": [{**r.summary(), "seconds": r.seconds} for r in runs]}
+    lens_is_dgauss = scene.camera.lens == "dgauss.50mm"
+    if "blur_disks" in scene.measure:
+        entry["blur_disks"] = measure.measure_blur_disks(scene, runs)
+        entry["blur_disks"]["plot"] = "plots/" + plots.plot_blur(
+            entry["blur_disks"], out / "plots" / f"{scene.name}.blur.png", title=f"{scene.name}: blur disks")
+    if "distortion" in scene.measure:
+        entry["distortion"] = measure.measure_distortion(scene, runs)
+        entry["distortion"]["plot"] = "plots/" + plots.plot_distortion(
+            entry["distortion"], out / "plots" / f"{scene.name}.distortion.png", title=f"{scene.name}: distortion",
+            published=DGAUSS_DISTORTION if lens_is_dgauss else None)
+    if "vignetting" in scene.measure:
+        entry["vignetting"] = measure.measure_vignetting(scene, runs)
+        entry["vignetting"]["plot"] = "plots/" + plots.plot_vignetting(
+            entry["vignetting"], out / "plots" / f"{scene.name}.vignetting.png",
+            title=f"{scene.name}: relative illumination",
+            published=DGAUSS_RELATIVE_ILLUMINATION if lens_is_dgauss else None)
+    # Similarity: against POV-Ray, and against the full lens system.
+    entry["vs_povray"] = {m: measure.compare_images(by_label[f"{m} (POV-Ray)"].image.pixels, by_label[m].image.pixels)
+                          for m in POVRAY_MODELS if f"{m} (POV-Ray)" in by_label}
+    entry["vs_lens"] = {m: measure.compare_images(by_label["lens"].image.pixels, by_label[m].image.pixels)
+                        for m in ("pinhole", "thin", "thick")}
+    return entry
+
+
+def _teaching_figures(out: Path, settings: ReportSettings, notes: list[str]) -> dict:
+    try:
+        from ..figures import write_teaching_figures
+    except ImportError:
+        return {}
+    try:
+        files = write_teaching_figures(out / "figures", lens=settings.lens)
+    except Exception as error:  # a figure must not sink the report; say so in it
+        notes.append(f"teaching figures failed: {error}")
+        return {}
+    return {name: str(Path(path).resolve().relative_to(out.resolve())) for name, path in files.items()}
+
+
+def _provenance(scenes, prepared, settings) -> dict:
+    import numpy
+    import skimage
+
+    from ..lenses import load_prescription
+
+    info = {
+        "created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "lenscompare": __version__, "python": platform.python_version(), "numpy": numpy.__version__,
+        "scikit-image": skimage.__version__, "machine": platform.machine(), "processor": platform.processor(),
+        "cpu_count": os.cpu_count(), "threads": settings.threads or os.cpu_count(),
+        "scenes": {s.name: {"source": s.source, "spp": p.render.spp, "sampler": p.render.sampler,
+                            "seed": p.render.seed, "resolution": list(p.camera.resolution), "lens": p.camera.lens,
+                            "f_number": p.camera.f_number}
+                   for s, (p, _) in zip(scenes, prepared)},
+    }
+    lens_names = {p.camera.lens for p, _ in prepared}
+    info["lenses"] = {}
+    for name in sorted(lens_names):
+        prescription = load_prescription(name) if "/" not in name else None
+        if prescription:
+            info["lenses"][name] = {"sha256": prescription.sha256, "source": prescription.source}
+    if settings.povray:
+        try:
+            from ..povray import povray_version
+
+            info["povray"] = povray_version()
+        except Exception as error:  # noqa: BLE001 - recorded, not fatal
+            info["povray"] = f"unavailable ({error})"
+    return info
+
+
+def _json_default(value):
+    import numpy as np
+
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return str(value)

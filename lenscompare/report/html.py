@@ -1,0 +1,152 @@
+"""The report page: static HTML that opens from disk, images beside it."""
+
+from __future__ import annotations
+
+import html
+import json
+
+__all__ = ["render_page", "SECTIONS"]
+
+SECTIONS = [
+    ("images", "Images, model by model"),
+    ("blur", "Blur disks against equation 5"),
+    ("distortion", "Distortion"),
+    ("vignetting", "Vignetting"),
+    ("povray", "Agreement with POV-Ray"),
+    ("model-error", "Model error against the full lens system"),
+    ("time", "Time per render"),
+    ("figures", "Teaching figures"),
+    ("provenance", "Provenance"),
+]
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
+h1 { margin-bottom: 0.2em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 2em; }
+table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.9em; }
+th, td { border: 1px solid #ddd; padding: 0.25em 0.6em; text-align: right; }
+th { background: #f4f4f4; } td.l, th.l { text-align: left; }
+.grid { display: flex; flex-wrap: wrap; gap: 0.8em; }
+figure { margin: 0; } figure img { display: block; max-width: 280px; image-rendering: pixelated; border: 1px solid #ccc; }
+figcaption { font-size: 0.85em; text-align: center; }
+img.plot { max-width: 640px; } .note { color: #555; font-size: 0.9em; }
+nav a { margin-right: 1em; }
+"""
+
+
+def _fmt(value, digits=4):
+    if value is None:
+        return "–"
+    if isinstance(value, float):
+        if value != value:
+            return "–"
+        if abs(value) >= 1e5 or (0 < abs(value) < 1e-3):
+            return f"{value:.3e}"
+        return f"{value:.{digits}g}"
+    return html.escape(str(value))
+
+
+def _table(header, rows, left=1):
+    out = ["<table><tr>" + "".join(f'<th class="{"l" if i < left else ""}">{html.escape(h)}</th>'
+                                   for i, h in enumerate(header)) + "</tr>"]
+    for row in rows:
+        out.append("<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{_fmt(c)}</td>' for i, c in enumerate(row))
+                   + "</tr>")
+    return "".join(out) + "</table>"
+
+
+def _section(key, body):
+    title = dict(SECTIONS)[key]
+    return f'<section id="{key}"><h2>{html.escape(title)}</h2>{body}</section>'
+
+
+def render_page(results: dict) -> str:
+    scenes = results["scenes"]
+    parts = [f"<!doctype html><html lang='en'><head><meta charset='utf-8'><title>lenscompare report</title>"
+             f"<style>{_STYLE}</style></head><body>",
+             "<h1>lenscompare report</h1>",
+             f"<p class='note'>{html.escape(results['provenance']['created'])} · lens "
+             f"{html.escape(results['settings']['lens'])} · {'quick' if results['settings']['quick'] else 'full'} run"
+             f" · {len(results['renders'])} renders in {results['total_seconds']:.1f} s</p>",
+             "<nav>" + "".join(f'<a href="#{k}">{html.escape(t)}</a>' for k, t in SECTIONS) + "</nav>"]
+    notes = [n for s in scenes.values() for n in s["notes"]] + results.get("notes", [])
+    if notes:
+        parts.append("<ul class='note'>" + "".join(f"<li>{html.escape(n)}</li>" for n in dict.fromkeys(notes))
+                     + "</ul>")
+
+    body = []
+    for name, s in scenes.items():
+        body.append(f"<h3>{html.escape(name)}</h3><p class='note'>{html.escape(s['description'])}</p><div class='grid'>")
+        for r in s["renders"]:
+            label = r["model"] + (" · POV-Ray" if r["renderer"] == "povray" else "")
+            body.append(f"<figure><img src='{html.escape(r['png'])}' alt='{html.escape(name)} {html.escape(label)}'>"
+                        f"<figcaption>{html.escape(label)} · {r['seconds']:.2f} s</figcaption></figure>")
+        body.append("</div>")
+    parts.append(_section("images", "".join(body)))
+
+    body = []
+    for name, s in scenes.items():
+        blur = s.get("blur_disks")
+        if not blur:
+            continue
+        body.append(f"<img class='plot' src='{html.escape(blur['plot'])}' alt='blur diameter against depth'>")
+        rows = []
+        for label, entries in blur["renders"].items():
+            for e in entries:
+                if e:
+                    rows.append([label, e["depth_m"], e["expected_px"], e["measured_px"], e["error_percent"]])
+        body.append(_table(["render", "depth (m)", "eq. 5 (px)", "measured (px)", "error (%)"], rows))
+    parts.append(_section("blur", "".join(body) or "<p>No blur-disk scene in this report.</p>"))
+
+    body = []
+    for name, s in scenes.items():
+        d = s.get("distortion")
+        if not d:
+            continue
+        body.append(f"<img class='plot' src='{html.escape(d['plot'])}' alt='distortion against field angle'>")
+        rows = [[label, v["max_abs_distortion_percent"], v["k1"], v["k2"], f"{v['dots_matched']}/{v['dots_in_scene']}"]
+                for label, v in d["renders"].items() if v]
+        body.append(_table(["render", "max |distortion| (%)", "k1", "k2", "dots matched"], rows))
+    parts.append(_section("distortion", "".join(body) or "<p>No dot-grid scene in this report.</p>"))
+
+    body = []
+    for name, s in scenes.items():
+        v = s.get("vignetting")
+        if not v:
+            continue
+        body.append(f"<img class='plot' src='{html.escape(v['plot'])}' alt='relative illumination'>")
+        rows = [[label, data["at"].get("10_deg"), data["at"].get("20_deg")] for label, data in v["renders"].items()]
+        body.append(_table(["render", "RI at 10°", "RI at 20°"], rows))
+    parts.append(_section("vignetting", "".join(body) or "<p>No flat-field scene in this report.</p>"))
+
+    rows = [[name, model, c["ssim"], c["relative_rmse"], c["psnr_db"], c["ciede2000_mean"]]
+            for name, s in scenes.items() for model, c in s.get("vs_povray", {}).items()]
+    parts.append(_section("povray", "<p class='note'>Native render against POV-Ray's render of the same scene "
+                          "(POV-Ray is the reference).</p>"
+                          + _table(["scene", "model", "SSIM", "relative RMSE", "PSNR (dB)", "ΔE00 mean"], rows, 2)))
+
+    rows = [[name, model, c["ssim"], c["relative_rmse"], c["psnr_db"], c["ciede2000_mean"]]
+            for name, s in scenes.items() for model, c in s.get("vs_lens", {}).items()]
+    parts.append(_section("model-error", "<p class='note'>Each cheaper model against the full lens system on the "
+                          "same lens (the lens image is film irradiance, so vignetting counts as model error).</p>"
+                          + _table(["scene", "model", "SSIM", "relative RMSE", "PSNR (dB)", "ΔE00 mean"], rows, 2)))
+
+    rows = [[r["scene"], r["model"] + (" (POV-Ray)" if r["renderer"] == "povray" else ""), r["spp"], r["seconds"],
+             r["samples_per_second"]] for r in results["renders"]]
+    parts.append(_section("time", f"<img class='plot' src='{html.escape(results['time_plot'])}' alt='render times'>"
+                          + _table(["scene", "render", "spp", "seconds", "samples/s"], rows, 2)))
+
+    figures = results.get("teaching_figures", {})
+    body = "".join(f"<figure><img class='plot' src='{html.escape(p)}' alt='{html.escape(k)}'>"
+                   f"<figcaption>{html.escape(k)}</figcaption></figure>" for k, p in figures.items())
+    parts.append(_section("figures", body or "<p>Teaching figures were not drawn.</p>"))
+
+    parts.append(_section("provenance", "<pre>" + html.escape(json.dumps(results["provenance"], indent=2))
+                          + "</pre>"))
+    # Counts loaded images on the body (checked by the headless-browser test).
+    parts.append("<script>window.addEventListener('load', function () { var ok = 0; "
+                 "for (var i = 0; i < document.images.length; i++) { var im = document.images[i]; "
+                 "if (im.complete && im.naturalWidth > 0) ok++; } "
+                 "document.body.setAttribute('data-images-loaded', ok); "
+                 "document.body.setAttribute('data-images-total', document.images.length); });</script>")
+    parts.append("</body></html>")
+    return "\n".join(parts)

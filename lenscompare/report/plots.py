@@ -1,0 +1,97 @@
+"""Report figures (matplotlib, Agg): blur against depth, distortion and
+relative illumination against field angle, time per render."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..atomic import atomic_output
+
+__all__ = ["plot_blur", "plot_distortion", "plot_vignetting", "plot_times"]
+
+COLOURS = {"pinhole": "#7f7f7f", "thin": "#1f77b4", "thick": "#2ca02c", "lens": "#d62728",
+           "pinhole (POV-Ray)": "#bcbd22", "thin (POV-Ray)": "#17becf"}
+
+
+def _figure(width=6.4, height=4.0):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(width, height), dpi=110)
+    ax.grid(True, alpha=0.3)
+    return plt, fig, ax
+
+
+def _save(plt, fig, path: Path) -> str:
+    fig.tight_layout()
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)
+    return path.name
+
+
+def plot_blur(blur: dict, path: Path, *, title: str) -> str:
+    plt, fig, ax = _figure()
+    for label, rows in blur["renders"].items():
+        rows = [r for r in rows if r]
+        if not rows:
+            continue
+        ax.plot([r["depth_m"] for r in rows], [r["measured_px"] for r in rows], "o",
+                color=COLOURS.get(label), label=f"{label} (measured)", alpha=0.85)
+    thin = [r for r in blur["renders"].get("thin", []) if r]
+    if thin:
+        order = np.argsort([r["depth_m"] for r in thin])
+        ax.plot([thin[i]["depth_m"] for i in order], [thin[i]["expected_px"] for i in order], "-", color="black",
+                lw=1, label="equation 5")
+    ax.set_xscale("log")
+    ax.set_xlabel("depth along the view axis (m)")
+    ax.set_ylabel("blur-disk diameter (px)")
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    return _save(plt, fig, path)
+
+
+def plot_distortion(distortion: dict, path: Path, *, title: str, published=None) -> str:
+    plt, fig, ax = _figure()
+    for label, data in distortion["renders"].items():
+        if data:
+            ax.plot(data["field_deg"], data["distortion_percent"], ".", color=COLOURS.get(label), label=label,
+                    alpha=0.8)
+    if published:
+        ax.plot(*zip(*published), "kx", ms=9, label="optiland (Double Gauss, infinity)")
+    ax.axhline(0, color="black", lw=0.8)
+    ax.set_xlabel("field angle (deg)")
+    ax.set_ylabel("radial distortion (%)")
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    return _save(plt, fig, path)
+
+
+def plot_vignetting(vignetting: dict, path: Path, *, title: str, published=None) -> str:
+    plt, fig, ax = _figure()
+    for label, data in vignetting["renders"].items():
+        ax.plot(data["field_deg"], data["relative_illumination"], "-", color=COLOURS.get(label), label=label)
+    if published:
+        ax.plot(*zip(*published), "kx", ms=9, label="optiland (Double Gauss, full aperture)")
+    ax.set_ylim(0, 1.1)
+    ax.set_xlabel("field angle (deg)")
+    ax.set_ylabel("relative illumination")
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    return _save(plt, fig, path)
+
+
+def plot_times(rows: list[dict], path: Path) -> str:
+    plt, fig, ax = _figure(7.0, 0.3 * len(rows) + 1.2)
+    labels = [f"{r['scene']}: {r['model']}" + (" (POV-Ray)" if r["renderer"] == "povray" else "") for r in rows]
+    ax.barh(labels, [r["seconds"] for r in rows],
+            color=[COLOURS.get(r["model"] + (" (POV-Ray)" if r["renderer"] == "povray" else "")) for r in rows])
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel("render time (s)")
+    ax.tick_params(axis="y", labelsize=7)
+    return _save(plt, fig, path)
