@@ -1,0 +1,314 @@
+"""Scene + camera model -> POV-Ray 3.7 scene text meaning exactly the same picture.
+
+The mapping, object by object (every line checked by a render; see
+``tests/test_povray_agreement.py``):
+
+============================  ==================================================
+lenscompare                   POV-Ray 3.7
+============================  ==================================================
+sphere                        ``sphere { <c>, r }`` (exact, as Embree's)
+box (axis-aligned)            ``box { <min>, <max> }``
+rectangle (parallelogram)     ``mesh`` of two triangles (p0 p1 p3, p2 p3 p1:
+                              Embree's split of the same quad); exact, and no
+                              coplanarity test to trip over as ``polygon`` has
+emissive, radiance L          ``pigment { rgb L }`` + ``finish { emission 1
+                              diffuse 0 ambient 0 }``; POV-Ray never clamps a
+                              pigment, so L > 1 survives into the EXR
+diffuse, albedo A             ``finish { diffuse 1 brilliance 1 ambient 0
+                              specular 0 phong 0 }``: A * I * max(0, n.l), two-
+                              sided, hard shadows, no 1/pi, as ours
+checker (size s, colour B)    ``pigment { checker rgb A rgb B scale s translate
+                              -0.001 s (x, y, z) }``: ours is the parity of
+                              floor(p/s + 0.001) summed over x, y, z, even -> A;
+                              POV-Ray 3.7's checker is floor(q + 1e-10)
+                              (EPSILON, not 0.001 as POV-Ray 3.6's), so the
+                              pattern is moved by 0.001 s to put the cube
+                              boundaries where ours are (a floor at y = 0 reads
+                              y/s + 0.001: even, in both)
+diffuse + emission E          POV-Ray multiplies ``emission`` by the pigment, so
+                              the lit texture and an emissive one are averaged
+                              (``average texture_map``) with doubled colours:
+                              (2 A lit + 2 E) / 2 = A lit + E, also for A = 0
+point light, intensity I      ``light_source { <p> rgb I }``: no ``fade_*``, so
+                              no distance falloff; not an area light
+background                    ``background { rgb <...> }``
+global                        ``assumed_gamma 1.0`` (linear colours),
+                              ``ambient_light 0``, no radiosity, no photons
+============================  ==================================================
+
+Camera. World coordinates are POV-Ray's own (left-handed, +y up), so positions
+copy straight over. The camera is written as explicit vectors, the native
+camera's frame (:func:`lenscompare.cameras.common.camera_frame`): ``location`` =
+``camera.position``, ``direction`` = the unit view direction, ``right`` and
+``up`` = the frame's right and up scaled to the film over the film distance,
+film_w / d' and film_h / d', with d' = f d / (d - f) of the thin lens focused at
+``focus_distance`` — the same frame as the native pinhole and thin lens. The
+horizontal field of view 2 atan(film_w / 2 / d') is what ``angle`` would say;
+explicit vectors avoid POV-Ray's order-dependent ``angle``/``sky``/``look_at``
+processing and let the thin lens correct a bias of POV-Ray's (next paragraph).
+
+The thin lens adds ``aperture`` = 2 f / N in scene units (POV-Ray's lens
+diameter is aperture / 2), ``focal_point`` on the view axis at the focus
+distance (POV-Ray uses only its distance and puts the focal plane square to the
+view direction, as we do) and ``blur_samples N, N`` (min = max, so adaptive
+stopping never truncates a pixel).
+
+POV-Ray's focal-blur film jitter is biased: ``TraceRayWithFocalBlur`` adds
+``(rand - 0.5) / 16`` px to each sub-pixel position, but its jitter table holds
+values in [-0.5, 0.5], not [0, 1], so every sample sits on average 1/32 px left
+of and above its pixel's centre and the whole image moves 1/32 px right and
+down (measured: +0.029 px, +0.029 px against the native thin lens). The export
+aims ``direction`` 1/32 px right of and below the axis to cancel it
+(:data:`FOCAL_BLUR_FILM_BIAS_PX`), and scales ``focal_point``'s distance by
+|direction| so the focal plane stays at the focus distance. The pinhole
+(anti-aliasing, no focal blur) has no such bias and no such correction.
+
+Lengths: scene lengths are metres; the camera's are millimetres. This module
+converts f / N (mm) to metres once, in :func:`pov_camera`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..cameras.common import camera_frame, check_focus_reachable, focal_length_mm, require
+from ..errors import InputError
+from ..optics import aperture_diameter_mm, focus_film_distance_mm
+from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+
+__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
+
+POVRAY_MODELS = ("pinhole", "thin")
+"""Camera models POV-Ray can render (it has no thick-lens or lens-system camera)."""
+
+
+CHECKER_TOLERANCE = 0.001
+"""The native checker's tolerance: cube index floor(p / size + 0.001) (native/src/scene.cpp)."""
+
+FOCAL_BLUR_FILM_BIAS_PX = 1.0 / 32.0
+"""Mean offset of POV-Ray 3.7's focal-blur film samples, up and left, in pixels."""
+
+
+@dataclass(frozen=True)
+class PovCamera:
+    """The exported camera: what the ``.pov`` text says, and why.
+
+    Attributes
+    ----------
+    model : str
+        ``"pinhole"`` or ``"thin"``.
+    location, direction, right, up : tuple of float
+        POV-Ray's camera vectors (world space, m). A pixel at normalised
+        screen position (sx, sy) in [-0.5, 0.5]² looks along
+        ``direction + sx right + sy up``.
+    focal_length_mm, film_distance_mm : float
+        f and d' = f d / (d - f), mm.
+    angle_deg : float
+        Horizontal field of view, 2 atan(film_w / 2 / d'), degrees.
+    aperture_diameter_mm : float or None
+        Thin lens diameter f / N, mm (None for the pinhole).
+    pov_aperture_m : float or None
+        POV-Ray's ``aperture`` = 2 f / N in metres (None for the pinhole).
+    focal_point : tuple of float or None
+        Point on the view axis whose distance from ``location`` tells POV-Ray
+        the focus distance, m (None for the pinhole).
+    """
+
+    model: str
+    location: tuple[float, float, float]
+    direction: tuple[float, float, float]
+    right: tuple[float, float, float]
+    up: tuple[float, float, float]
+    focal_length_mm: float
+    film_distance_mm: float
+    angle_deg: float
+    aperture_diameter_mm: float | None = None
+    pov_aperture_m: float | None = None
+    focal_point: tuple[float, float, float] | None = None
+
+    def as_metadata(self) -> dict:
+        info = {"focal_length_mm": self.focal_length_mm, "film_distance_mm": self.film_distance_mm,
+                "angle_deg": self.angle_deg}
+        if self.aperture_diameter_mm is not None:
+            info["aperture_diameter_mm"] = self.aperture_diameter_mm
+            info["focal_blur_film_bias_corrected_px"] = FOCAL_BLUR_FILM_BIAS_PX
+        return info
+
+
+def format_number(value: float) -> str:
+    """A float as POV-Ray reads it back to the same double (shortest repr)."""
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"cannot write a non-finite number to POV-Ray: {value!r}")
+    text = repr(value)
+    return "0" if text in ("0.0", "-0.0") else text
+
+
+def _vec(v) -> str:
+    return "<" + ", ".join(format_number(c) for c in v) + ">"
+
+
+def _tuple(v) -> tuple[float, float, float]:
+    return tuple(float(c) for c in v)
+
+
+def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
+    """The POV-Ray camera for ``scene`` seen through ``model`` (default: the scene's).
+
+    Raises
+    ------
+    InputError
+        ``model`` is "thick" or "lens" (POV-Ray has no such camera), or the
+        scene lacks a value the model needs.
+    """
+    model = model or scene.camera.model
+    if model not in POVRAY_MODELS:
+        if model in ("thick", "lens"):
+            raise InputError("--model", f"POV-Ray has no thick-lens / lens-system camera (model {model!r}); "
+                             f"POV-Ray renders only {' and '.join(POVRAY_MODELS)}")
+        raise InputError("--model", f"expected one of {', '.join(POVRAY_MODELS)}, got {model!r}")
+    camera = scene.camera
+    f_mm = focal_length_mm(scene, model)
+    check_focus_reachable(scene, f_mm)
+    d_prime_mm = focus_film_distance_mm(camera.focus_distance_m * 1000.0, f_mm)
+    film_w_mm, film_h_mm = camera.film_mm
+    angle_deg = math.degrees(2.0 * math.atan(film_w_mm / 2.0 / d_prime_mm))
+    origin, right, up, forward = (np.asarray(v) for v in camera_frame(camera))
+    right_v, up_v = right * (film_w_mm / d_prime_mm), up * (film_h_mm / d_prime_mm)
+    if model == "pinhole":
+        return PovCamera(model, _tuple(origin), _tuple(forward), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
+                         angle_deg)
+
+    n = require(scene, camera.f_number, "f_number", "thin")
+    aperture_mm = aperture_diameter_mm(f_mm, n)
+    # Cancel the focal-blur film bias (samples 1/32 px left of and above centre): aim right and down.
+    bias = FOCAL_BLUR_FILM_BIAS_PX
+    direction = forward + right_v * (bias / camera.width_px) - up_v * (bias / camera.height_px)
+    # POV-Ray's focal plane lies at |focal_point - location| / |direction| along the axis.
+    focal_point = origin + forward * (camera.focus_distance_m * float(np.linalg.norm(direction)))
+    return PovCamera(model, _tuple(origin), _tuple(direction), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
+                     angle_deg, aperture_diameter_mm=aperture_mm, pov_aperture_m=2.0 * aperture_mm / 1000.0,
+                     focal_point=_tuple(focal_point))
+
+
+def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None) -> str:
+    """POV-Ray 3.7 scene text for ``scene`` through the pinhole or thin lens.
+
+    Parameters
+    ----------
+    scene : Scene
+        A loaded scene.
+    model : {'pinhole', 'thin'}, optional
+        Camera model; default the scene's ``camera.model``.
+    spp : int, optional
+        Thin lens: ``blur_samples`` (rays per pixel; default the scene's
+        ``render.spp``). Unused by the pinhole, whose pixel sampling is set on
+        POV-Ray's command line (see :mod:`lenscompare.povray.runner`).
+
+    Returns
+    -------
+    str
+        The ``.pov`` text, starting with ``#version 3.7;``.
+
+    Raises
+    ------
+    InputError
+        Model "thick" or "lens" (POV-Ray has no such camera); a bad ``spp``.
+    """
+    camera = pov_camera(scene, model)
+    spp = scene.render.spp if spp is None else int(spp)
+    if spp < 1:
+        raise InputError("--spp", f"expected a positive integer, got {spp}")
+
+    lines = [
+        "#version 3.7;",
+        f"// lenscompare scene {scene.name!r} ({scene.source!r}), {camera.model} camera",
+        "// Linear colours, no ambient, no radiosity: the only light is the point lights and emission.",
+        "global_settings { assumed_gamma 1.0 ambient_light 0 }",
+        f"background {{ rgb {_vec(scene.background)} }}",
+        "",
+        _camera_block(scene, camera, spp),
+        "",
+    ]
+    for light in scene.lights:
+        lines.append(f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}")
+    lines.append("")
+    # Material names are any TOML key: number them into POV-Ray identifiers.
+    names = {name: f"LC_Material{i}" for i, name in enumerate(scene.materials)}
+    for name, material in scene.materials.items():
+        lines.append(f"#declare {names[name]} = {_texture(material)};  // {name!r}")
+    lines.append("")
+    for obj in scene.objects:
+        lines.append(_object(obj, names[obj.material]))
+    return "\n".join(lines) + "\n"
+
+
+def _camera_block(scene: Scene, camera: PovCamera, spp: int) -> str:
+    c = scene.camera
+    items = [
+        "perspective",
+        f"location {_vec(camera.location)}",
+        f"// the native camera frame; horizontal field of view {format_number(camera.angle_deg)} deg",
+        f"// (film {format_number(c.film_mm[0])} x {format_number(c.film_mm[1])} mm "
+        f"at d' = {format_number(camera.film_distance_mm)} mm)",
+        f"right {_vec(camera.right)}",
+        f"up {_vec(camera.up)}",
+        f"direction {_vec(camera.direction)}",
+    ]
+    if camera.model == "thin":
+        items += [
+            f"// f/N = {format_number(camera.aperture_diameter_mm)} mm; POV-Ray's lens diameter is aperture/2",
+            f"aperture {format_number(camera.pov_aperture_m)}",
+            f"focal_point {_vec(camera.focal_point)}  // focus {format_number(c.focus_distance_m)} m",
+            f"blur_samples {spp}, {spp}",
+        ]
+    body = "\n".join(f"  {item}" for item in items)
+    return f"camera {{\n{body}\n}}"
+
+
+_EMISSIVE_FINISH = "finish { emission 1 diffuse 0 ambient 0 specular 0 phong 0 reflection 0 }"
+_LAMBERT_FINISH = "finish { emission 0 diffuse 1 brilliance 1 ambient 0 specular 0 phong 0 reflection 0 }"
+
+
+def _diffuse_pigment(m: DiffuseMaterial, scale: float = 1.0) -> str:
+    albedo = np.asarray(m.color, dtype=float) * scale
+    if m.checker is None:
+        return f"pigment {{ rgb {_vec(albedo)} }}"
+    odd = np.asarray(m.checker.color, dtype=float) * scale
+    size = m.checker.size_m
+    # POV-Ray 3.7 evaluates floor(q + 1e-10) at q = (p - t) / s; t = -0.001 s makes it our floor(p / s + 0.001).
+    shift = -CHECKER_TOLERANCE * size
+    return (f"pigment {{ checker rgb {_vec(albedo)} rgb {_vec(odd)} scale {format_number(size)} "
+            f"translate {_vec((shift, shift, shift))} }}")
+
+
+def _texture(m) -> str:
+    if isinstance(m, EmissiveMaterial):
+        return f"texture {{ pigment {{ rgb {_vec(m.color)} }} {_EMISSIVE_FINISH} }}"
+    if isinstance(m, DiffuseMaterial):
+        if not any(e > 0 for e in m.emission):
+            return f"texture {{ {_diffuse_pigment(m)} {_LAMBERT_FINISH} }}"
+        # POV-Ray scales emission by the pigment; average a lit texture and an
+        # emissive one, each at twice its colour, to get albedo * lit + emission.
+        emitted = 2.0 * np.asarray(m.emission, dtype=float)
+        return ("texture { average texture_map {\n"
+                f"    [1 {_diffuse_pigment(m, 2.0)} {_LAMBERT_FINISH}]\n"
+                f"    [1 pigment {{ rgb {_vec(emitted)} }} {_EMISSIVE_FINISH}]\n"
+                "  } }")
+    raise TypeError(f"unknown material {m!r}")  # pragma: no cover - the scene parser admits no others
+
+
+def _object(obj, texture: str) -> str:
+    if isinstance(obj, Sphere):
+        return f"sphere {{ {_vec(obj.center)}, {format_number(obj.radius)} texture {{ {texture} }} }}"
+    if isinstance(obj, Box):
+        return f"box {{ {_vec(obj.min)}, {_vec(obj.max)} texture {{ {texture} }} }}"
+    if isinstance(obj, Rectangle):
+        c, e1, e2 = (np.asarray(v, dtype=float) for v in (obj.corner, obj.edge1, obj.edge2))
+        p0, p1, p2, p3 = c, c + e1, c + e1 + e2, c + e2
+        return (f"mesh {{ triangle {{ {_vec(p0)}, {_vec(p1)}, {_vec(p3)} }} "
+                f"triangle {{ {_vec(p2)}, {_vec(p3)}, {_vec(p1)} }} texture {{ {texture} }} }}")
+    raise TypeError(f"unknown object {obj!r}")  # pragma: no cover

@@ -1,0 +1,235 @@
+"""Run the real ``povray`` binary on an exported scene and read its EXR back.
+
+What "samples per pixel" means for POV-Ray
+------------------------------------------
+``spp`` is always the number of camera rays per pixel, as for the native tracer.
+
+- **Thin lens**: ``blur_samples spp, spp`` in the scene file and ``-A`` (no
+  anti-aliasing) on the command line. Focal blur traces exactly ``spp`` rays per
+  pixel; each picks its own film position, uniformly jittered over the pixel
+  (a 16 x 16 grid cell plus jitter) — the box filter our jittered samples
+  integrate — and a lens position from POV-Ray's fixed hexagonal-then-sub-random
+  pattern over the disk, jittered per pixel. min = max, so the adaptive
+  confidence test never stops a pixel early. (POV-Ray's film jitter is off
+  centre by 1/32 px; the exported camera cancels it, see
+  :mod:`lenscompare.povray.export`.)
+- **Pinhole**: no focal blur, so pixels are sampled by anti-aliasing method 1
+  (``+AM1 +A0.0 +J1.0 +R<n>``). Threshold 0 makes every pixel supersampled: a
+  centre ray plus an n x n grid of jittered sub-pixel rays, all n² + 1
+  averaged — a box filter over the pixel with its centre counted once more.
+  n is the smallest with n² + 1 >= spp, at most 9 (POV-Ray's limit), so
+  ``spp`` is rounded up to n² + 1 (2, 5, 10, 17, 26, ..., 82) and the metadata
+  reports the rays actually traced. Point projections agree with the native
+  pinhole within 0.05 px (tests/test_povray_agreement.py).
+
+POV-Ray has no random seed: the same input gives the same image.
+
+Environment: POV-Ray runs in a fresh temporary folder (its cwd, which its I/O
+restrictions allow it to write), with ``HOME`` pointing there and ``POVINI``
+unset, so no user or stray ``povray.ini`` changes the render; Debian's
+``/etc/povray/3.7/povray.ini`` is read but every setting it makes that matters
+(size, display, anti-aliasing, output type) is overridden on the command line.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+from .. import __version__
+from ..errors import ExternalError, InputError
+from ..image import Image, read_exr
+from ..scene import Scene
+from .export import pov_camera, scene_to_pov
+
+__all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "MAX_ANTIALIAS_DEPTH"]
+
+MAX_ANTIALIAS_DEPTH = 9
+"""POV-Ray 3.7's largest ``+R`` (anti-aliasing depth)."""
+
+_STDERR_TAIL_LINES = 12
+_TRACE_TIME = re.compile(r"Trace Time:.*\(([0-9.]+) seconds\)")
+_VERSION = re.compile(r"POV-Ray\s+([0-9][0-9A-Za-z.\-+]*)")
+
+
+def pinhole_antialias_depth(spp: int) -> int:
+    """Anti-aliasing depth n for the pinhole: the smallest with n² + 1 >= spp (1..9).
+
+    Examples
+    --------
+    >>> [pinhole_antialias_depth(s) for s in (1, 2, 5, 6, 64, 1000)]
+    [1, 1, 2, 3, 8, 9]
+    """
+    n = max(1, math.ceil(math.sqrt(max(spp - 1, 1))))
+    return min(n, MAX_ANTIALIAS_DEPTH)
+
+
+def povray_version(povray: str = "povray") -> str:
+    """The version line of ``povray --version`` (e.g. "POV-Ray 3.7.0.10.unofficial").
+
+    Raises
+    ------
+    ExternalError
+        The binary cannot be run.
+    """
+    try:
+        result = subprocess.run([povray, "--version"], capture_output=True, text=True, timeout=30,
+                                env=_clean_env(tempfile.gettempdir()), errors="replace")
+    except (OSError, subprocess.TimeoutExpired) as error:
+        raise ExternalError(_missing_message(povray, error)) from None
+    for line in (result.stdout + "\n" + result.stderr).splitlines():
+        if _VERSION.search(line) and "configuration" not in line:
+            return line.strip()
+    raise ExternalError(f"POV-Ray ({povray}) printed no version: {_tail(result.stderr or result.stdout)}")
+
+
+def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = None, threads: int | None = None,
+                  povray: str = "povray", timeout_s: float | None = None) -> Image:
+    """Render ``scene`` with POV-Ray through the pinhole or the thin lens.
+
+    Parameters
+    ----------
+    scene : Scene
+        A loaded scene (:func:`lenscompare.scene.load_scene`).
+    model : {'pinhole', 'thin'}, optional
+        Camera model; default the scene's ``camera.model``.
+    spp : int, optional
+        Camera rays per pixel (default the scene's ``render.spp``): the thin
+        lens's ``blur_samples``; for the pinhole rounded up to n² + 1 (see the
+        module notes).
+    threads : int, optional
+        POV-Ray's worker threads (``+WT``); default: POV-Ray's own (all cores).
+    povray : str, optional
+        The POV-Ray binary (name on ``PATH`` or a path).
+    timeout_s : float, optional
+        Give up (and stop POV-Ray) after this many seconds.
+
+    Returns
+    -------
+    Image
+        Linear radiance, float32, row 0 at the top — like a native render.
+        POV-Ray writes half floats, so values carry about 3 significant digits.
+        Metadata: scene, model, spp, seconds (POV-Ray's own trace time),
+        wall_seconds (the whole process), samples_per_second, threads,
+        resolution, camera, renderer (POV-Ray's version line), command.
+
+    Raises
+    ------
+    InputError
+        A model POV-Ray cannot render (thick, lens) or a bad option.
+    ExternalError
+        POV-Ray is missing, fails, times out or writes no image; the message
+        ends with POV-Ray's last lines of output.
+    """
+    model = model or scene.camera.model
+    camera = pov_camera(scene, model)  # refuses thick / lens before anything runs
+    spp = scene.render.spp if spp is None else int(spp)
+    if spp < 1:
+        raise InputError("--spp", f"expected a positive integer, got {spp}")
+    if threads is not None and int(threads) < 1:
+        raise InputError("--threads", f"expected a positive integer, got {threads}")
+    width, height = scene.camera.width_px, scene.camera.height_px
+
+    if model == "thin":
+        sampling = ["-A"]  # focal blur samples the pixel area itself
+        rays_per_pixel = spp
+    else:
+        depth = pinhole_antialias_depth(spp)
+        sampling = ["+A0.0", "+AM1", f"+R{depth}", "+J1.0"]
+        rays_per_pixel = depth * depth + 1
+
+    text = scene_to_pov(scene, model=model, spp=spp)
+    with tempfile.TemporaryDirectory(prefix="lenscompare-povray-") as folder:
+        work = Path(folder)
+        (work / "scene.pov").write_text(text, encoding="utf-8")
+        command = [povray, "+Iscene.pov", "+Oout.exr", "+FE", "-D", "-V", "+Q9", "-UA",
+                   f"+W{width}", f"+H{height}", *sampling]
+        if threads is not None:
+            command.append(f"+WT{int(threads)}")
+        start = time.perf_counter()
+        try:
+            result = subprocess.run(command, cwd=work, env=_clean_env(folder), capture_output=True, text=True,
+                                    errors="replace", timeout=timeout_s, stdin=subprocess.DEVNULL)
+        except subprocess.TimeoutExpired as error:
+            stderr = error.stderr.decode(errors="replace") if isinstance(error.stderr, bytes) else error.stderr
+            raise ExternalError(f"POV-Ray did not finish within {timeout_s:g} s (command: {shlex.join(command)})"
+                                f"{_tail(stderr or '')}") from None
+        except OSError as error:
+            raise ExternalError(_missing_message(povray, error)) from None
+        wall_seconds = time.perf_counter() - start
+
+        output = work / "out.exr"
+        if result.returncode != 0:
+            raise ExternalError(f"POV-Ray failed (exit status {result.returncode}; command: {shlex.join(command)})"
+                                f"{_tail(result.stderr)}")
+        if not output.is_file():
+            raise ExternalError(f"POV-Ray wrote no image (command: {shlex.join(command)}){_tail(result.stderr)}")
+        try:
+            pixels = read_exr(output).pixels
+        except InputError as error:
+            raise ExternalError(f"POV-Ray's output cannot be read ({error.problem}){_tail(result.stderr)}") from None
+    if pixels.shape != (height, width, 3):
+        raise ExternalError(f"POV-Ray wrote a {pixels.shape[1]}x{pixels.shape[0]} image, expected {width}x{height}")
+
+    match = _TRACE_TIME.search(result.stderr)
+    seconds = float(match.group(1)) if match else 0.0
+    if not seconds > 0:  # no statistics, or a render faster than their 1 ms resolution
+        seconds = wall_seconds
+    samples = width * height * rays_per_pixel
+    metadata = {
+        "scene": scene.name,
+        "model": model,
+        "spp": rays_per_pixel,
+        "spp_requested": spp,
+        "seconds": seconds,
+        "wall_seconds": wall_seconds,
+        "samples_per_second": samples / seconds if seconds > 0 else float("inf"),
+        "threads": int(threads) if threads is not None else os.cpu_count(),
+        "resolution": [width, height],
+        "camera": camera.as_metadata(),
+        "renderer": _version_from_banner(result.stderr) or "POV-Ray",
+        "command": shlex.join(command),
+        "pixel_sampling": ("focal blur: blur_samples N, N, -A" if model == "thin"
+                           else f"anti-aliasing method 1, threshold 0, depth {depth}: centre + {depth}x{depth} "
+                                "jittered sub-pixel rays"),
+        "lenscompare_version": __version__,
+    }
+    return Image(pixels.astype("float32", copy=False), metadata)
+
+
+def _clean_env(home: str) -> dict:
+    env = {k: v for k, v in os.environ.items() if k != "POVINI"}
+    env["HOME"] = home
+    return env
+
+
+def _version_from_banner(stderr: str) -> str | None:
+    for line in stderr.splitlines():
+        if "Persistence of Vision" in line and "Version" in line:
+            match = re.search(r"Version\s+(\S+)", line)
+            if match:
+                return f"POV-Ray {match.group(1)}"
+    return None
+
+
+def _missing_message(povray: str, error: BaseException) -> str:
+    if isinstance(error, FileNotFoundError) or shutil.which(povray) is None:
+        return (f"POV-Ray is not installed or not on PATH (tried {povray!r}); install Debian's 'povray' package "
+                "(make install does) or pass the binary's path")
+    return f"POV-Ray ({povray}) could not be run: {error}"
+
+
+def _tail(stderr: str) -> str:
+    """POV-Ray's last meaningful lines, to end an error message with."""
+    lines = [line.rstrip() for line in (stderr or "").splitlines()
+             if line.strip() and "cannot open the user configuration file" not in line]
+    if not lines:
+        return ""
+    return "\nPOV-Ray said:\n  " + "\n  ".join(lines[-_STDERR_TAIL_LINES:])
