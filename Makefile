@@ -1,5 +1,5 @@
 # Two commands do everything on a fresh machine:
-#   make demo   installs what is missing, then renders the reference scenes into reports/
+#   make demo   installs what is missing, then writes the comparison report to reports/latest/
 #   make test   installs what is missing, then runs the test suite
 # (Debian packages need root; the Python side lives in .venv.)
 
@@ -10,19 +10,13 @@ PIP         := $(VENV)/bin/pip
 LENSCOMPARE := $(VENV)/bin/lenscompare
 APT_PACKAGES := povray libembree-dev libtbb-dev chromium
 NATIVE_SOURCES := $(shell find native -name '*.cpp' -o -name '*.h')
+# The editable install maps the package's files when it is made: new modules need a reinstall.
+PACKAGE_FILES := $(shell find lenscompare -name '*.py' -o -name '*.dat')
 
 .PHONY: demo test install system-deps bench clean
 
 demo: install
-	@mkdir -p reports/renders
-	@for scene in reference_scenes/*.toml; do \
-	  name=$$(basename $$scene .toml); \
-	  for model in pinhole thin; do \
-	    $(LENSCOMPARE) render $$scene --model $$model -o reports/renders/$$name.$$model.exr || exit $$?; \
-	    $(LENSCOMPARE) preview reports/renders/$$name.$$model.exr -o reports/renders/$$name.$$model.png || exit $$?; \
-	  done; \
-	done
-	@echo "Renders written to reports/renders/ (EXR, with PNG previews)."
+	$(LENSCOMPARE) report -o reports/latest
 
 test: install
 	$(PY) -m pytest -q
@@ -40,11 +34,11 @@ system-deps:
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
 	fi
 
-$(VENV)/.installed: pyproject.toml CMakeLists.txt $(NATIVE_SOURCES)
+$(VENV)/.installed: pyproject.toml CMakeLists.txt $(NATIVE_SOURCES) $(PACKAGE_FILES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install -q --disable-pip-version-check scikit-build-core nanobind cmake ninja
 	$(PIP) install -q --disable-pip-version-check --no-build-isolation -e '.[test]' -Cbuild-dir=build/dev
 	touch $@
 
 clean:
-	rm -rf build $(VENV) reports/renders
+	rm -rf build $(VENV) reports/latest

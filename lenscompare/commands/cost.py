@@ -1,0 +1,39 @@
+"""``lenscompare cost SCENES... -o DIR``: the cost study."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "cost", help="what accuracy costs in time: every model, sampler and sample count",
+        description="For each model, sampler and sample count: wall time and error against a converged reference "
+                    "(cached), model error against the full lens system, POV-Ray focal blur as a row.")
+    p.add_argument("scenes", nargs="+", metavar="SCENE.toml")
+    p.add_argument("-o", "--output", required=True, metavar="DIR")
+    p.add_argument("--quick", action="store_true", help="quarter resolution, up to 64 spp (CI)")
+    p.add_argument("--lens", default="dgauss.50mm")
+    p.add_argument("--no-povray", action="store_true")
+    p.add_argument("--cache", metavar="DIR", help="reference cache (default ~/.cache/lenscompare)")
+    p.add_argument("--threads", type=int, default=None)
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..cost import CostSettings, run_cost_study
+    from ..errors import InputError
+    from ..scene import load_scene
+
+    if args.threads is not None and args.threads < 1:
+        raise InputError("--threads", f"expected a positive integer, got {args.threads}")
+    scenes = [load_scene(p) for p in args.scenes]
+    settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
+                            cache_dir=Path(args.cache) if args.cache else None)
+    results = run_cost_study(scenes, args.output, settings)
+    for line in results["findings"]:
+        print(line)
+    print(f"Cost study written in {results['total_seconds']:.0f} s: open {Path(args.output).resolve() / 'index.html'}")
+    return 0

@@ -1,0 +1,80 @@
+"""``lenscompare cost``: what accuracy costs in time, per model and sampler."""
+
+from __future__ import annotations
+
+import datetime
+import html
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+from .. import __version__
+from ..atomic import atomic_output
+from ..progress import progress_bar
+from ..scene import Scene
+from .findings import findings
+from .plots import plot_error_vs_time
+from .study import CostSettings, prepared_for_cost, study_scene
+
+__all__ = ["CostSettings", "run_cost_study"]
+
+
+def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None = None, *,
+                   progress: bool | None = None) -> dict:
+    """Run the study and write ``results.json``, ``index.html`` and plots into ``out_dir``."""
+    settings = settings or CostSettings()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    per_scene = len(settings.models) * len(settings.samplers) * len(settings.spp_values) + (
+        len(settings.povray_spp_values) if settings.povray else 0)
+    results = {"settings": {"quick": settings.quick, "lens": settings.lens, "samplers": list(settings.samplers),
+                            "spp_values": list(settings.spp_values), "reference_spp": settings.reference_spp,
+                            "threads": settings.threads or os.cpu_count(), "target_relative_rmse": 0.01},
+               "scenes": {}, "findings": []}
+    with progress_bar(per_scene * len(scenes), description="cost study", unit="render", enabled=progress) as bar:
+        for scene in scenes:
+            prepared = prepared_for_cost(scene, settings)
+            study = study_scene(prepared, settings, progress=bar)
+            study["plot"] = plot_error_vs_time(prepared.name, study, out / f"{prepared.name}.cost.png")
+            results["scenes"][prepared.name] = study
+            results["findings"] += findings(prepared.name, study)
+    results["total_seconds"] = time.perf_counter() - start
+    results["provenance"] = {"created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                             "lenscompare": __version__, "machine": platform.machine(), "cpu_count": os.cpu_count()}
+    with atomic_output(out / "results.json") as tmp:
+        tmp.write_text(json.dumps(results, indent=2))
+    with atomic_output(out / "index.html") as tmp:
+        tmp.write_text(_page(results), encoding="utf-8")
+    return results
+
+
+def time_table_rows(results: dict):
+    """(scene, model, sampler-or-POV-Ray, seconds to 1 %, extrapolated) rows."""
+    for name, study in results["scenes"].items():
+        for model, series in study["models"].items():
+            for sampler, s in series.items():
+                t = s["seconds_to_1_percent"]
+                yield name, model, sampler, t["seconds"], t["extrapolated"]
+        pov = study.get("povray")
+        if pov and "seconds_to_1_percent" in pov:
+            yield name, "thin", "POV-Ray focal blur", pov["seconds_to_1_percent"]["seconds"], \
+                pov["seconds_to_1_percent"]["extrapolated"]
+
+
+def _page(results: dict) -> str:
+    rows = "".join(f"<tr><td>{html.escape(s)}</td><td>{html.escape(m)}</td><td>{html.escape(k)}</td>"
+                   f"<td>{'–' if t is None else f'{t:.3g}'}{' (extrapolated)' if x and t else ''}</td></tr>"
+                   for s, m, k, t, x in time_table_rows(results))
+    plots = "".join(f"<h3>{html.escape(n)}</h3><img src='{html.escape(s['plot'])}' style='max-width:100%'>"
+                    for n, s in results["scenes"].items())
+    items = "".join(f"<li>{html.escape(f)}</li>" for f in results["findings"])
+    return (f"<!doctype html><html lang='en'><head><meta charset='utf-8'><title>lenscompare cost study</title>"
+            f"<style>body{{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto}}"
+            f"td,th{{border:1px solid #ddd;padding:.2em .6em}}table{{border-collapse:collapse}}</style></head><body>"
+            f"<h1>What accuracy costs in time</h1><section id='findings'><h2>Findings</h2><ul>{items}</ul></section>"
+            f"<section id='time-to-1-percent'><h2>Time to reach 1 % relative RMSE</h2><table><tr><th>scene</th>"
+            f"<th>model</th><th>sampler</th><th>seconds</th></tr>{rows}</table></section>"
+            f"<section id='plots'><h2>Error against time</h2>{plots}</section></body></html>")

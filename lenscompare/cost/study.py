@@ -1,0 +1,162 @@
+"""The cost study: for each model, sampler and sample count, the wall time and
+the error against a converged reference; for the cheaper models, their error
+against the full lens system; POV-Ray's focal blur as a row of the thin lens."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ExternalError
+from ..metrics import relative_rmse, rmse, ssim
+from ..render import render
+from ..scene import MODELS, SAMPLERS, Scene
+from .references import converged_reference
+
+__all__ = ["CostSettings", "study_scene", "time_to_error", "fitted_slope", "pareto_front"]
+
+TARGET_RELATIVE_RMSE = 0.01
+
+
+@dataclass(frozen=True)
+class CostSettings:
+    quick: bool = False
+    lens: str = "dgauss.50mm"
+    threads: int | None = None
+    cache_dir: Path | None = None
+    povray: bool = True
+    samplers: tuple[str, ...] = field(default_factory=lambda: tuple(SAMPLERS))
+    models: tuple[str, ...] = MODELS
+
+    @property
+    def spp_values(self) -> tuple[int, ...]:
+        return (1, 4, 16, 64) if self.quick else (1, 4, 16, 64, 256, 1024)
+
+    @property
+    def reference_spp(self) -> int:
+        return 1024 if self.quick else 4096
+
+    @property
+    def resolution_divisor(self) -> int:
+        return 4 if self.quick else 2
+
+    @property
+    def povray_spp_values(self) -> tuple[int, ...]:
+        return (4, 16, 64) if self.quick else (4, 16, 64, 256)
+
+
+def _error(reference: np.ndarray, image: np.ndarray) -> dict:
+    return {"rmse": rmse(reference, image), "relative_rmse": relative_rmse(reference, image)}
+
+
+def study_scene(scene: Scene, settings: CostSettings, *, progress=None) -> dict:
+    """Every (model, sampler, spp) render of one scene, with its cost and error."""
+    result = {"resolution": list(scene.camera.resolution), "models": {}, "model_error_vs_lens": {}, "povray": None,
+              "references": {}}
+    references = {}
+    for model in settings.models:
+        ref, cached = converged_reference(scene, model, spp=settings.reference_spp, cache_dir=settings.cache_dir,
+                                          threads=settings.threads)
+        references[model] = ref.pixels
+        result["references"][model] = {"spp": settings.reference_spp, "cached": cached,
+                                       "seconds": ref.metadata.get("seconds")}
+        series = {}
+        for sampler in settings.samplers:
+            points = []
+            for spp in settings.spp_values:
+                image = render(scene, model=model, spp=spp, sampler=sampler, seed=0, threads=settings.threads,
+                               progress=False)
+                points.append({"spp": spp, "seconds": image.metadata["seconds"],
+                               "samples_per_second": image.metadata["samples_per_second"],
+                               **_error(ref.pixels, image.pixels)})
+                if progress:
+                    progress.update(1)
+            series[sampler] = {"points": points, "slope": fitted_slope(points),
+                               "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}
+        result["models"][model] = series
+    if "lens" in references:
+        for model in settings.models:
+            if model == "lens":
+                continue
+            data_range = float(references["lens"].max() - references["lens"].min()) or 1.0
+            result["model_error_vs_lens"][model] = {
+                "relative_rmse": relative_rmse(references["lens"], references[model]),
+                "ssim": ssim(references["lens"], references[model], data_range=data_range)}
+    if settings.povray and "thin" in references:
+        result["povray"] = _povray_series(scene, references["thin"], settings, progress)
+    return result
+
+
+def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress) -> dict | None:
+    from ..povray import render_povray
+
+    points = []
+    for spp in settings.povray_spp_values:
+        try:
+            image = render_povray(scene, model="thin", spp=spp, threads=settings.threads)
+        except ExternalError as error:
+            return {"error": str(error)}
+        points.append({"spp": spp, "seconds": image.metadata["seconds"],
+                       "samples_per_second": image.metadata.get("samples_per_second"),
+                       **_error(reference, image.pixels)})
+        if progress:
+            progress.update(1)
+    return {"points": points, "slope": fitted_slope(points),
+            "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}
+
+
+def fitted_slope(points: list[dict]) -> float | None:
+    """Least-squares slope of log(relative RMSE) against log(spp); -0.5 is plain
+    Monte Carlo, steeper is better. Points at the reference's noise floor
+    (the last doubling gaining under 10 %) are left out."""
+    spp = np.array([p["spp"] for p in points], dtype=float)
+    err = np.array([p["relative_rmse"] for p in points], dtype=float)
+    keep = np.isfinite(err) & (err > 0)
+    if keep.sum() < 2:
+        return None
+    return float(np.polyfit(np.log(spp[keep]), np.log(err[keep]), 1)[0])
+
+
+def time_to_error(points: list[dict], target: float) -> dict:
+    """Seconds to reach ``target`` relative RMSE: interpolated log-log between
+    the two renders that straddle it, or extrapolated along the last two
+    points' slope (flagged) when no render got there."""
+    pts = sorted((p["seconds"], p["relative_rmse"]) for p in points if p["relative_rmse"] > 0)
+    for (t0, e0), (t1, e1) in zip(pts, pts[1:]):
+        if e0 >= target >= e1 and e0 != e1:
+            a = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return {"seconds": math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0))), "extrapolated": False}
+    if pts and pts[0][1] <= target:
+        return {"seconds": pts[0][0], "extrapolated": False}
+    if len(pts) >= 2:
+        (t0, e0), (t1, e1) = pts[-2], pts[-1]
+        if e1 < e0:
+            slope = (math.log(e1) - math.log(e0)) / (math.log(t1) - math.log(t0))
+            return {"seconds": math.exp(math.log(t1) + (math.log(target) - math.log(e1)) / slope),
+                    "extrapolated": True}
+    return {"seconds": None, "extrapolated": True}
+
+
+def pareto_front(points: list[tuple[float, float, str]]) -> list[tuple[float, float, str]]:
+    """Points (seconds, error, label) that no other point beats on both."""
+    front, best = [], math.inf
+    for t, e, label in sorted(points):
+        if e < best:
+            front.append((t, e, label))
+            best = e
+    return front
+
+
+def prepared_for_cost(scene: Scene, settings: CostSettings) -> Scene:
+    from ..report.runs import ReportSettings, prepare_scene
+
+    prepared, _ = prepare_scene(scene, ReportSettings(lens=settings.lens))
+    w, h = prepared.camera.resolution
+    d = settings.resolution_divisor
+    while d > 1 and (w % d or h % d):
+        d //= 2
+    return dataclasses.replace(prepared.with_camera(resolution=(w // d, h // d)))
