@@ -23,7 +23,9 @@ from .scene import MODELS, SAMPLERS, Scene
 
 __all__ = ["render", "SAMPLER_CODES"]
 
-SAMPLER_CODES = {"random": _native.SAMPLER_RANDOM, "jittered": _native.SAMPLER_JITTERED}
+SAMPLER_CODES = {"random": _native.SAMPLER_RANDOM, "jittered": _native.SAMPLER_JITTERED,
+                 "regular": _native.SAMPLER_REGULAR, "poisson": _native.SAMPLER_POISSON,
+                 "sobol": _native.SAMPLER_SOBOL}
 
 _BAND_ROWS = 16
 
@@ -36,8 +38,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     ----------
     scene : Scene
         A loaded scene (:func:`lenscompare.scene.load_scene`).
-    model : {'pinhole', 'thin', 'thick', 'lens'}, optional
-        Camera model; default the scene's ``camera.model``.
+    model : {'pinhole', 'thin', 'thick', 'lens', 'auto'}, optional
+        Camera model; default the scene's ``camera.model``. ``'auto'`` asks
+        :func:`lenscompare.plan.plan_scene` for the cheapest model within the
+        default tolerances and records the plan in the metadata.
     spp, sampler, seed : optional
         Override the scene's ``[render]`` settings.
     threads : int, optional
@@ -52,6 +56,13 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         samples_per_second, threads, and the camera's derived quantities.
     """
     model = model or scene.camera.model
+    plan = None
+    if model == "auto":
+        # Simulate only what the scene calls for (default tolerances; no timing renders).
+        from .plan import plan_scene
+
+        plan = plan_scene(scene, measure_costs=False)
+        model = plan.model
     if model not in MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed)
@@ -99,4 +110,6 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         "renderer": f"lenscompare {__version__} native (Embree 3)",
         "machine": platform.machine(),
     }
+    if plan is not None:
+        metadata["plan"] = plan.to_json()
     return Image(pixels, metadata)

@@ -40,7 +40,8 @@ def add_parser(subparsers) -> None:
                               description="Render SCENE with the native tracer into a linear float EXR.")
     p.add_argument("scene", metavar="SCENE.toml")
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
-    p.add_argument("--model", choices=MODELS, help="camera model (default: the scene's)")
+    p.add_argument("--model", choices=MODELS + ("auto",),
+                   help="camera model (default: the scene's); auto: the cheapest within tolerance (see plan)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (shipped name or file)")
     p.add_argument("--spp", type=positive_int, help="samples per pixel")
     p.add_argument("--sampler", choices=SAMPLERS)

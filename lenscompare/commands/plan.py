@@ -1,0 +1,38 @@
+"""``lenscompare plan SCENE``: which effects the scene needs, and the model."""
+
+from __future__ import annotations
+
+import json
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("plan", help="which lens effects a scene needs, and the cheapest model",
+                              description="Predict each lens effect's size from the scene and camera (no "
+                                          "rendering) and pick the cheapest model within tolerance.")
+    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("--tolerance-px", type=float, default=0.5, help="largest blur/distortion left out (px)")
+    p.add_argument("--tolerance-percent", type=float, default=2.0, help="largest corner falloff left out (%%)")
+    p.add_argument("--no-costs", action="store_true", help="skip the timing renders")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..plan import plan_scene
+    from ..scene import load_scene
+
+    plan = plan_scene(load_scene(args.scene), tolerance_px=args.tolerance_px,
+                      tolerance_percent=args.tolerance_percent, measure_costs=not args.no_costs)
+    data = plan.to_json()
+    if args.json:
+        print(json.dumps(data))
+        return 0
+    print(f"model: {data['model']}  (tolerance {args.tolerance_px:g} px, {args.tolerance_percent:g} %)")
+    for name, e in data["effects"].items():
+        flag = "needed " if e["needed"] else "omitted"
+        print(f"  {flag} {name:11s} {e['magnitude']:9.3g} {e['unit']:2s}  {e['detail']}")
+    for model, seconds in data["predicted_seconds"].items():
+        print(f"  predicted {model:7s} {seconds:8.2f} s")
+    return 0
