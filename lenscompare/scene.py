@@ -34,7 +34,7 @@ Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
-SAMPLERS = ("random", "jittered")
+SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
 
 

@@ -124,6 +124,10 @@ NB_MODULE(_native, m) {
 
     m.attr("SAMPLER_RANDOM") = int(SamplerKind::Random);
     m.attr("SAMPLER_JITTERED") = int(SamplerKind::Jittered);
+    m.attr("SAMPLER_REGULAR") = int(SamplerKind::Regular);
+    m.attr("SAMPLER_POISSON") = int(SamplerKind::Poisson);
+    m.attr("SAMPLER_SOBOL") = int(SamplerKind::Sobol);
+    m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);  // tests only
     m.attr("DISK_POLAR") = int(DiskMapping::Polar);
     m.attr("DISK_CONCENTRIC") = int(DiskMapping::Concentric);
     m.attr("MATERIAL_EMISSIVE") = int(MaterialKind::Emissive);

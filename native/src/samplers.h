@@ -1,7 +1,27 @@
 // Per-pixel sample sets over the camera's sample space: film (2D) + lens (2D).
 // A sampler fills all of a pixel's samples at once; the render loop then hands
-// them to the camera one by one. Dispatch on the sampler kind happens once per
-// pixel, never per sample. New samplers add an enum value and one function.
+// them to the camera one by one (film[i] with lens[i]). Dispatch on the sampler
+// kind happens once per pixel, never per sample. New samplers add an enum value
+// and one function.
+//
+// Every sampler gives points in [0,1)^2, depends only on (seed, pixel_index,
+// spp) — never on threads or tiling — and pairs film and lens points so that
+// the two 2-D dimensions are decorrelated.
+//
+//   random    independent uniform points (PCG32 stream per pixel and dimension)
+//   jittered  one uniform point per stratum of an nx x ny grid; lens order
+//             shuffled per pixel
+//   regular   the centres of the same nx x ny grid, identical in every pixel and
+//             for every seed; lens cells paired with film cells by a fixed
+//             shear of the grid (samplers.cpp)
+//   poisson   blue noise: Poisson-disk sets made by weighted sample elimination
+//             (Yuksel 2015), a fixed pool per spp, each pixel drawing a pattern
+//             under a random toroidal shift and square symmetry
+//             (sampler_poisson.cpp)
+//   sobol     the first spp points of the (0,2)-sequence of Sobol' dimensions 0
+//             and 1, Owen-scrambled per pixel by hashing (Burley 2020); film and
+//             lens scrambled independently, lens order shuffled per pixel
+//             (sampler_sobol.cpp)
 #pragma once
 
 #include <cstdint>
@@ -10,7 +30,16 @@
 
 namespace lc {
 
-enum class SamplerKind : int { Random = 0, Jittered = 1 };
+enum class SamplerKind : int {
+    Random = 0,
+    Jittered = 1,
+    Regular = 2,
+    Poisson = 3,
+    Sobol = 4,
+    // For tests only, not offered by scene files: the bare Sobol' points
+    // 0..spp-1, the same for film and lens, every pixel and every seed.
+    SobolUnscrambled = 5,
+};
 
 // Square -> unit disk mappings for lens samples.
 enum class DiskMapping : int { Polar = 0, Concentric = 1 };
@@ -20,11 +49,19 @@ enum class DiskMapping : int { Polar = 0, Concentric = 1 };
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
                         Point2f* film, Point2f* lens);
 
-// Strata of the jittered sampler: nx * ny == spp, nx the largest divisor of spp
-// not above sqrt(spp) (8x8 for 64, 16x8 for 128; a prime spp gets 1 x spp).
+// Strata of the jittered and regular samplers: nx * ny == spp, ny the largest
+// divisor of spp not above sqrt(spp) (8x8 for 64, 16x8 for 128; a prime spp
+// gets spp x 1).
 void jittered_strata(int spp, int* nx, int* ny);
 
 // Unit-square sample -> point in the unit disk, area-preserving.
 Point2f map_to_disk(Point2f u, DiskMapping mapping);
+
+// One function per sampler defined in its own file; each fills one pixel.
+void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
+void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens);
+
+// Largest float below 1: where a sample that rounds up to 1 is put back.
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
 }  // namespace lc
