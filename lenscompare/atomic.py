@@ -37,6 +37,10 @@ def atomic_output(path: str | os.PathLike, *, option: str = "-o"):
     # that look at it.
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=f".tmp{target.suffix}", dir=folder)
     os.close(fd)
+    # mkstemp makes the file private (0600); give it the usual mode for new files.
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
         yield Path(tmp)
         os.replace(tmp, target)

@@ -1,0 +1,79 @@
+"""Check configurations (TOML): a list of declarative accuracy checks.
+
+```toml
+[[check]]
+name = "thin-lens blur disks within 2 % of equation 5"   # optional
+type = "blur_equation5"        # see CHECK_TYPES for each type's keys
+scene = "scenes/blur.toml"     # paths are relative to this file
+```
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+from .._schema import Table
+from ..errors import InputError
+
+__all__ = ["Check", "CHECK_TYPES", "load_checks", "DEFAULT_CONFIG"]
+
+DEFAULT_CONFIG = Path(__file__).resolve().parent / "default.toml"
+
+# type -> (required keys, optional keys with defaults)
+CHECK_TYPES = {
+    "blur_equation5": ({"scene"}, {"model": "thin", "tolerance_percent": 2.0, "spp": 256, "min_expected_px": 4.0}),
+    "povray_ssim": ({"scene"}, {"model": "thin", "min_ssim": 0.97, "spp": 64, "povray_spp": 256}),
+    "lens_paraxial": ({"lens", "quantity", "expected"}, {"relative_tolerance": 1e-6}),
+    "image_matches": ({"image", "scene"}, {"model": None, "spp": 256, "min_ssim": 0.97, "max_delta_e": 2.0}),
+}
+
+
+@dataclass(frozen=True)
+class Check:
+    name: str
+    type: str
+    options: dict
+    base_dir: Path
+
+    def path(self, key: str) -> Path:
+        value = Path(self.options[key])
+        return value if value.is_absolute() else self.base_dir / value
+
+
+def load_checks(path: str | os.PathLike) -> list[Check]:
+    source = os.fspath(path)
+    try:
+        data = tomllib.loads(Path(source).read_text(encoding="utf-8"))
+    except OSError as error:
+        raise InputError(source, f"cannot read check config ({error})") from None
+    except tomllib.TOMLDecodeError as error:
+        raise InputError(source, f"not valid TOML ({error})") from None
+    root = Table(data, source=source)
+    root.check_keys(["check"])
+    checks = []
+    for table in root.tables("check"):
+        kind = table.string("type", choices=CHECK_TYPES)
+        required, optional = CHECK_TYPES[kind]
+        table.check_keys(["type", "name", *sorted(required), *sorted(optional)])
+        options = dict(optional)
+        for key in required | set(optional):
+            if key in table.data:
+                value = table.data[key]
+                if isinstance(optional.get(key), (int, float)) and not isinstance(optional.get(key), bool):
+                    value = table.number(key, positive=key != "relative_tolerance")
+                options[key] = value
+            elif key in required:
+                raise table.error(key, "missing (required)")
+        name = table.string("name", default=f"{kind} {options.get('scene') or options.get('lens')}")
+        checks.append(Check(name, kind, options, Path(source).resolve().parent))
+    if not checks:
+        raise InputError(source, "no [[check]] tables")
+    return checks

@@ -1,0 +1,126 @@
+"""Running checks: each returns whether it held, what was measured, and why."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+from ..errors import InputError, LensCompareError
+from .config import Check
+
+__all__ = ["CheckResult", "run_check"]
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    check: Check
+    passed: bool
+    message: str
+    measured: dict
+    seconds: float
+
+
+def run_check(check: Check, *, threads: int | None = None) -> CheckResult:
+    start = time.perf_counter()
+    try:
+        passed, message, measured = _RUNNERS[check.type](check, threads)
+    except LensCompareError as error:  # a broken input inside a check is that check's failure
+        passed, message, measured = False, str(error), {}
+    return CheckResult(check, passed, message, measured, time.perf_counter() - start)
+
+
+def _blur_equation5(check: Check, threads):
+    from ..metrics import find_point_sources, measure_blur_disk
+    from ..optics import circle_of_confusion_mm, focus_film_distance_mm
+    from ..render import render
+    from ..report.measure import _camera_points, _emissive_spheres
+    from ..scene import load_scene
+
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
+    info = image.metadata["camera"]
+    f_mm, n = info["focal_length_mm"], info["f_number"]
+    pitch = scene.camera.film_mm[0] / scene.camera.width_px
+    d_prime = focus_film_distance_mm(scene.camera.focus_distance_m * 1000.0, f_mm)
+    spheres = _emissive_spheres(scene)
+    xyz = _camera_points(scene, [s.center for s in spheres])
+    found = find_point_sources(image.pixels)
+    errors = []
+    for sphere, (x, y, z) in zip(spheres, xyz):
+        expected = circle_of_confusion_mm(z * 1000, focus_distance_mm=scene.camera.focus_distance_m * 1000,
+                                          focal_length_mm=f_mm, aperture_diameter_mm=f_mm / n) / pitch
+        if expected < o["min_expected_px"]:
+            continue
+        w, h = scene.camera.resolution
+        proj = ((d_prime * x / z / scene.camera.film_mm[0] + 0.5) * w, (0.5 - d_prime * y / z / scene.camera.film_mm[1]) * h)
+        source = min(found, key=lambda s: math.dist(s.centroid_px, proj))
+        sphere_px = 2 * sphere.radius * d_prime / z / pitch
+        disk = measure_blur_disk(image.pixels, center_px=source.centroid_px, window_radius_px=expected + sphere_px + 4,
+                                 source_diameter_px=sphere_px)
+        errors.append(100 * (disk.second_moment_diameter_px / expected - 1))
+    if not errors:
+        return False, "no blur disk large enough to measure", {}
+    worst = max(errors, key=abs)
+    ok = abs(worst) <= o["tolerance_percent"]
+    return ok, f"largest blur-disk error {worst:+.2f} % (limit {o['tolerance_percent']:g} %)", {
+        "errors_percent": errors}
+
+
+def _povray_ssim(check: Check, threads):
+    from ..metrics import relative_rmse, ssim
+    from ..povray import render_povray
+    from ..render import render
+    from ..scene import load_scene
+
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    native = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False).pixels
+    reference = render_povray(scene, model=o["model"], spp=int(o["povray_spp"]), threads=threads).pixels
+    data_range = float(reference.max() - reference.min()) or 1.0
+    value = ssim(reference, native, data_range=data_range)
+    rel = relative_rmse(reference, native)
+    return value >= o["min_ssim"], f"SSIM {value:.4f} (min {o['min_ssim']:g}), relative RMSE {rel:.4f}", {
+        "ssim": value, "relative_rmse": rel}
+
+
+def _lens_paraxial(check: Check, threads):
+    from ..commands.lens import lens_info
+    from ..lenses import load_prescription
+
+    o = check.options
+    lens = str(check.path("lens")) if ("/" in str(o["lens"]) or str(o["lens"]).endswith(".dat")) else o["lens"]
+    info = lens_info(load_prescription(lens))
+    if o["quantity"] not in info:
+        raise InputError(str(check.base_dir), f"unknown quantity {o['quantity']!r}", key=f"check {check.name}")
+    value = float(info[o["quantity"]])
+    expected = float(o["expected"])
+    rel = abs(value - expected) / abs(expected) if expected else abs(value)
+    return rel <= o["relative_tolerance"], (f"{o['quantity']} = {value:.9g} against {expected:.9g} "
+                                             f"(relative {rel:.2e}, limit {o['relative_tolerance']:g})"), {
+        "value": value, "relative_error": rel}
+
+
+def _image_matches(check: Check, threads):
+    from ..image import read_exr
+    from ..metrics import ciede2000, luminance, ssim
+    from ..render import render
+    from ..scene import load_scene
+
+    o = check.options
+    theirs = read_exr(check.path("image")).pixels
+    scene = load_scene(check.path("scene"))
+    ours = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False).pixels
+    if theirs.shape != ours.shape:
+        return False, f"image is {theirs.shape[1]}x{theirs.shape[0]}, the scene renders {ours.shape[1]}x{ours.shape[0]}", {}
+    data_range = float(ours.max() - ours.min()) or 1.0
+    s = ssim(ours, theirs, data_range=data_range)
+    de = ciede2000(ours, theirs, white_luminance=float(max(luminance(ours).max(), 1e-12))).mean
+    ok = s >= o["min_ssim"] and de <= o["max_delta_e"]
+    return ok, f"SSIM {s:.4f} (min {o['min_ssim']:g}), mean ΔE00 {de:.3f} (max {o['max_delta_e']:g})", {
+        "ssim": s, "ciede2000_mean": de}
+
+
+_RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "lens_paraxial": _lens_paraxial,
+            "image_matches": _image_matches}

@@ -1,0 +1,31 @@
+"""``lenscompare check [CONFIG] [--junit FILE]``: accuracy checks for CI."""
+
+from __future__ import annotations
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("check", help="run declarative accuracy checks (exit 0 when all hold)",
+                              description="Run the checks of CONFIG (default: the shipped config); exit 0 when all "
+                                          "hold, 1 when any fails, 2 for a bad config.")
+    p.add_argument("config", nargs="?", metavar="CONFIG.toml")
+    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
+    p.add_argument("--threads", type=int, default=None)
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..checks import DEFAULT_CONFIG, load_checks, run_check, write_junit
+
+    checks = load_checks(args.config or DEFAULT_CONFIG)
+    results = []
+    for check in checks:
+        result = run_check(check, threads=args.threads)
+        results.append(result)
+        print(f"{'PASS' if result.passed else 'FAIL'}  {check.name}: {result.message} ({result.seconds:.1f} s)")
+    if args.junit:
+        write_junit(args.junit, results)
+    failed = sum(not r.passed for r in results)
+    print(f"{len(results) - failed} passed, {failed} failed")
+    return 1 if failed else 0

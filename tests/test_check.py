@@ -1,0 +1,45 @@
+"""``lenscompare check``: the shipped config passes; failures and bad configs
+give exit 1 and 2; JUnit XML is written."""
+
+from xml.etree import ElementTree as ET
+
+from helpers import REPO, run_cli
+
+
+def test_default_config_passes_and_writes_junit(tmp_path):
+    junit = tmp_path / "junit.xml"
+    result = run_cli("check", "--junit", junit)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "4 passed, 0 failed" in result.stdout
+    suite = ET.parse(junit).getroot()
+    assert suite.tag == "testsuite" and suite.get("tests") == "4" and suite.get("failures") == "0"
+
+
+def test_a_failing_check_exits_1(tmp_path):
+    config = tmp_path / "checks.toml"
+    config.write_text('[[check]]\ntype = "lens_paraxial"\nlens = "dgauss.50mm"\n'
+                      'quantity = "effective_focal_length_mm"\nexpected = 50.0\n')
+    junit = tmp_path / "j.xml"
+    result = run_cli("check", config, "--junit", junit)
+    assert result.returncode == 1
+    assert "FAIL" in result.stdout and "0 passed, 1 failed" in result.stdout
+    assert ET.parse(junit).getroot().get("failures") == "1"
+
+
+def test_image_matches_its_own_render(tmp_path):
+    scene = REPO / "reference_scenes" / "flat_field.toml"
+    out = tmp_path / "mine.exr"
+    assert run_cli("render", scene, "-o", out, "--spp", "16").returncode == 0
+    config = tmp_path / "checks.toml"
+    config.write_text(f'[[check]]\ntype = "image_matches"\nimage = "{out}"\nscene = "{scene}"\nspp = 16\n')
+    result = run_cli("check", config)
+    assert result.returncode == 0, result.stdout
+
+
+def test_bad_config_exits_2(tmp_path):
+    config = tmp_path / "bad.toml"
+    config.write_text('[[check]]\ntype = "blur_equation5"\nscene = "x.toml"\ntolerance = 3\n')
+    result = run_cli("check", config)
+    assert result.returncode == 2 and "check[0].tolerance" in result.stderr and "Traceback" not in result.stderr
+    config.write_text('[[check]]\ntype = "magic"\n')
+    assert run_cli("check", config).returncode == 2
