@@ -27,7 +27,9 @@ SAMPLER_CODES = {"random": _native.SAMPLER_RANDOM, "jittered": _native.SAMPLER_J
                  "regular": _native.SAMPLER_REGULAR, "poisson": _native.SAMPLER_POISSON,
                  "sobol": _native.SAMPLER_SOBOL}
 
-_BAND_ROWS = 16
+# Rows per native call: enough samples (~2 M) that the worker threads all join
+# in, few enough that the progress bar moves.
+_BAND_SAMPLES = 2_000_000
 
 
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
@@ -84,9 +86,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
 
     rays_passed = 0
     start = time.perf_counter()
+    band_rows = max(16, -(-_BAND_SAMPLES // (width * settings.spp)))
     with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
-        for row in range(0, height, _BAND_ROWS):
-            row_end = min(row + _BAND_ROWS, height)
+        for row in range(0, height, band_rows):
+            row_end = min(row + band_rows, height)
             _, passed = _native.render_rows(native_scene, camera, settings.spp, SAMPLER_CODES[settings.sampler],
                                             settings.seed, threads, row, row_end, pixels)
             rays_passed += passed

@@ -55,7 +55,7 @@ MAX_ANTIALIAS_DEPTH = 9
 """POV-Ray 3.7's largest ``+R`` (anti-aliasing depth)."""
 
 _STDERR_TAIL_LINES = 12
-_TRACE_TIME = re.compile(r"Trace Time:.*\(([0-9.]+) seconds\)")
+_TRACE_TIME = re.compile(r"Trace Time:.*\(([0-9.]+) seconds\)\s*using \d+ thread\(s\) with ([0-9.]+) CPU-seconds")
 _VERSION = re.compile(r"POV-Ray\s+([0-9][0-9A-Za-z.\-+]*)")
 
 
@@ -117,7 +117,8 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         Linear radiance, float32, row 0 at the top — like a native render.
         POV-Ray writes half floats, so values carry about 3 significant digits.
         Metadata: scene, model, spp, seconds (POV-Ray's own trace time),
-        wall_seconds (the whole process), samples_per_second, threads,
+        wall_seconds (the whole process), cpu_seconds (POV-Ray's CPU time
+        for the trace, all threads), samples_per_second, threads,
         resolution, camera, renderer (POV-Ray's version line), command.
 
     Raises
@@ -182,6 +183,7 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     seconds = float(match.group(1)) if match else 0.0
     if not seconds > 0:  # no statistics, or a render faster than their 1 ms resolution
         seconds = wall_seconds
+    cpu_seconds = float(match.group(2)) if match else None
     samples = width * height * rays_per_pixel
     metadata = {
         "scene": scene.name,
@@ -190,6 +192,7 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         "spp_requested": spp,
         "seconds": seconds,
         "wall_seconds": wall_seconds,
+        "cpu_seconds": cpu_seconds,
         "samples_per_second": samples / seconds if seconds > 0 else float("inf"),
         "threads": int(threads) if threads is not None else os.cpu_count(),
         "resolution": [width, height],

@@ -78,8 +78,10 @@ class Scene {
     Vec3f background_;
 };
 
-// POV-Ray's checker: parity of floor(p/size + 0.001) summed over the axes
-// (pattern.cpp, Small_Tolerance = 0.001 in pattern space). Even -> first colour.
+// Checker: parity of floor(p/size + 0.001) summed over the axes; even -> the
+// first colour. The tolerance (POV-Ray 3.6's; 3.7 uses 1e-10) keeps a floor at
+// y = 0 on one side despite float32 hit points; the POV-Ray export shifts its
+// checker by 0.001 cubes so that both renderers agree.
 bool checker_is_odd(const Vec3f& p_m, float size_m);
 
 }  // namespace lc
