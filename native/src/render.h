@@ -45,39 +45,53 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
         tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
         tbb::parallel_for(rows_cols, [&](const tbb::blocked_range2d<int>& tile) {
             std::vector<Point2f> film(size_t(s.spp)), lens(size_t(s.spp));
+            const int tile_w = tile.cols().size();
+            // Double accumulation per pixel of the tile: 1024 spp of float radiance would lose bits.
+            std::vector<double> sums(size_t(tile_w) * size_t(tile.rows().size()) * 3, 0.0);
             uint64_t tile_passed = 0;
+            // Camera rays are packed into 8-wide batches across the pixels of
+            // the tile, so that low sample counts still fill the packets. Each
+            // pixel's samples are still summed in sample order.
+            RayBatch batch;
+            float weight[kPacketSize];
+            size_t slot[kPacketSize];
+            auto flush = [&] {
+                if (batch.count == 0) return;
+                Vec3f radiance[kPacketSize];
+                scene.radiance(batch, radiance);
+                for (int j = 0; j < batch.count; ++j) {
+                    double* sum = &sums[3 * slot[j]];
+                    sum[0] += double(radiance[j].x) * weight[j];
+                    sum[1] += double(radiance[j].y) * weight[j];
+                    sum[2] += double(radiance[j].z) * weight[j];
+                }
+                tile_passed += uint64_t(batch.count);
+                batch.count = 0;
+            };
             for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+                    size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
                     fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
-                    // Double accumulation: 1024 spp of float radiance would lose bits.
-                    double sum[3] = {0, 0, 0};
-                    for (int first = 0; first < s.spp; first += kPacketSize) {
-                        // Camera rays for the next samples, vignetted ones left out
-                        RayBatch batch;
-                        float weight[kPacketSize];
-                        for (int i = first; i < std::min(first + kPacketSize, s.spp); ++i) {
-                            Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
-                            MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
-                            if (!ray) continue;
-                            batch.origin[batch.count] = Vec3f(ray->origin);
-                            batch.direction[batch.count] = Vec3f(ray->direction);
-                            weight[batch.count++] = ray->weight;
-                        }
-                        if (batch.count == 0) continue;
-                        tile_passed += uint64_t(batch.count);
-                        Vec3f radiance[kPacketSize];
-                        scene.radiance(batch, radiance);
-                        for (int j = 0; j < batch.count; ++j) {
-                            sum[0] += double(radiance[j].x) * weight[j];
-                            sum[1] += double(radiance[j].y) * weight[j];
-                            sum[2] += double(radiance[j].z) * weight[j];
-                        }
+                    for (int i = 0; i < s.spp; ++i) {
+                        Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
+                        MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
+                        if (!ray) continue;  // vignetted: contributes nothing
+                        batch.origin[batch.count] = Vec3f(ray->origin);
+                        batch.direction[batch.count] = Vec3f(ray->direction);
+                        weight[batch.count] = ray->weight;
+                        slot[batch.count++] = local;
+                        if (batch.count == kPacketSize) flush();
                     }
-                    float* out = rgb + 3 * pixel_index;
-                    for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / s.spp);
                 }
             }
+            flush();
+            for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
+                for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+                    size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
+                    float* out = rgb + 3 * (uint64_t(y) * uint64_t(s.width_px) + uint64_t(x));
+                    for (int c = 0; c < 3; ++c) out[c] = float(sums[3 * local + size_t(c)] / s.spp);
+                }
             rays_passed += tile_passed;
         });
     });
