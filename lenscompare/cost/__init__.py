@@ -18,7 +18,7 @@ from .findings import findings
 from .plots import plot_error_vs_time
 from .study import CostSettings, prepared_for_cost, study_scene
 
-__all__ = ["CostSettings", "run_cost_study"]
+__all__ = ["CostSettings", "run_cost_study", "time_table_rows"]
 
 
 def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None = None, *,

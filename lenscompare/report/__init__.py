@@ -60,6 +60,7 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Repo
             results["renders"].extend(r.summary() for r in runs)
 
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
+    results["cost"] = _cost_section(scenes, out, settings)
     results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
@@ -74,6 +75,7 @@ def _measure_scene(scene: Scene, runs, out: Path, notes: list[str]) -> dict:
     by_label = {r.label: r for r in runs}
     entry = {"description": scene.description, "notes": notes, "measure": list(scene.measure),
              "renders": [{**r.summary(), "seconds": r.seconds} for r in runs]}
+    entry["plan"] = _plan_against_measured(scene, by_label)
     lens_is_dgauss = scene.camera.lens == "dgauss.50mm"
     if "blur_disks" in scene.measure:
         entry["blur_disks"] = measure.measure_blur_disks(scene, runs)
@@ -96,6 +98,39 @@ def _measure_scene(scene: Scene, runs, out: Path, notes: list[str]) -> dict:
     entry["vs_lens"] = {m: measure.compare_images(by_label["lens"].image.pixels, by_label[m].image.pixels)
                         for m in ("pinhole", "thin", "thick")}
     return entry
+
+
+def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
+    """The planner's predictions for this scene beside what the renders show."""
+    from ..plan import plan_scene
+
+    plan = plan_scene(scene, measure_costs=False).to_json()
+    seconds = {label: run.seconds for label, run in by_label.items()}
+    plan["render_seconds"] = {m: seconds.get(m) for m in MODELS}
+    chosen, full = seconds.get(plan["model"]), seconds.get("lens")
+    plan["time_saved_seconds"] = None if chosen is None or full is None else full - chosen
+    return plan
+
+
+def _cost_section(scenes, out: Path, settings: ReportSettings) -> dict | None:
+    """A small cost study on the showcase scene (or the first scene)."""
+    from ..cost import CostSettings, run_cost_study
+
+    scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
+    if scene is None:
+        return None
+    cost = CostSettings(quick=True, lens=settings.lens, threads=settings.threads, povray=settings.povray,
+                        samplers=("random", "jittered", "sobol"))
+    results = run_cost_study([scene], out / "cost", cost, progress=False)
+    return {"index": "cost/index.html", "findings": results["findings"],
+            "plot": f"cost/{results['scenes'][scene.name]['plot']}",
+            "time_to_1_percent": [list(row) for row in _time_rows(results)]}
+
+
+def _time_rows(results):
+    from ..cost import time_table_rows
+
+    return time_table_rows(results)
 
 
 def _teaching_figures(out: Path, settings: ReportSettings, notes: list[str]) -> dict:

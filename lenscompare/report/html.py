@@ -15,6 +15,8 @@ SECTIONS = [
     ("povray", "Agreement with POV-Ray"),
     ("model-error", "Model error against the full lens system"),
     ("time", "Time per render"),
+    ("cost", "What accuracy costs in time"),
+    ("plan", "Effects each scene needs: predicted and measured"),
     ("figures", "Teaching figures"),
     ("provenance", "Provenance"),
 ]
@@ -52,6 +54,18 @@ def _table(header, rows, left=1):
         out.append("<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{_fmt(c)}</td>' for i, c in enumerate(row))
                    + "</tr>")
     return "".join(out) + "</table>"
+
+
+def _measured_effects(scene_entry) -> dict:
+    """Effect sizes this report measured, in the planner's units."""
+    out = {}
+    blur = scene_entry.get("blur_disks", {}).get("renders", {}).get("thin")
+    if blur:
+        out["defocus"] = max((r["measured_px"] for r in blur if r), default=None)
+    vig = scene_entry.get("vignetting", {}).get("renders", {}).get("lens")
+    if vig and vig["relative_illumination"]:
+        out["vignetting"] = 100.0 * (1.0 - vig["relative_illumination"][-1])
+    return out
 
 
 def _section(key, body):
@@ -134,6 +148,30 @@ def render_page(results: dict) -> str:
              r["samples_per_second"]] for r in results["renders"]]
     parts.append(_section("time", f"<img class='plot' src='{html.escape(results['time_plot'])}' alt='render times'>"
                           + _table(["scene", "render", "spp", "seconds", "samples/s"], rows, 2)))
+
+    cost = results.get("cost")
+    if cost:
+        body = ("<ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in cost["findings"]) + "</ul>"
+                + f"<img class='plot' src='{html.escape(cost['plot'])}' alt='error against time'>"
+                + _table(["scene", "model", "sampler", "seconds to 1 % RMSE", "extrapolated"],
+                         cost["time_to_1_percent"], 3)
+                + f"<p><a href='{html.escape(cost['index'])}'>The whole study</a></p>")
+    else:
+        body = "<p>No cost study in this report.</p>"
+    parts.append(_section("cost", body))
+
+    rows = []
+    for name, s in scenes.items():
+        plan = s.get("plan")
+        if not plan:
+            continue
+        measured = _measured_effects(s)
+        for effect, e in plan["effects"].items():
+            rows.append([name, effect, e["magnitude"], e["unit"], measured.get(effect), "yes" if e["needed"] else "no"])
+        rows.append([name, f"→ model {plan['model']}", plan.get("time_saved_seconds"), "s saved vs lens", None, ""])
+    parts.append(_section("plan", "<p class='note'>Predicted from the scene alone (lenscompare plan); measured from "
+                          "this report's renders where the scene measures that effect.</p>"
+                          + _table(["scene", "effect", "predicted", "unit", "measured", "needed"], rows, 2)))
 
     figures = results.get("teaching_figures", {})
     body = "".join(f"<figure><img class='plot' src='{html.escape(p)}' alt='{html.escape(k)}'>"
