@@ -15,6 +15,14 @@ def minimal_scene_text() -> str:
 
 
 @pytest.fixture
+def main():
+    """The command line's ``main`` (every command registered)."""
+    from lenscompare import cli
+
+    return cli.main
+
+
+@pytest.fixture
 def write_scene(tmp_path):
     """Write scene text to a file in tmp_path and return its path."""
 

@@ -2,16 +2,11 @@
 
 from __future__ import annotations
 
-import importlib
 import json
-import sys
-import types
 from pathlib import Path
 
 import pytest
 
-import lenscompare
-from lenscompare import cli
 
 DATA = Path(__file__).parent / "data" / "lenses"
 REQUIRED = (
@@ -21,20 +16,6 @@ REQUIRED = (
 )
 
 
-@pytest.fixture
-def main(monkeypatch):
-    """``cli.main`` with only the lens command registered."""
-    try:
-        import lenscompare.commands as commands
-    except ImportError:
-        # Other command modules are written in parallel and may not import
-        # yet: stand in for the package so that this one can be tested alone.
-        commands = types.ModuleType("lenscompare.commands")
-        commands.__path__ = [str(Path(lenscompare.__file__).parent / "commands")]
-        monkeypatch.setitem(sys.modules, "lenscompare.commands", commands)
-    lens = importlib.import_module("lenscompare.commands.lens")
-    monkeypatch.setattr(commands, "COMMANDS", [lens], raising=False)
-    return cli.main
 
 
 def test_json_has_the_contract_keys_and_the_reference_values(main, capsys):

@@ -9,19 +9,14 @@ can read the coordinates actually handed to matplotlib.
 from __future__ import annotations
 
 import contextlib
-import importlib
 import json
 import math
 import struct
-import sys
-import types
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import lenscompare
-from lenscompare import cli
 from lenscompare import figures
 from lenscompare.errors import InputError
 from lenscompare.figures import (
@@ -33,7 +28,7 @@ from lenscompare.figures import (
     thin_lens_geometry,
     write_teaching_figures,
 )
-from lenscompare.figures._lens_drawing import element_outlines_mm, stop_bar_mm
+from lenscompare.figures._lens_drawing import element_outlines_mm
 from lenscompare.lenses import (
     film_distance_mm,
     load_prescription,
@@ -361,20 +356,6 @@ def test_output_folder_that_is_a_file_is_an_input_error(tmp_path):
 # --------------------------------------------------------------------------- command line
 
 
-@pytest.fixture
-def main(monkeypatch):
-    """``cli.main`` with only the figures command registered."""
-    try:
-        import lenscompare.commands as commands
-    except ImportError:
-        # Other command modules are written in parallel and may not import
-        # yet: stand in for the package so that this one can be tested alone.
-        commands = types.ModuleType("lenscompare.commands")
-        commands.__path__ = [str(Path(lenscompare.__file__).parent / "commands")]
-        monkeypatch.setitem(sys.modules, "lenscompare.commands", commands)
-    command = importlib.import_module("lenscompare.commands.figures")
-    monkeypatch.setattr(commands, "COMMANDS", [command], raising=False)
-    return cli.main
 
 
 def test_command_writes_the_figures_for_a_user_lens(main, tmp_path, capsys):

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..cameras.common import camera_frame
 from ..native_scene import box_quads, rectangle_quad
-from ..scene import Box, Rectangle, Scene, Sphere
+from ..scene import Box, Scene, Sphere
 
 __all__ = ["visible_depth_range_m"]
 
