@@ -23,6 +23,9 @@ test: install
 
 bench: install
 	$(PY) bench/bench_native.py
+	$(PY) bench/bench_lens.py
+	$(PY) bench/bench_povray.py
+	$(PY) bench/bench_cost.py
 
 install: system-deps $(VENV)/.installed
 
