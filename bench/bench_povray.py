@@ -77,6 +77,7 @@ def main() -> int:
                         help="blur_samples of the POV-Ray render checked against the reference")
     parser.add_argument("--repeat", type=int, default=3,
                         help="render each sweep point this often and keep the fastest (the machine may be shared)")
+    parser.add_argument("--sampler", default="jittered", help="native sampler for the sweep (the reference is jittered)")
     parser.add_argument("--save", metavar="DIR", help="also write the reference and high-spp renders as EXR here")
     args = parser.parse_args()
 
@@ -110,7 +111,8 @@ def main() -> int:
 
     native = []
     for spp in args.native_spp:
-        native.append(fastest(lambda: render(scene, model="thin", spp=spp, threads=args.threads, progress=False)))
+        native.append(fastest(lambda: render(scene, model="thin", spp=spp, sampler=args.sampler, threads=args.threads,
+                                             progress=False)))
         log(f"native {spp:5d} spp: {native[-1]['seconds']:.3f} s, relative RMSE {native[-1]['relative_rmse']:.4f}")
 
     povray = []
