@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <algorithm>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -220,6 +221,27 @@ NB_MODULE(_native, m) {
               return std::make_tuple(c.samples, c.traced, c.passed);
           },
           "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("generate_lens_rays_batched",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+              const auto* raster = reinterpret_cast<const Point2f*>(raster_px.data());
+              const auto* u = reinterpret_cast<const Point2f*>(lens.data());
+              for (size_t first = 0; first < raster_px.shape(0); first += kLensBatch) {
+                  int n = int(std::min<size_t>(kLensBatch, raster_px.shape(0) - first));
+                  MaybeRay rays[kLensBatch];
+                  camera.generate_rays(raster + first, u + first, n, rays);
+                  for (int i = 0; i < n; ++i) {
+                      size_t k = first + size_t(i);
+                      Vec3d o = rays[i] ? rays[i]->origin : Vec3d{}, d = rays[i] ? rays[i]->direction : Vec3d{};
+                      origin(k, 0) = o.x, origin(k, 1) = o.y, origin(k, 2) = o.z;
+                      direction(k, 0) = d.x, direction(k, 1) = d.y, direction(k, 2) = d.z;
+                      weight(k) = rays[i] ? rays[i]->weight : 0.0f;
+                  }
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
+          nb::call_guard<nb::gil_scoped_release>());
 
     m.def("measure_lens_throughput",
           [](const LensSystemCamera& camera, uint64_t n, int threads) {

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
+#include <utility>
 #include <cstdint>
 #include <vector>
 
@@ -34,6 +36,24 @@ struct RenderStats {
 };
 
 constexpr int kTileSize = 16;
+
+// Cameras that can turn several samples into rays at once (the lens system
+// traces them in lockstep) say so with generate_rays(raster, lens, n, out).
+template <class Camera, class = void>
+struct GeneratesBatches : std::false_type {};
+template <class Camera>
+struct GeneratesBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays(
+                                    nullptr, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>> : std::true_type {};
+
+// Rays for samples [first, first + n) of a pixel, n <= kPacketSize.
+template <class Camera>
+void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
+    if constexpr (GeneratesBatches<Camera>::value) {
+        camera.generate_rays(raster_px, lens, n, out);
+    } else {
+        for (int i = 0; i < n; ++i) out[i] = camera.generate_ray(raster_px[i], lens[i]);
+    }
+}
 
 // Renders rows [row_begin, row_end) into rgb (height x width x 3, row 0 at the top).
 template <class Camera>
@@ -73,15 +93,21 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
                     fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
-                    for (int i = 0; i < s.spp; ++i) {
-                        Point2f raster_px{float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
-                        MaybeRay ray = camera.generate_ray(raster_px, lens[size_t(i)]);
-                        if (!ray) continue;  // vignetted: contributes nothing
-                        batch.origin[batch.count] = Vec3f(ray->origin);
-                        batch.direction[batch.count] = Vec3f(ray->direction);
-                        weight[batch.count] = ray->weight;
-                        slot[batch.count++] = local;
-                        if (batch.count == kPacketSize) flush();
+                    for (int first = 0; first < s.spp; first += kPacketSize) {
+                        int n = std::min(kPacketSize, s.spp - first);
+                        Point2f raster_px[kPacketSize];
+                        for (int i = 0; i < n; ++i)
+                            raster_px[i] = {float(x) + film[size_t(first + i)].x, float(y) + film[size_t(first + i)].y};
+                        MaybeRay rays[kPacketSize];
+                        camera_rays(camera, raster_px, &lens[size_t(first)], n, rays);
+                        for (int i = 0; i < n; ++i) {
+                            if (!rays[i]) continue;  // vignetted: contributes nothing
+                            batch.origin[batch.count] = Vec3f(rays[i]->origin);
+                            batch.direction[batch.count] = Vec3f(rays[i]->direction);
+                            weight[batch.count] = rays[i]->weight;
+                            slot[batch.count++] = local;
+                            if (batch.count == kPacketSize) flush();
+                        }
                     }
                 }
             }

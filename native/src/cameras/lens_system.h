@@ -13,8 +13,11 @@
 #include "cameras/camera_ray.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_trace.h"
+#include "scene.h"
 
 namespace lc {
+
+static_assert(kLensBatch == kPacketSize, "lens batches fill one render packet");
 
 struct LensSystemCamera {
     Frame world_from_camera;           // origin at the entrance-pupil centre
@@ -53,6 +56,34 @@ struct LensSystemCamera {
         double cos_theta = -ray.direction.z;
         // Trace the ray through the lens
         if (!trace_from_film(elements, &ray)) return std::nullopt;
+        return camera_ray(ray, cos_theta, area_mm2);
+    }
+
+    // The same for up to kLensBatch samples at once, traced in lockstep (the
+    // render loop uses this; results equal generate_ray's).
+    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+        LensRayBatch batch;
+        double area_mm2[kLensBatch], cos_theta[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) {
+            LensRay ray{{0.0, 0.0, film_z_mm}, {0.0, 0.0, -1.0}};
+            batch.alive[i] = i < n && sample_lens_ray(raster_px[i], lens_sample[i], &ray, &area_mm2[i]);
+            cos_theta[i] = -ray.direction.z;
+            batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
+            batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
+        }
+        trace_from_film_batch(elements, &batch);
+        for (int i = 0; i < n; ++i) {
+            if (!batch.alive[i]) {
+                out[i] = std::nullopt;
+                continue;
+            }
+            LensRay ray{{batch.ox[i], batch.oy[i], batch.oz[i]}, {batch.dx[i], batch.dy[i], batch.dz[i]}};
+            out[i] = camera_ray(ray, cos_theta[i], area_mm2[i]);
+        }
+    }
+
+    // A ray that left the lens -> the camera ray with its irradiance weight.
+    CameraRay camera_ray(const LensRay& ray, double cos_theta, double area_mm2) const {
         // Film irradiance weight: cos^4 theta * A / Z^2, normalised at the centre
         double axial_mm = film_z_mm - pupil->plane_z_mm();
         double cos2 = cos_theta * cos_theta;

@@ -13,7 +13,7 @@ constexpr int kScanCells = 24;      // coarse grid that finds where light passes
 constexpr int kMarchSteps = 48;     // outward steps per boundary search
 constexpr int kBisections = 14;     // refinement of each boundary point
 constexpr double kRelativeMargin = 1.01;   // polygon enlargement: covers chords and ring interpolation
-constexpr double kAbsoluteMargin = 0.002;  // ... as a fraction of the scan half-width
+constexpr double kAbsoluteMargin = 0.0002;  // ... as a fraction of the scan half-width (bisection leaves 1e-4)
 
 struct Direction2 {
     double x, y;

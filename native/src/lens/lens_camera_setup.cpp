@@ -53,14 +53,22 @@ double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int t
             uint64_t local_traced = 0, local_passed = 0;
             for (uint64_t chunk = chunks.begin(); chunk < chunks.end(); ++chunk) {
                 Pcg32 rng(0, chunk);
-                for (uint64_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
-                    Point2f raster{rng.next_float() * camera.width_px, rng.next_float() * camera.height_px};
-                    Point2f u{rng.next_float(), rng.next_float()};
-                    LensRay ray;
-                    double area;
-                    if (!camera.sample_lens_ray(raster, u, &ray, &area)) continue;
-                    ++local_traced;
-                    local_passed += trace_from_film(camera.elements, &ray);
+                uint64_t end = std::min(n, (chunk + 1) * kChunk);
+                for (uint64_t first = chunk * kChunk; first < end; first += kLensBatch) {
+                    // Sample a batch of film and pupil points, then trace them in lockstep
+                    LensRayBatch batch;
+                    for (int i = 0; i < kLensBatch; ++i) {
+                        Point2f raster{rng.next_float() * camera.width_px, rng.next_float() * camera.height_px};
+                        Point2f u{rng.next_float(), rng.next_float()};
+                        LensRay ray{{0.0, 0.0, camera.film_z_mm}, {0.0, 0.0, -1.0}};
+                        double area;
+                        batch.alive[i] = first + uint64_t(i) < end && camera.sample_lens_ray(raster, u, &ray, &area);
+                        local_traced += batch.alive[i];
+                        batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
+                        batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
+                    }
+                    trace_from_film_batch(camera.elements, &batch);
+                    for (int i = 0; i < kLensBatch; ++i) local_passed += batch.alive[i];
                 }
             }
             traced += local_traced;
