@@ -146,53 +146,65 @@ struct LensRayBatch {
 inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
     const double c = e.curvature_per_mm, v = e.vertex_z_mm;
     const double semi2 = e.semi_aperture_mm * e.semi_aperture_mm;
-    const bool refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
-    const double eta = e.n_film_side / e.n_scene_side;
-    for (int i = 0; i < kLensBatch; ++i) {
-        const double ox = b->ox[i], oy = b->oy[i], oz = b->oz[i];
-        const double dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
-        bool ok = b->alive[i];
-        double t;
-        if (c == 0.0) {
-            t = (v - oz) / dz;
-            ok = ok && dz != 0.0 && t >= -kBehindToleranceMm;
-        } else {
-            const double pz = oz - v;
+    // The surface type is the same for every lane: branch once, outside the
+    // lane loops, so that each loop is straight-line code the compiler vectorises.
+    double t[kLensBatch];
+    bool ok[kLensBatch];
+    if (c == 0.0) {
+        for (int i = 0; i < kLensBatch; ++i) {
+            t[i] = (v - b->oz[i]) / b->dz[i];
+            ok[i] = b->alive[i] & (b->dz[i] != 0.0) & (t[i] >= -kBehindToleranceMm);
+        }
+    } else {
+        for (int i = 0; i < kLensBatch; ++i) {
+            const double ox = b->ox[i], oy = b->oy[i], dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
+            const double pz = b->oz[i] - v;
             const double a = c * (dx * dx + dy * dy + dz * dz);
             const double bq = 2.0 * (c * (ox * dx + oy * dy + pz * dz) - dz);
             const double k = c * (ox * ox + oy * oy + pz * pz) - 2.0 * pz;
             const double disc = bq * bq - 4.0 * a * k;
-            ok = ok && disc >= 0.0;
             const double sq = std::sqrt(disc >= 0.0 ? disc : 0.0);
             const double q = -0.5 * (bq + std::copysign(sq, bq));
             const double t0 = a != 0.0 ? q / a : INFINITY;
             const double t1 = q != 0.0 ? k / q : INFINITY;
             const double lo = t0 > t1 ? t1 : t0, hi = t0 > t1 ? t0 : t1;
-            const bool lo_ok = lo >= -kBehindToleranceMm && std::fabs(lo) < INFINITY && c * (pz + lo * dz) < 1.0;
-            const bool hi_ok = hi >= -kBehindToleranceMm && std::fabs(hi) < INFINITY && c * (pz + hi * dz) < 1.0;
-            ok = ok && (lo_ok || hi_ok);
-            t = lo_ok ? lo : hi;
+            const bool lo_ok = (lo >= -kBehindToleranceMm) & (std::fabs(lo) < INFINITY) & (c * (pz + lo * dz) < 1.0);
+            const bool hi_ok = (hi >= -kBehindToleranceMm) & (std::fabs(hi) < INFINITY) & (c * (pz + hi * dz) < 1.0);
+            ok[i] = b->alive[i] & (disc >= 0.0) & (lo_ok | hi_ok);
+            t[i] = lo_ok ? lo : hi;
         }
-        const double px = ox + dx * t, py = oy + dy * t, pz_hit = oz + dz * t;
-        ok = ok && !(px * px + py * py > semi2);
-        double nx = dx, ny = dy, nz = dz;
-        if (refracts) {
+    }
+    // Hit point and aperture test
+    double px[kLensBatch], py[kLensBatch], pz[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) {
+        px[i] = b->ox[i] + b->dx[i] * t[i], py[i] = b->oy[i] + b->dy[i] * t[i], pz[i] = b->oz[i] + b->dz[i] * t[i];
+        ok[i] = ok[i] & !(px[i] * px[i] + py[i] * py[i] > semi2);
+    }
+    double nx[kLensBatch], ny[kLensBatch], nz[kLensBatch];
+    if (e.is_stop || e.n_scene_side == e.n_film_side) {
+        for (int i = 0; i < kLensBatch; ++i) nx[i] = b->dx[i], ny[i] = b->dy[i], nz[i] = b->dz[i];
+    } else {
+        const double eta = e.n_film_side / e.n_scene_side;
+        for (int i = 0; i < kLensBatch; ++i) {
+            const double dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             // Normal (0,0,1) - c (p - vertex), facing the incoming ray
-            double mx = -c * px, my = -c * py, mz = 1.0 - c * (pz_hit - v);
+            double mx = -c * px[i], my = -c * py[i], mz = 1.0 - c * (pz[i] - v);
             double cos_i = -(mx * dx + my * dy + mz * dz);
             const double flip = cos_i < 0.0 ? -1.0 : 1.0;
             mx *= flip, my *= flip, mz *= flip, cos_i *= flip;
             const double sin2_t = eta * eta * std::fmax(0.0, 1.0 - cos_i * cos_i);
-            ok = ok && sin2_t < 1.0;
             const double cos_t = std::sqrt(sin2_t < 1.0 ? 1.0 - sin2_t : 0.0);
             const double s = eta * cos_i - cos_t;
-            nx = dx * eta + mx * s, ny = dy * eta + my * s, nz = dz * eta + mz * s;
-            ok = ok && nz < 0.0;  // turned back toward the film (pbrt-v3 #92)
+            nx[i] = dx * eta + mx * s, ny[i] = dy * eta + my * s, nz[i] = dz * eta + mz * s;
+            // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
+            ok[i] = ok[i] & (sin2_t < 1.0) & (nz[i] < 0.0);
         }
-        // Dead lanes keep their old values: nothing undefined travels on.
-        b->ox[i] = ok ? px : ox, b->oy[i] = ok ? py : oy, b->oz[i] = ok ? pz_hit : oz;
-        b->dx[i] = ok ? nx : dx, b->dy[i] = ok ? ny : dy, b->dz[i] = ok ? nz : dz;
-        b->alive[i] = ok;
+    }
+    // Dead lanes keep their old values: nothing undefined travels on.
+    for (int i = 0; i < kLensBatch; ++i) {
+        b->ox[i] = ok[i] ? px[i] : b->ox[i], b->oy[i] = ok[i] ? py[i] : b->oy[i], b->oz[i] = ok[i] ? pz[i] : b->oz[i];
+        b->dx[i] = ok[i] ? nx[i] : b->dx[i], b->dy[i] = ok[i] ? ny[i] : b->dy[i], b->dz[i] = ok[i] ? nz[i] : b->dz[i];
+        b->alive[i] = ok[i];
     }
 }
 
