@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 
@@ -31,35 +30,18 @@ def run_check(check: Check, *, threads: int | None = None) -> CheckResult:
 
 
 def _blur_equation5(check: Check, threads):
-    from ..metrics import find_point_sources, measure_blur_disk
-    from ..optics import circle_of_confusion_mm, focus_film_distance_mm
+    from types import SimpleNamespace
+
     from ..render import render
-    from ..report.measure import _camera_points, _emissive_spheres
+    from ..report.measure import measure_blur_disks
     from ..scene import load_scene
 
     o = check.options
     scene = load_scene(check.path("scene"))
     image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
-    info = image.metadata["camera"]
-    f_mm, n = info["focal_length_mm"], info["f_number"]
-    pitch = scene.camera.film_mm[0] / scene.camera.width_px
-    d_prime = focus_film_distance_mm(scene.camera.focus_distance_m * 1000.0, f_mm)
-    spheres = _emissive_spheres(scene)
-    xyz = _camera_points(scene, [s.center for s in spheres])
-    found = find_point_sources(image.pixels)
-    errors = []
-    for sphere, (x, y, z) in zip(spheres, xyz):
-        expected = circle_of_confusion_mm(z * 1000, focus_distance_mm=scene.camera.focus_distance_m * 1000,
-                                          focal_length_mm=f_mm, aperture_diameter_mm=f_mm / n) / pitch
-        if expected < o["min_expected_px"]:
-            continue
-        w, h = scene.camera.resolution
-        proj = ((d_prime * x / z / scene.camera.film_mm[0] + 0.5) * w, (0.5 - d_prime * y / z / scene.camera.film_mm[1]) * h)
-        source = min(found, key=lambda s: math.dist(s.centroid_px, proj))
-        sphere_px = 2 * sphere.radius * d_prime / z / pitch
-        disk = measure_blur_disk(image.pixels, center_px=source.centroid_px, window_radius_px=expected + sphere_px + 4,
-                                 source_diameter_px=sphere_px)
-        errors.append(100 * (disk.second_moment_diameter_px / expected - 1))
+    # The report's measurement, on one render.
+    rows = measure_blur_disks(scene, [SimpleNamespace(label=o["model"], image=image)])["renders"][o["model"]]
+    errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
     if not errors:
         return False, "no blur disk large enough to measure", {}
     worst = max(errors, key=abs)
