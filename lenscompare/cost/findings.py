@@ -40,6 +40,10 @@ def findings(scene_name: str, study: dict, *, compare_spp: int = 64) -> list[str
         steps.append(f"{model}: {best:.2f} s to 1 % noise" if best is not None else f"{model}: 1 % not reached")
         if err:
             steps[-1] += f", {100 * err['relative_rmse']:.1f} % from the full lens system"
+            left_out = [f"{name} {e['magnitude']:.3g} {e['unit']}" for name, e in err.get("omitted_effects", {}).items()
+                        if e["magnitude"] > 0]
+            if left_out:
+                steps[-1] += " (leaves out " + ", ".join(left_out) + ")"
     if steps:
         out.append(f"{scene_name}, cost of each model (best sampler): " + "; ".join(steps) + ".")
     pov = study.get("povray")

@@ -79,16 +79,30 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None) -> dict:
                                "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}
         result["models"][model] = series
     if "lens" in references:
+        omitted = _omitted_effects(scene)
         for model in settings.models:
             if model == "lens":
                 continue
             data_range = float(references["lens"].max() - references["lens"].min()) or 1.0
             result["model_error_vs_lens"][model] = {
                 "relative_rmse": relative_rmse(references["lens"], references[model]),
-                "ssim": ssim(references["lens"], references[model], data_range=data_range)}
+                "ssim": ssim(references["lens"], references[model], data_range=data_range),
+                # What the model leaves out, effect by effect (blur px, distortion px at
+                # the corner, corner falloff %), as the planner computes them.
+                "omitted_effects": omitted.get(model, {})}
     if settings.povray and "thin" in references:
         result["povray"] = _povray_series(scene, references["thin"], settings, progress)
     return result
+
+
+def _omitted_effects(scene: Scene) -> dict[str, dict]:
+    from ..plan import MODEL_ORDER, plan_scene
+
+    plan = plan_scene(scene, measure_costs=False)
+    return {model: {name: {"magnitude": e.magnitude, "unit": e.unit}
+                    for name, e in plan.effects.items()
+                    if MODEL_ORDER.index(e.needed_by) > MODEL_ORDER.index(model)}
+            for model in MODEL_ORDER}
 
 
 def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress) -> dict | None:
