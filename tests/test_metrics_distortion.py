@@ -33,7 +33,7 @@ def warp(points_px, k1, k2=0.0):
 
 def render_dots(centers_px, diameter_px=6.0, supersampling=8):
     """Bright disks (pixel means of n x n sub-samples) on black."""
-    n, (h, w) = supersampling, SHAPE
+    n = supersampling
     image = np.zeros(SHAPE)
     sub = (np.arange(n) + 0.5) / n
     r = diameter_px / 2

@@ -4,7 +4,6 @@ against the full lens system; POV-Ray's focal blur as a row of the thin lens."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -173,4 +172,4 @@ def prepared_for_cost(scene: Scene, settings: CostSettings) -> Scene:
     d = settings.resolution_divisor
     while d > 1 and (w % d or h % d):
         d //= 2
-    return dataclasses.replace(prepared.with_camera(resolution=(w // d, h // d)))
+    return prepared.with_camera(resolution=(w // d, h // d))

@@ -249,7 +249,7 @@ def _draw_overview(ax, g: ThinLensGeometry) -> None:
     # film (an image behind it) the light never gets there: dotted.
     for i, point in enumerate(g.points):
         colour = _style.BUNDLES[i]
-        l, image = point.object_distance_mm, point.image_distance_mm
+        l = point.object_distance_mm
         for (xs, ys) in axis.segments(-l, 0.0, 0.0, half) + axis.segments(-l, 0.0, 0.0, -half):
             ax.plot(xs, ys, color=colour, lw=1.0, zorder=2)
         for (xs, ys) in axis.segments(-l, 0.0, 0.0, half):

@@ -4,7 +4,6 @@ under tolerance, and predict the time that saves."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -94,8 +93,3 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, 
             continue  # the scene lacks what this model needs
         out[model] = w * h * scene.render.spp / rate
     return out
-
-
-def with_planned_model(scene: Scene, **kwargs) -> tuple[Scene, Plan]:
-    plan = plan_scene(scene, **kwargs)
-    return dataclasses.replace(scene, camera=dataclasses.replace(scene.camera, model=plan.model)), plan

@@ -114,7 +114,7 @@ def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
 
 def _cost_section(scenes, out: Path, settings: ReportSettings) -> dict | None:
     """A small cost study on the showcase scene (or the first scene)."""
-    from ..cost import CostSettings, run_cost_study
+    from ..cost import CostSettings, run_cost_study, time_table_rows
 
     scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
     if scene is None:
@@ -124,13 +124,7 @@ def _cost_section(scenes, out: Path, settings: ReportSettings) -> dict | None:
     results = run_cost_study([scene], out / "cost", cost, progress=False)
     return {"index": "cost/index.html", "findings": results["findings"],
             "plot": f"cost/{results['scenes'][scene.name]['plot']}",
-            "time_to_1_percent": [list(row) for row in _time_rows(results)]}
-
-
-def _time_rows(results):
-    from ..cost import time_table_rows
-
-    return time_table_rows(results)
+            "time_to_1_percent": [list(row) for row in time_table_rows(results)]}
 
 
 def _teaching_figures(out: Path, settings: ReportSettings, notes: list[str]) -> dict:

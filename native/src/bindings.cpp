@@ -4,7 +4,6 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/tuple.h>
-#include <nanobind/stl/vector.h>
 
 #include <array>
 #include <cmath>
@@ -97,17 +96,22 @@ std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& 
     return {stats.samples, stats.rays_passed};
 }
 
+// Row i of the output arrays: the ray, or zeros and weight 0 for a vignetted sample.
+void store_ray(const MaybeRay& ray, size_t i, CArray<double, -1, 3>& origin, CArray<double, -1, 3>& direction,
+               CArray<float, -1>& weight) {
+    Vec3d o = ray ? ray->origin : Vec3d{}, d = ray ? ray->direction : Vec3d{};
+    origin(i, 0) = o.x, origin(i, 1) = o.y, origin(i, 2) = o.z;
+    direction(i, 0) = d.x, direction(i, 1) = d.y, direction(i, 2) = d.z;
+    weight(i) = ray ? ray->weight : 0.0f;
+}
+
 // Rays for explicit samples, for geometric tests of a camera from Python.
 template <class Camera>
 void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens_sample,
                       CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
-    for (size_t i = 0; i < raster_px.shape(0); ++i) {
-        MaybeRay ray = camera.generate_ray({raster_px(i, 0), raster_px(i, 1)}, {lens_sample(i, 0), lens_sample(i, 1)});
-        Vec3d o = ray ? ray->origin : Vec3d{}, d = ray ? ray->direction : Vec3d{};
-        origin(i, 0) = o.x, origin(i, 1) = o.y, origin(i, 2) = o.z;
-        direction(i, 0) = d.x, direction(i, 1) = d.y, direction(i, 2) = d.z;
-        weight(i) = ray ? ray->weight : 0.0f;  // 0 marks a vignetted sample
-    }
+    for (size_t i = 0; i < raster_px.shape(0); ++i)
+        store_ray(camera.generate_ray({raster_px(i, 0), raster_px(i, 1)}, {lens_sample(i, 0), lens_sample(i, 1)}), i,
+                  origin, direction, weight);
 }
 
 template <class Camera>
@@ -204,14 +208,7 @@ NB_MODULE(_native, m) {
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
              nb::call_guard<nb::gil_scoped_release>())
-        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
-        .def("pupil_polygon",
-             [](const LensSystemCamera& c, int segment) {
-                 const PupilPolygon& p = c.pupil->segment(segment);
-                 return std::make_tuple(p.empty, p.centre_x_mm, std::vector<double>(p.radius_mm.begin(), p.radius_mm.end()),
-                                        p.area_mm2);
-             },
-             "segment"_a);
+        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; });
 
     m.def("count_lens_passes",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
@@ -231,13 +228,7 @@ NB_MODULE(_native, m) {
                   int n = int(std::min<size_t>(kLensBatch, raster_px.shape(0) - first));
                   MaybeRay rays[kLensBatch];
                   camera.generate_rays(raster + first, u + first, n, rays);
-                  for (int i = 0; i < n; ++i) {
-                      size_t k = first + size_t(i);
-                      Vec3d o = rays[i] ? rays[i]->origin : Vec3d{}, d = rays[i] ? rays[i]->direction : Vec3d{};
-                      origin(k, 0) = o.x, origin(k, 1) = o.y, origin(k, 2) = o.z;
-                      direction(k, 0) = d.x, direction(k, 1) = d.y, direction(k, 2) = d.z;
-                      weight(k) = rays[i] ? rays[i]->weight : 0.0f;
-                  }
+                  for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
               }
           },
           "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
