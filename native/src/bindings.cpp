@@ -3,7 +3,9 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 #include <array>
 #include <cmath>
@@ -208,7 +210,19 @@ NB_MODULE(_native, m) {
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
              nb::call_guard<nb::gil_scoped_release>())
-        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; });
+        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
+        // "avx" or "portable": which batch lens trace the camera runs (same bits; tests and benchmarks compare them)
+        .def_prop_rw(
+            "trace_kernel",
+            [](const LensSystemCamera& c) { return c.trace_kernel == LensTraceKernel::Avx ? "avx" : "portable"; },
+            [](LensSystemCamera& c, const std::string& name) {
+                if (name != "avx" && name != "portable")
+                    throw std::invalid_argument("trace_kernel: expected 'avx' or 'portable'");
+                LensTraceKernel kernel = name == "avx" ? LensTraceKernel::Avx : LensTraceKernel::Portable;
+                if (!lens_trace_kernel_available(kernel))
+                    throw std::invalid_argument("trace_kernel: this CPU has no " + name);
+                c.trace_kernel = kernel;
+            });
 
     m.def("count_lens_passes",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
@@ -233,6 +247,12 @@ NB_MODULE(_native, m) {
           },
           "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
           nb::call_guard<nb::gil_scoped_release>());
+
+    m.def("lens_trace_kernels", [] {
+        std::vector<std::string> names{"portable"};
+        if (lens_trace_kernel_available(LensTraceKernel::Avx)) names.push_back("avx");
+        return names;
+    }, "The batch lens-trace kernels this CPU runs, slowest first.");
 
     m.def("measure_lens_throughput",
           [](const LensSystemCamera& camera, uint64_t n, int threads) {

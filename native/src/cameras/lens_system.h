@@ -28,6 +28,7 @@ struct LensSystemCamera {
     int width_px, height_px;
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
+    LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits
 
     // Everything up to the trace; also used for the pass-rate statistics.
     // Returns false without tracing when the film point is outside the image circle.
@@ -35,7 +36,7 @@ struct LensSystemCamera {
         // Film point: the image is inverted on the film.
         double x = (0.5 - double(raster_px.x) / width_px) * film_width_mm;
         double y = (double(raster_px.y) / height_px - 0.5) * film_height_mm;
-        double r = std::hypot(x, y);
+        double r = std::sqrt(x * x + y * y);  // hypot's overflow guard costs a libm call per ray
         PupilSample s;
         if (!pupil->sample(r, lens_sample, &s)) return false;
         // Rotate the pupil sample from the +x ring frame to the film point's azimuth.
@@ -71,7 +72,7 @@ struct LensSystemCamera {
             batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
             batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
         }
-        trace_from_film_batch(elements, &batch);
+        trace_from_film_batch(elements, &batch, trace_kernel);
         for (int i = 0; i < n; ++i) {
             if (!batch.alive[i]) {
                 out[i] = std::nullopt;

@@ -90,6 +90,14 @@ double boundary_distance(const PupilGeometry& g, double film_x, double cx, doubl
     return hi;
 }
 
+void fill_guide(PupilPolygon* poly) {
+    int k = 0;
+    for (int j = 0; j < kPupilGuideCells; ++j) {
+        while (k < kPupilAngles - 1 && poly->cdf[size_t(k)] <= double(j) / kPupilGuideCells) ++k;
+        poly->guide[size_t(j)] = uint8_t(k);
+    }
+}
+
 PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], double scan_half_mm) {
     PupilPolygon poly;
     // Where does light pass at all? Centre of the passing scan points.
@@ -134,6 +142,7 @@ PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], d
     }
     for (double& c : poly.cdf) c /= total;
     poly.cdf.back() = 1.0;
+    fill_guide(&poly);
     poly.area_mm2 = total;
     return poly;
 }
@@ -145,6 +154,7 @@ PupilPolygon bounding_disk(double radius_mm) {
     poly.empty = false;
     poly.radius_mm.fill(radius_mm / std::cos(kPi / kPupilAngles));  // the 64-gon holds the disk
     for (int k = 0; k < kPupilAngles; ++k) poly.cdf[size_t(k)] = double(k + 1) / kPupilAngles;
+    fill_guide(&poly);
     poly.area_mm2 = kPupilAngles * std::sin(2.0 * kPi / kPupilAngles) * 0.5 * poly.radius_mm[0] * poly.radius_mm[0];
     return poly;
 }
@@ -184,8 +194,9 @@ bool ExitPupil::sample(double film_radius_mm, Point2f u, PupilSample* out) const
     // the position across the triangle; u.x alone sets the distance from the
     // centre, so radial strata stay as fine as the sampler's.
     const auto& cdf = poly.cdf;
-    int k = int(std::upper_bound(cdf.begin(), cdf.end(), double(u.y)) - cdf.begin());
-    k = std::min(k, kPupilAngles - 1);
+    // The first k with cdf[k] > u.y (std::upper_bound's answer), from the guide
+    int k = poly.guide[size_t(std::min(int(double(u.y) * kPupilGuideCells), kPupilGuideCells - 1))];
+    while (k < kPupilAngles - 1 && cdf[size_t(k)] <= double(u.y)) ++k;
     double lo = k == 0 ? 0.0 : cdf[size_t(k - 1)];
     double across = std::clamp((double(u.y) - lo) / std::max(cdf[size_t(k)] - lo, 1e-300), 0.0, 1.0);
     const auto& unit = unit_directions();

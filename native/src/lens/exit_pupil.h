@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "lens/lens_trace.h"
@@ -17,12 +18,17 @@ namespace lc {
 
 constexpr int kPupilSegments = 64;
 constexpr int kPupilAngles = 64;
+constexpr int kPupilGuideCells = 128;  // a power of two: u * cells is exact
 
 struct PupilPolygon {
     bool empty = true;          // no light from this film ring: outside the image circle
     double centre_x_mm = 0.0;   // polygon centre (on the x axis by symmetry)
     std::array<double, kPupilAngles> radius_mm{};  // boundary distance from the centre per angle
     std::array<double, kPupilAngles> cdf{};        // triangle-area CDF for sampling
+    // guide[j]: the first triangle whose CDF exceeds j / kPupilGuideCells, where
+    // the search for u in [j, j + 1) / cells starts (a binary search's
+    // unpredictable branches cost more than the rest of the sample).
+    std::array<uint8_t, kPupilGuideCells> guide{};
     double area_mm2 = 0.0;
 };
 

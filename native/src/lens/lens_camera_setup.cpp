@@ -67,7 +67,7 @@ double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int t
                         batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
                         batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
                     }
-                    trace_from_film_batch(camera.elements, &batch);
+                    trace_from_film_batch(camera.elements, &batch, camera.trace_kernel);
                     for (int i = 0; i < kLensBatch; ++i) local_passed += batch.alive[i];
                 }
             }

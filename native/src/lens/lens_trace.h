@@ -93,7 +93,9 @@ inline bool refract(const Vec3d& d, Vec3d n, double n1, double n2, Vec3d* out) {
         cos_i = -cos_i;
     }
     double eta = n1 / n2;
-    double sin2_t = eta * eta * std::fmax(0.0, 1.0 - cos_i * cos_i);
+    // x > 0 ? x : 0 rather than fmax: the same bits as the SIMD max instruction
+    double sin2_i = 1.0 - cos_i * cos_i;
+    double sin2_t = eta * eta * (sin2_i > 0.0 ? sin2_i : 0.0);
     if (sin2_t >= 1.0) return false;
     double cos_t = std::sqrt(1.0 - sin2_t);
     // Unit length to rounding already (unit d and n): no normalisation needed.
@@ -132,9 +134,9 @@ inline bool trace_from_film(const std::vector<LensElement>& elements, LensRay* r
 namespace lc {
 
 // Eight rays traced in lockstep, structure of arrays, no branches that
-// depend on the lane: the compiler vectorises the lane loops and the
-// latencies of different rays overlap. Same operations in the same order as
-// the scalar trace above, so both give the same bits.
+// depend on the lane, so that the latencies of different rays overlap. GCC
+// does not vectorise these loops; lens_trace_avx.cpp does it by hand. Same
+// operations in the same order as the scalar trace above: all give the same bits.
 constexpr int kLensBatch = 8;
 
 struct LensRayBatch {
@@ -147,7 +149,7 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
     const double c = e.curvature_per_mm, v = e.vertex_z_mm;
     const double semi2 = e.semi_aperture_mm * e.semi_aperture_mm;
     // The surface type is the same for every lane: branch once, outside the
-    // lane loops, so that each loop is straight-line code the compiler vectorises.
+    // lane loops, so that each loop is straight-line code.
     double t[kLensBatch];
     bool ok[kLensBatch];
     if (c == 0.0) {
@@ -192,7 +194,8 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
             double cos_i = -(mx * dx + my * dy + mz * dz);
             const double flip = cos_i < 0.0 ? -1.0 : 1.0;
             mx *= flip, my *= flip, mz *= flip, cos_i *= flip;
-            const double sin2_t = eta * eta * std::fmax(0.0, 1.0 - cos_i * cos_i);
+            const double sin2_i = 1.0 - cos_i * cos_i;
+            const double sin2_t = eta * eta * (sin2_i > 0.0 ? sin2_i : 0.0);
             const double cos_t = std::sqrt(sin2_t < 1.0 ? 1.0 - sin2_t : 0.0);
             const double s = eta * cos_i - cos_t;
             nx[i] = dx * eta + mx * s, ny[i] = dy * eta + my * s, nz[i] = dz * eta + mz * s;
@@ -208,7 +211,7 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
     }
 }
 
-inline void trace_from_film_batch(const std::vector<LensElement>& elements, LensRayBatch* b) {
+inline void trace_from_film_batch_portable(const std::vector<LensElement>& elements, LensRayBatch* b) {
     for (int i = 0; i < kLensBatch; ++i) b->alive[i] = b->alive[i] && b->dz[i] < 0.0;
     for (auto e = elements.rbegin(); e != elements.rend(); ++e) {
         cross_toward_scene_batch(*e, b);
@@ -216,6 +219,24 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
         for (int i = 0; i < kLensBatch; ++i) any |= b->alive[i];
         if (!any) return;
     }
+}
+
+// The same trace in AVX intrinsics (lens_trace_avx.cpp), bit for bit; only
+// for CPUs that have AVX.
+void trace_from_film_batch_avx(const std::vector<LensElement>& elements, LensRayBatch* b);
+
+enum class LensTraceKernel { Portable, Avx };
+
+// The fastest kernel this CPU runs.
+LensTraceKernel best_lens_trace_kernel();
+bool lens_trace_kernel_available(LensTraceKernel kernel);
+
+inline void trace_from_film_batch(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                  LensTraceKernel kernel) {
+    if (kernel == LensTraceKernel::Avx)
+        trace_from_film_batch_avx(elements, b);
+    else
+        trace_from_film_batch_portable(elements, b);
 }
 
 }  // namespace lc
