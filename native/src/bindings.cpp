@@ -211,17 +211,18 @@ NB_MODULE(_native, m) {
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
              nb::call_guard<nb::gil_scoped_release>())
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
-        // "avx" or "portable": which batch lens trace the camera runs (same bits; tests and benchmarks compare them)
+        // Which batch lens trace the camera runs (all give the same bits; tests and benchmarks compare them)
         .def_prop_rw(
-            "trace_kernel",
-            [](const LensSystemCamera& c) { return c.trace_kernel == LensTraceKernel::Avx ? "avx" : "portable"; },
+            "trace_kernel", [](const LensSystemCamera& c) { return std::string(lens_trace_kernel_name(c.trace_kernel)); },
             [](LensSystemCamera& c, const std::string& name) {
-                if (name != "avx" && name != "portable")
-                    throw std::invalid_argument("trace_kernel: expected 'avx' or 'portable'");
-                LensTraceKernel kernel = name == "avx" ? LensTraceKernel::Avx : LensTraceKernel::Portable;
-                if (!lens_trace_kernel_available(kernel))
-                    throw std::invalid_argument("trace_kernel: this CPU has no " + name);
-                c.trace_kernel = kernel;
+                for (LensTraceKernel kernel : kLensTraceKernels)
+                    if (name == lens_trace_kernel_name(kernel)) {
+                        if (!lens_trace_kernel_available(kernel))
+                            throw std::invalid_argument("trace_kernel: this CPU cannot run " + name);
+                        c.trace_kernel = kernel;
+                        return;
+                    }
+                throw std::invalid_argument("trace_kernel: no kernel named " + name);
             });
 
     m.def("count_lens_passes",
@@ -249,8 +250,9 @@ NB_MODULE(_native, m) {
           nb::call_guard<nb::gil_scoped_release>());
 
     m.def("lens_trace_kernels", [] {
-        std::vector<std::string> names{"portable"};
-        if (lens_trace_kernel_available(LensTraceKernel::Avx)) names.push_back("avx");
+        std::vector<std::string> names;
+        for (LensTraceKernel kernel : kLensTraceKernels)
+            if (lens_trace_kernel_available(kernel)) names.push_back(lens_trace_kernel_name(kernel));
         return names;
     }, "The batch lens-trace kernels this CPU runs, slowest first.");
 

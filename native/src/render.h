@@ -45,7 +45,7 @@ template <class Camera>
 struct GeneratesBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays(
                                     nullptr, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>> : std::true_type {};
 
-// Rays for samples [first, first + n) of a pixel, n <= kPacketSize.
+// Rays for n <= kCameraBatch samples.
 template <class Camera>
 void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
     if constexpr (GeneratesBatches<Camera>::value) {
@@ -69,8 +69,9 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
             // Double accumulation per pixel of the tile: 1024 spp of float radiance would lose bits.
             std::vector<double> sums(size_t(tile_w) * size_t(tile.rows().size()) * 3, 0.0);
             uint64_t tile_passed = 0;
-            // Camera rays are packed into 8-wide batches across the pixels of
-            // the tile, so that low sample counts still fill the packets. Each
+            // Camera samples are gathered across the tile's pixels into
+            // batches of kCameraBatch, and the rays packed into 8-wide Embree
+            // packets, so that low sample counts still fill both. Each
             // pixel's samples are still summed in sample order.
             RayBatch batch;
             float weight[kPacketSize];
@@ -88,29 +89,36 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                 tile_passed += uint64_t(batch.count);
                 batch.count = 0;
             };
+            Point2f pending_raster[kCameraBatch], pending_lens[kCameraBatch];
+            size_t pending_slot[kCameraBatch];
+            int pending = 0;
+            auto trace_pending = [&] {
+                MaybeRay rays[kCameraBatch];
+                camera_rays(camera, pending_raster, pending_lens, pending, rays);
+                for (int i = 0; i < pending; ++i) {
+                    if (!rays[i]) continue;  // vignetted: contributes nothing
+                    batch.origin[batch.count] = Vec3f(rays[i]->origin);
+                    batch.direction[batch.count] = Vec3f(rays[i]->direction);
+                    weight[batch.count] = rays[i]->weight;
+                    slot[batch.count++] = pending_slot[i];
+                    if (batch.count == kPacketSize) flush();
+                }
+                pending = 0;
+            };
             for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
                     fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
-                    for (int first = 0; first < s.spp; first += kPacketSize) {
-                        int n = std::min(kPacketSize, s.spp - first);
-                        Point2f raster_px[kPacketSize];
-                        for (int i = 0; i < n; ++i)
-                            raster_px[i] = {float(x) + film[size_t(first + i)].x, float(y) + film[size_t(first + i)].y};
-                        MaybeRay rays[kPacketSize];
-                        camera_rays(camera, raster_px, &lens[size_t(first)], n, rays);
-                        for (int i = 0; i < n; ++i) {
-                            if (!rays[i]) continue;  // vignetted: contributes nothing
-                            batch.origin[batch.count] = Vec3f(rays[i]->origin);
-                            batch.direction[batch.count] = Vec3f(rays[i]->direction);
-                            weight[batch.count] = rays[i]->weight;
-                            slot[batch.count++] = local;
-                            if (batch.count == kPacketSize) flush();
-                        }
+                    for (int i = 0; i < s.spp; ++i) {
+                        pending_raster[pending] = {float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
+                        pending_lens[pending] = lens[size_t(i)];
+                        pending_slot[pending++] = local;
+                        if (pending == kCameraBatch) trace_pending();
                     }
                 }
             }
+            trace_pending();
             flush();
             for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {

@@ -16,6 +16,11 @@ struct CameraRay {
 // A camera's generate_ray returns std::nullopt for a vignetted sample.
 using MaybeRay = std::optional<CameraRay>;
 
+// The render loop hands samples to a camera this many at a time, gathered
+// across the pixels of a tile: the lens system's SIMD trace keeps several
+// registers of rays in flight to hide the latency of its square roots.
+constexpr int kCameraBatch = 32;
+
 // Raster position -> direction in camera space for an ideal perspective
 // projection: the film (width film_w, distance d' behind the lens) mapped in
 // front of the lens at z = 1. Raster x grows right, raster y grows down.

@@ -17,7 +17,6 @@
 
 namespace lc {
 
-static_assert(kLensBatch == kPacketSize, "lens batches fill one render packet");
 
 struct LensSystemCamera {
     Frame world_from_camera;           // origin at the entrance-pupil centre

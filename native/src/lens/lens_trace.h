@@ -137,7 +137,7 @@ namespace lc {
 // depend on the lane, so that the latencies of different rays overlap. GCC
 // does not vectorise these loops; lens_trace_avx.cpp does it by hand. Same
 // operations in the same order as the scalar trace above: all give the same bits.
-constexpr int kLensBatch = 8;
+constexpr int kLensBatch = 32;
 
 struct LensRayBatch {
     double ox[kLensBatch], oy[kLensBatch], oz[kLensBatch];
@@ -221,22 +221,27 @@ inline void trace_from_film_batch_portable(const std::vector<LensElement>& eleme
     }
 }
 
-// The same trace in AVX intrinsics (lens_trace_avx.cpp), bit for bit; only
-// for CPUs that have AVX.
-void trace_from_film_batch_avx(const std::vector<LensElement>& elements, LensRayBatch* b);
+// The same trace in SIMD intrinsics (lens_trace_avx2.cpp, lens_trace_avx512.cpp,
+// one template in lens_trace_lanes.h), bit for bit; each only on a CPU that
+// has its instruction set.
+void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LensRayBatch* b);
+void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, LensRayBatch* b);
 
-enum class LensTraceKernel { Portable, Avx };
+enum class LensTraceKernel { Portable, Avx2, Avx512 };
+constexpr LensTraceKernel kLensTraceKernels[] = {LensTraceKernel::Portable, LensTraceKernel::Avx2,
+                                                 LensTraceKernel::Avx512};
 
-// The fastest kernel this CPU runs.
-LensTraceKernel best_lens_trace_kernel();
 bool lens_trace_kernel_available(LensTraceKernel kernel);
+LensTraceKernel best_lens_trace_kernel();  // the fastest this CPU runs
+const char* lens_trace_kernel_name(LensTraceKernel kernel);
 
 inline void trace_from_film_batch(const std::vector<LensElement>& elements, LensRayBatch* b,
                                   LensTraceKernel kernel) {
-    if (kernel == LensTraceKernel::Avx)
-        trace_from_film_batch_avx(elements, b);
-    else
-        trace_from_film_batch_portable(elements, b);
+    switch (kernel) {
+        case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, b); return;
+        case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, b); return;
+        case LensTraceKernel::Portable: trace_from_film_batch_portable(elements, b); return;
+    }
 }
 
 }  // namespace lc

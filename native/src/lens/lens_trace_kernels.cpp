@@ -1,0 +1,34 @@
+// Which batch lens-trace kernel this CPU runs. All give the same bits.
+#include "lens/lens_trace.h"
+
+namespace lc {
+
+bool lens_trace_kernel_available(LensTraceKernel kernel) {
+    switch (kernel) {
+        case LensTraceKernel::Portable: return true;
+        case LensTraceKernel::Avx2: return __builtin_cpu_supports("avx2");
+        case LensTraceKernel::Avx512:
+            return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+    }
+    return false;
+}
+
+LensTraceKernel best_lens_trace_kernel() {
+    static const LensTraceKernel best = [] {
+        for (LensTraceKernel k : {LensTraceKernel::Avx512, LensTraceKernel::Avx2})
+            if (lens_trace_kernel_available(k)) return k;
+        return LensTraceKernel::Portable;
+    }();
+    return best;
+}
+
+const char* lens_trace_kernel_name(LensTraceKernel kernel) {
+    switch (kernel) {
+        case LensTraceKernel::Portable: return "portable";
+        case LensTraceKernel::Avx2: return "avx2";
+        case LensTraceKernel::Avx512: return "avx512";
+    }
+    return "?";
+}
+
+}  // namespace lc

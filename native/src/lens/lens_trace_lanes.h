@@ -1,0 +1,114 @@
+// The lockstep lens trace of lens_trace.h, eight lanes per vector, written
+// once for the SIMD kernels. Each kernel file (lens_trace_avx2.cpp,
+// lens_trace_avx512.cpp) defines an eight-lane double type D and its mask M
+// with the operations used below, switches the compiler to its instruction
+// set with #pragma GCC target, and only then includes this header, so that
+// the templates are compiled for that instruction set.
+//
+// Bit-identical to cross_toward_scene_batch: the same IEEE operations in the
+// same order (no FMA: it rounds once and would change the bits). Comparisons
+// are ordered (false on NaN) where the C++ compares, unordered where it
+// negates a compare (not_greater) or tests !=, as in C++.
+//
+// Only templates here: a plain inline function compiled under two targets
+// could be merged by the linker into the wrong one.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "lens/lens_trace.h"
+
+namespace lc {
+
+template <class D, class M>
+struct Lanes8 {
+    D ox, oy, oz, dx, dy, dz;
+    M alive;
+};
+
+template <class D, class M>
+inline void cross_toward_scene_lanes(const LensElement& e, Lanes8<D, M>* l) {
+    const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
+    const D c(e.curvature_per_mm), v(e.vertex_z_mm);
+    D t;
+    M ok;
+    if (e.curvature_per_mm == 0.0) {
+        t = (v - l->oz) / l->dz;
+        ok = l->alive & (l->dz != zero) & (t >= behind);
+    } else {
+        const D pz = l->oz - v;
+        const D a = c * (l->dx * l->dx + l->dy * l->dy + l->dz * l->dz);
+        const D bq = D(2.0) * (c * (l->ox * l->dx + l->oy * l->dy + pz * l->dz) - l->dz);
+        const D k = c * (l->ox * l->ox + l->oy * l->oy + pz * pz) - D(2.0) * pz;
+        const D disc = bq * bq - D(4.0) * a * k;
+        const M real = disc >= zero;
+        const D sq = sqrt(select(real, disc, zero));
+        const D q = D(-0.5) * (bq + copysign(sq, bq));
+        const D t0 = select(a != zero, q / a, inf);
+        const D t1 = select(q != zero, k / q, inf);
+        const M swap = t0 > t1;
+        const D lo = select(swap, t1, t0), hi = select(swap, t0, t1);
+        const M lo_ok = (lo >= behind) & (abs(lo) < inf) & (c * (pz + lo * l->dz) < one);
+        const M hi_ok = (hi >= behind) & (abs(hi) < inf) & (c * (pz + hi * l->dz) < one);
+        ok = l->alive & real & (lo_ok | hi_ok);
+        t = select(lo_ok, lo, hi);
+    }
+    // Hit point and aperture test
+    const D px = l->ox + l->dx * t, py = l->oy + l->dy * t, pz = l->oz + l->dz * t;
+    ok = ok & not_greater(px * px + py * py, D(e.semi_aperture_mm * e.semi_aperture_mm));
+    D nx = l->dx, ny = l->dy, nz = l->dz;
+    if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
+        const double eta_scalar = e.n_film_side / e.n_scene_side;
+        const D eta(eta_scalar);
+        // Normal (0,0,1) - c (p - vertex), facing the incoming ray
+        D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
+        D cos_i = -(mx * l->dx + my * l->dy + mz * l->dz);
+        const D flip = select(cos_i < zero, D(-1.0), one);
+        mx = mx * flip, my = my * flip, mz = mz * flip, cos_i = cos_i * flip;
+        const D sin2_t = D(eta_scalar * eta_scalar) * max(one - cos_i * cos_i, zero);
+        const M transmits = sin2_t < one;
+        const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
+        const D s = eta * cos_i - cos_t;
+        nx = l->dx * eta + mx * s, ny = l->dy * eta + my * s, nz = l->dz * eta + mz * s;
+        // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
+        ok = ok & transmits & (nz < zero);
+    }
+    // Dead lanes keep their old values
+    l->ox = select(ok, px, l->ox), l->oy = select(ok, py, l->oy), l->oz = select(ok, pz, l->oz);
+    l->dx = select(ok, nx, l->dx), l->dy = select(ok, ny, l->dy), l->dz = select(ok, nz, l->dz);
+    l->alive = ok;
+}
+
+// trace_from_film_batch_portable's work for the whole batch, kLensBatch / 8
+// groups of eight lanes side by side so that their latencies overlap.
+template <class D, class M>
+inline void trace_from_film_lanes(const LensElement* elements, size_t count, LensRayBatch* b) {
+    static_assert(kLensBatch % 8 == 0, "whole groups of eight lanes");
+    constexpr int kGroups = kLensBatch / 8;
+    Lanes8<D, M> lanes[kGroups];
+    for (int g = 0; g < kGroups; ++g) {
+        Lanes8<D, M>& l = lanes[g];
+        const int first = 8 * g;
+        l.ox = D::load(b->ox + first), l.oy = D::load(b->oy + first), l.oz = D::load(b->oz + first);
+        l.dx = D::load(b->dx + first), l.dy = D::load(b->dy + first), l.dz = D::load(b->dz + first);
+        l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
+    }
+    for (size_t s = count; s-- > 0;) {
+        bool any_alive = false;
+        for (int g = 0; g < kGroups; ++g) {
+            cross_toward_scene_lanes(elements[s], &lanes[g]);
+            any_alive |= any(lanes[g].alive);
+        }
+        if (!any_alive) break;
+    }
+    for (int g = 0; g < kGroups; ++g) {
+        const Lanes8<D, M>& l = lanes[g];
+        const int first = 8 * g;
+        l.ox.store(b->ox + first), l.oy.store(b->oy + first), l.oz.store(b->oz + first);
+        l.dx.store(b->dx + first), l.dy.store(b->dy + first), l.dz.store(b->dz + first);
+        l.alive.store(b->alive + first);
+    }
+}
+
+}  // namespace lc
