@@ -28,24 +28,39 @@ struct LensSystemCamera {
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
     LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits
+    // Derived from the above once: a division per ray costs more than the
+    // rest of the ray's set-up.
+    double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
+    double inverse_axial2_per_mm2 = 1.0 / ((film_z_mm - pupil->plane_z_mm()) * (film_z_mm - pupil->plane_z_mm()));
 
     // Everything up to the trace; also used for the pass-rate statistics.
     // Returns false without tracing when the film point is outside the image circle.
     bool sample_lens_ray(Point2f raster_px, Point2f lens_sample, LensRay* ray, double* area_mm2) const {
-        // Film point: the image is inverted on the film.
-        double x = (0.5 - double(raster_px.x) / width_px) * film_width_mm;
-        double y = (double(raster_px.y) / height_px - 0.5) * film_height_mm;
-        double r = std::sqrt(x * x + y * y);  // hypot's overflow guard costs a libm call per ray
+        double x, y, r;
+        film_point(raster_px, &x, &y, &r);
         PupilSample s;
         if (!pupil->sample(r, lens_sample, &s)) return false;
-        // Rotate the pupil sample from the +x ring frame to the film point's azimuth.
-        double cos_phi = r > 0.0 ? x / r : 1.0, sin_phi = r > 0.0 ? y / r : 0.0;
-        double px = cos_phi * s.x_mm - sin_phi * s.y_mm, py = sin_phi * s.x_mm + cos_phi * s.y_mm;
-        Vec3d p_film{x, y, film_z_mm};
-        ray->origin_mm = p_film;
-        ray->direction = normalize(Vec3d{px - x, py - y, pupil->plane_z_mm() - film_z_mm});
+        *ray = aim(x, y, r, s);
         *area_mm2 = s.area_mm2;
         return true;
+    }
+
+    // Film point (lens frame, mm) of a raster position, and its distance from the axis.
+    void film_point(Point2f raster_px, double* x, double* y, double* r) const {
+        // The image is inverted on the film.
+        *x = (0.5 * width_px - double(raster_px.x)) * film_mm_per_px_x;
+        *y = (double(raster_px.y) - 0.5 * height_px) * film_mm_per_px_y;
+        *r = std::sqrt(*x * *x + *y * *y);  // hypot's overflow guard costs a libm call per ray
+    }
+
+    // The ray from film point (x, y) toward a pupil sample drawn for the +x
+    // ring, rotated to the film point's azimuth.
+    LensRay aim(double x, double y, double r, const PupilSample& s) const {
+        double inverse_r = r > 0.0 ? 1.0 / r : 0.0;
+        double cos_phi = r > 0.0 ? x * inverse_r : 1.0, sin_phi = y * inverse_r;
+        double px = cos_phi * s.x_mm - sin_phi * s.y_mm, py = sin_phi * s.x_mm + cos_phi * s.y_mm;
+        Vec3d toward{px - x, py - y, pupil->plane_z_mm() - film_z_mm};
+        return LensRay{{x, y, film_z_mm}, toward * (1.0 / std::sqrt(dot(toward, toward)))};
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
@@ -62,11 +77,19 @@ struct LensSystemCamera {
     // The same for up to kLensBatch samples at once, traced in lockstep (the
     // render loop uses this; results equal generate_ray's).
     void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+        // Film points and rays in lane loops the compiler vectorises; the
+        // pupil samples (table look-ups) one by one.
+        double x[kLensBatch], y[kLensBatch], r[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) film_point(raster_px[i < n ? i : 0], &x[i], &y[i], &r[i]);
+        PupilSample s[kLensBatch];
         LensRayBatch batch;
-        double area_mm2[kLensBatch], cos_theta[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) {
-            LensRay ray{{0.0, 0.0, film_z_mm}, {0.0, 0.0, -1.0}};
-            batch.alive[i] = i < n && sample_lens_ray(raster_px[i], lens_sample[i], &ray, &area_mm2[i]);
+            batch.alive[i] = i < n && pupil->sample(r[i], lens_sample[i], &s[i]);
+            if (!batch.alive[i]) s[i] = PupilSample{0.0, 0.0, 0.0};
+        }
+        double cos_theta[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) {
+            LensRay ray = aim(x[i], y[i], r[i], s[i]);
             cos_theta[i] = -ray.direction.z;
             batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
             batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
@@ -78,19 +101,18 @@ struct LensSystemCamera {
                 continue;
             }
             LensRay ray{{batch.ox[i], batch.oy[i], batch.oz[i]}, {batch.dx[i], batch.dy[i], batch.dz[i]}};
-            out[i] = camera_ray(ray, cos_theta[i], area_mm2[i]);
+            out[i] = camera_ray(ray, cos_theta[i], s[i].area_mm2);
         }
     }
 
     // A ray that left the lens -> the camera ray with its irradiance weight.
     CameraRay camera_ray(const LensRay& ray, double cos_theta, double area_mm2) const {
         // Film irradiance weight: cos^4 theta * A / Z^2, normalised at the centre
-        double axial_mm = film_z_mm - pupil->plane_z_mm();
         double cos2 = cos_theta * cos_theta;
-        double weight = cos2 * cos2 * area_mm2 / (axial_mm * axial_mm) * inverse_centre_irradiance;
+        double weight = cos2 * cos2 * area_mm2 * inverse_axial2_per_mm2 * inverse_centre_irradiance;
         // Lens frame (mm, +z toward the film) -> camera frame (m, +z toward the scene)
-        Vec3d origin_camera{ray.origin_mm.x / 1000.0, ray.origin_mm.y / 1000.0,
-                            (entrance_pupil_z_mm - ray.origin_mm.z) / 1000.0};
+        Vec3d origin_camera{ray.origin_mm.x * 1e-3, ray.origin_mm.y * 1e-3,
+                            (entrance_pupil_z_mm - ray.origin_mm.z) * 1e-3};
         Vec3d dir_camera{ray.direction.x, ray.direction.y, -ray.direction.z};
         return CameraRay{world_from_camera.world_from_camera_point(origin_camera),
                          world_from_camera.world_from_camera_vector(dir_camera), float(weight)};
