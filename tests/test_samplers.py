@@ -239,13 +239,34 @@ def is_02_net(points, m):
 
 
 def holds_at_most_one_per_interval(points, m):
+    return holds_at_most_2t_per_interval(points, m, t=0)
+
+
+def compositions(total, parts):
+    """Every way to write total as an ordered sum of parts integers >= 0."""
+    if parts == 1:
+        yield (total,)
+        return
+    for first in range(total + 1):
+        for rest in compositions(total - first, parts - 1):
+            yield (first, *rest)
+
+
+def holds_at_most_2t_per_interval(points, m, t):
+    """Every elementary interval of volume 2^(t - m) (any number of dimensions) holds at most 2^t points."""
     p = np.asarray(points, float)
-    for i in range(m + 1):
-        j = m - i
-        cells = np.floor(p[:, 0] * 2 ** i).astype(np.int64) * 2 ** j + np.floor(p[:, 1] * 2 ** j).astype(np.int64)
-        if len(np.unique(cells)) != len(p):
+    for bits in compositions(max(m - t, 0), p.shape[1]):
+        cells = np.zeros(len(p), np.int64)
+        for axis, b in enumerate(bits):
+            cells = cells * 2 ** b + np.floor(p[:, axis] * 2 ** b).astype(np.int64)
+        if np.bincount(cells).max() > 2 ** t:
             return False
     return True
+
+
+def is_t_net(points, m, t):
+    """A (t, m, d)-net in base 2: 2^m points, 2^t in every elementary interval of volume 2^(t - m)."""
+    return len(points) == 2 ** m and holds_at_most_2t_per_interval(points, m, t)
 
 
 def test_net_check_rejects_random_points():
@@ -263,20 +284,35 @@ def test_unscrambled_sobol_is_scipys_sobol_and_a_02_net(m):
 
 
 @pytest.mark.parametrize("m", range(11))
-def test_scrambled_sobol_is_a_02_net_in_every_pixel(m):
-    sets = [s for p in range(20) for s in pixel_samples(_native.SAMPLER_SOBOL, 2 ** m, seed=6, pixel=p)]
-    assert all(is_02_net(s, m) for s in sets)
+def test_scrambled_sobol_film_lens_and_both_together_are_nets_in_every_pixel(m):
+    """Film points: Sobol' dimensions 0-1, a (0,m,2)-net. Lens points: dimensions
+    2-3, a (1,m,2)-net (a (2,3,2)-net at 8 points). Together, dimensions 0-3 are
+    a (3,m,4)-net: film and lens are stratified jointly, which a random pairing
+    of the two is not."""
+    sets = [pixel_samples(_native.SAMPLER_SOBOL, 2 ** m, seed=6, pixel=p) for p in range(20)]
+    lens_t = 2 if m == 3 else min(m, 1)
+    assert all(is_t_net(film, m, 0) and is_t_net(lens, m, lens_t) for film, lens in sets)
+    assert all(is_t_net(np.hstack([film, lens]), m, min(m, 3)) for film, lens in sets)
     if m >= 2:  # and the scrambles differ from pixel to pixel, and between film and lens
-        assert len({s.tobytes() for s in sets}) == len(sets)
+        flat = [s.tobytes() for pair in sets for s in pair]
+        assert len(set(flat)) == len(flat)
+
+
+def test_joint_net_check_rejects_independently_paired_film_and_lens():
+    film, lens = pixel_samples(_native.SAMPLER_JITTERED, 256, seed=6, pixel=3)
+    assert not is_t_net(np.hstack([film, lens]), 8, 3)
 
 
 @pytest.mark.parametrize("spp", [3, 12, 100, 700])
 def test_sobol_first_points_for_other_spp_share_no_interval_of_the_next_net(spp):
-    """spp points taken from a 2^m-point net (2^m the next power of two): none share an elementary interval."""
+    """spp points taken from a 2^m-point net (2^m the next power of two): no
+    elementary interval holds more than the net allows."""
     m = int(np.ceil(np.log2(spp)))
     for p in range(10):
-        for s in pixel_samples(_native.SAMPLER_SOBOL, spp, seed=1, pixel=p):
-            assert holds_at_most_one_per_interval(s, m)
+        film, lens = pixel_samples(_native.SAMPLER_SOBOL, spp, seed=1, pixel=p)
+        assert holds_at_most_2t_per_interval(film, m, 0)
+        assert holds_at_most_2t_per_interval(lens, m, 1)
+        assert holds_at_most_2t_per_interval(np.hstack([film, lens]), m, 3)
 
 
 @pytest.mark.parametrize("mapping", [_native.DISK_POLAR, _native.DISK_CONCENTRIC])
