@@ -1,12 +1,12 @@
 // Per-pixel sample sets over the camera's sample space: film (2D) + lens (2D).
 // A sampler fills all of a pixel's samples at once; the render loop then hands
-// them to the camera one by one (film[i] with lens[i]). Dispatch on the sampler
+// them to the camera in order (film[i] with lens[i]). Dispatch on the sampler
 // kind happens once per pixel, never per sample. New samplers add an enum value
 // and one function.
 //
 // Every sampler gives points in [0,1)^2, depends only on (seed, pixel_index,
 // spp) — never on threads or tiling — and pairs film and lens points so that
-// the two 2-D dimensions are decorrelated.
+// the two 2-D dimensions are decorrelated or, for sobol, jointly stratified.
 //
 //   random    independent uniform points (PCG32 stream per pixel and dimension)
 //   jittered  one uniform point per stratum of an nx x ny grid; lens order
@@ -18,9 +18,9 @@
 //             (Yuksel 2015), a fixed pool per spp, each pixel drawing a pattern
 //             under a random toroidal shift and square symmetry
 //             (sampler_poisson.cpp)
-//   sobol     the first spp points of the (0,2)-sequence of Sobol' dimensions 0
-//             and 1, Owen-scrambled per pixel by hashing (Burley 2020); film and
-//             lens scrambled independently, lens order shuffled per pixel
+//   sobol     the first spp points of Sobol' dimensions 0-3, Owen-scrambled per
+//             pixel by hashing (Burley 2020): film from dimensions 0-1 (a
+//             (0,2)-sequence), lens from 2-3, jointly a (3,4)-sequence
 //             (sampler_sobol.cpp)
 #pragma once
 

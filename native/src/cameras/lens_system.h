@@ -17,6 +17,7 @@
 
 namespace lc {
 
+static_assert(kLensBatch == kCameraBatch, "generate_rays takes the render loop's whole camera batch");
 
 struct LensSystemCamera {
     Frame world_from_camera;           // origin at the entrance-pupil centre
@@ -74,26 +75,32 @@ struct LensSystemCamera {
         return camera_ray(ray, cos_theta, area_mm2);
     }
 
-    // The same for up to kLensBatch samples at once, traced in lockstep (the
-    // render loop uses this; results equal generate_ray's).
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
-        // Film points and rays in lane loops the compiler vectorises; the
-        // pupil samples (table look-ups) one by one.
+    // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one
+    // ray; lanes outside the image circle or past n are dead. The pupil
+    // samples are kept for their areas.
+    void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
+                      PupilSample* pupil_samples) const {
         double x[kLensBatch], y[kLensBatch], r[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) film_point(raster_px[i < n ? i : 0], &x[i], &y[i], &r[i]);
-        PupilSample s[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) {
+            batch->alive[i] = i < n && pupil->sample(r[i], lens_sample[i], &pupil_samples[i]);
+            if (!batch->alive[i]) pupil_samples[i] = PupilSample{0.0, 0.0, 0.0};
+        }
+        for (int i = 0; i < kLensBatch; ++i) {
+            LensRay ray = aim(x[i], y[i], r[i], pupil_samples[i]);
+            batch->ox[i] = ray.origin_mm.x, batch->oy[i] = ray.origin_mm.y, batch->oz[i] = ray.origin_mm.z;
+            batch->dx[i] = ray.direction.x, batch->dy[i] = ray.direction.y, batch->dz[i] = ray.direction.z;
+        }
+    }
+
+    // The same as generate_ray for up to kLensBatch samples at once, traced in
+    // lockstep (the render loop uses this; results equal generate_ray's).
+    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
         LensRayBatch batch;
-        for (int i = 0; i < kLensBatch; ++i) {
-            batch.alive[i] = i < n && pupil->sample(r[i], lens_sample[i], &s[i]);
-            if (!batch.alive[i]) s[i] = PupilSample{0.0, 0.0, 0.0};
-        }
+        PupilSample s[kLensBatch];
+        sample_batch(raster_px, lens_sample, n, &batch, s);
         double cos_theta[kLensBatch];
-        for (int i = 0; i < kLensBatch; ++i) {
-            LensRay ray = aim(x[i], y[i], r[i], s[i]);
-            cos_theta[i] = -ray.direction.z;
-            batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
-            batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
-        }
+        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
         trace_from_film_batch(elements, &batch, trace_kernel);
         for (int i = 0; i < n; ++i) {
             if (!batch.alive[i]) {

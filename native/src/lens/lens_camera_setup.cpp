@@ -56,17 +56,16 @@ double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int t
                 uint64_t end = std::min(n, (chunk + 1) * kChunk);
                 for (uint64_t first = chunk * kChunk; first < end; first += kLensBatch) {
                     // Sample a batch of film and pupil points, then trace them in lockstep
-                    LensRayBatch batch;
+                    Point2f raster[kLensBatch], u[kLensBatch];
                     for (int i = 0; i < kLensBatch; ++i) {
-                        Point2f raster{rng.next_float() * camera.width_px, rng.next_float() * camera.height_px};
-                        Point2f u{rng.next_float(), rng.next_float()};
-                        LensRay ray{{0.0, 0.0, camera.film_z_mm}, {0.0, 0.0, -1.0}};
-                        double area;
-                        batch.alive[i] = first + uint64_t(i) < end && camera.sample_lens_ray(raster, u, &ray, &area);
-                        local_traced += batch.alive[i];
-                        batch.ox[i] = ray.origin_mm.x, batch.oy[i] = ray.origin_mm.y, batch.oz[i] = ray.origin_mm.z;
-                        batch.dx[i] = ray.direction.x, batch.dy[i] = ray.direction.y, batch.dz[i] = ray.direction.z;
+                        raster[i] = {rng.next_float() * camera.width_px, rng.next_float() * camera.height_px};
+                        u[i] = {rng.next_float(), rng.next_float()};
                     }
+                    LensRayBatch batch;
+                    PupilSample pupil_samples[kLensBatch];
+                    camera.sample_batch(raster, u, int(std::min<uint64_t>(kLensBatch, end - first)), &batch,
+                                        pupil_samples);
+                    for (int i = 0; i < kLensBatch; ++i) local_traced += batch.alive[i];
                     trace_from_film_batch(camera.elements, &batch, camera.trace_kernel);
                     for (int i = 0; i < kLensBatch; ++i) local_passed += batch.alive[i];
                 }

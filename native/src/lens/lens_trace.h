@@ -133,10 +133,10 @@ inline bool trace_from_film(const std::vector<LensElement>& elements, LensRay* r
 
 namespace lc {
 
-// Eight rays traced in lockstep, structure of arrays, no branches that
-// depend on the lane, so that the latencies of different rays overlap. GCC
-// does not vectorise these loops; lens_trace_avx.cpp does it by hand. Same
-// operations in the same order as the scalar trace above: all give the same bits.
+// A batch of rays traced in lockstep, structure of arrays, no branches that
+// depend on the lane. GCC does not vectorise these portable loops; the SIMD
+// kernels below do it by hand. Same operations in the same order as the
+// scalar trace above: all give the same bits.
 constexpr int kLensBatch = 32;
 
 struct LensRayBatch {
