@@ -47,17 +47,18 @@ inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* 
     // Sphere of radius R centred at vertex + R on the axis, written with the
     // curvature c = 1/R so that nearly flat surfaces (R = 1e9) lose no bits:
     // c |p - C|^2 = R  <=>  c (x^2 + y^2 + (z - v)^2) - 2 (z - v) = 0.
+    // With d a unit vector the t^2 coefficient is c itself, so one root is
+    // q * R: one division per surface instead of two.
     const double c = e.curvature_per_mm;
     Vec3d p{o.x, o.y, o.z - e.vertex_z_mm};
-    double a = c * dot(d, d);
     double b = 2.0 * (c * dot(p, d) - d.z);
     double k = c * dot(p, p) - 2.0 * p.z;
-    double disc = b * b - 4.0 * a * k;
+    double disc = b * b - 4.0 * c * k;
     if (!(disc >= 0.0)) return false;
     double sq = std::sqrt(disc);
     // Numerically stable pair of roots.
     double q = -0.5 * (b + std::copysign(sq, b));
-    double t0 = a != 0.0 ? q / a : INFINITY;
+    double t0 = q * (1.0 / c);
     double t1 = q != 0.0 ? k / q : INFINITY;
     if (t0 > t1) std::swap(t0, t1);
     for (double t : {t0, t1}) {
@@ -158,16 +159,16 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
             ok[i] = b->alive[i] & (b->dz[i] != 0.0) & (t[i] >= -kBehindToleranceMm);
         }
     } else {
+        const double radius = 1.0 / c;
         for (int i = 0; i < kLensBatch; ++i) {
             const double ox = b->ox[i], oy = b->oy[i], dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             const double pz = b->oz[i] - v;
-            const double a = c * (dx * dx + dy * dy + dz * dz);
             const double bq = 2.0 * (c * (ox * dx + oy * dy + pz * dz) - dz);
             const double k = c * (ox * ox + oy * oy + pz * pz) - 2.0 * pz;
-            const double disc = bq * bq - 4.0 * a * k;
+            const double disc = bq * bq - 4.0 * c * k;
             const double sq = std::sqrt(disc >= 0.0 ? disc : 0.0);
             const double q = -0.5 * (bq + std::copysign(sq, bq));
-            const double t0 = a != 0.0 ? q / a : INFINITY;
+            const double t0 = q * radius;
             const double t1 = q != 0.0 ? k / q : INFINITY;
             const double lo = t0 > t1 ? t1 : t0, hi = t0 > t1 ? t0 : t1;
             const bool lo_ok = (lo >= -kBehindToleranceMm) & (std::fabs(lo) < INFINITY) & (c * (pz + lo * dz) < 1.0);

@@ -38,14 +38,13 @@ inline void cross_toward_scene_lanes(const LensElement& e, Lanes8<D, M>* l) {
         ok = l->alive & (l->dz != zero) & (t >= behind);
     } else {
         const D pz = l->oz - v;
-        const D a = c * (l->dx * l->dx + l->dy * l->dy + l->dz * l->dz);
         const D bq = D(2.0) * (c * (l->ox * l->dx + l->oy * l->dy + pz * l->dz) - l->dz);
         const D k = c * (l->ox * l->ox + l->oy * l->oy + pz * pz) - D(2.0) * pz;
-        const D disc = bq * bq - D(4.0) * a * k;
+        const D disc = bq * bq - D(4.0) * c * k;
         const M real = disc >= zero;
         const D sq = sqrt(select(real, disc, zero));
         const D q = D(-0.5) * (bq + copysign(sq, bq));
-        const D t0 = select(a != zero, q / a, inf);
+        const D t0 = q * D(1.0 / e.curvature_per_mm);
         const D t1 = select(q != zero, k / q, inf);
         const M swap = t0 > t1;
         const D lo = select(swap, t1, t0), hi = select(swap, t0, t1);
