@@ -12,6 +12,7 @@
 
 #include "cameras/camera_ray.h"
 #include "lens/exit_pupil.h"
+#include "lens/lens_aim.h"
 #include "lens/lens_trace.h"
 #include "scene.h"
 
@@ -34,15 +35,18 @@ struct LensSystemCamera {
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
     double inverse_axial2_per_mm2 = 1.0 / ((film_z_mm - pupil->plane_z_mm()) * (film_z_mm - pupil->plane_z_mm()));
 
-    // Everything up to the trace; also used for the pass-rate statistics.
-    // Returns false without tracing when the film point is outside the image circle.
+    AimPlanes aim_planes() const { return {film_z_mm, pupil->plane_z_mm()}; }
+
+    // Everything up to the trace, one ray (the scalar reference of
+    // sample_batch); also used for the pass-rate statistics. Returns false
+    // without tracing when the film point is outside the image circle.
     bool sample_lens_ray(Point2f raster_px, Point2f lens_sample, LensRay* ray, double* area_mm2) const {
         double x, y, r;
         film_point(raster_px, &x, &y, &r);
-        PupilSample s;
-        if (!pupil->sample(r, lens_sample, &s)) return false;
-        *ray = aim(x, y, r, s);
-        *area_mm2 = s.area_mm2;
+        PupilPick pick;
+        if (!pupil->pick(r, lens_sample.y, &pick)) return false;
+        *ray = aim_one(x, y, r, double(lens_sample.x), pick, aim_planes());
+        *area_mm2 = pick.area_mm2;
         return true;
     }
 
@@ -52,16 +56,6 @@ struct LensSystemCamera {
         *x = (0.5 * width_px - double(raster_px.x)) * film_mm_per_px_x;
         *y = (double(raster_px.y) - 0.5 * height_px) * film_mm_per_px_y;
         *r = std::sqrt(*x * *x + *y * *y);  // hypot's overflow guard costs a libm call per ray
-    }
-
-    // The ray from film point (x, y) toward a pupil sample drawn for the +x
-    // ring, rotated to the film point's azimuth.
-    LensRay aim(double x, double y, double r, const PupilSample& s) const {
-        double inverse_r = r > 0.0 ? 1.0 / r : 0.0;
-        double cos_phi = r > 0.0 ? x * inverse_r : 1.0, sin_phi = y * inverse_r;
-        double px = cos_phi * s.x_mm - sin_phi * s.y_mm, py = sin_phi * s.x_mm + cos_phi * s.y_mm;
-        Vec3d toward{px - x, py - y, pupil->plane_z_mm() - film_z_mm};
-        return LensRay{{x, y, film_z_mm}, toward * (1.0 / std::sqrt(dot(toward, toward)))};
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
@@ -76,29 +70,34 @@ struct LensSystemCamera {
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one
-    // ray; lanes outside the image circle or past n are dead. The pupil
-    // samples are kept for their areas.
+    // ray: film points and pupil picks lane by lane (table look-ups), then the
+    // aim, with its square roots and divisions, in SIMD. Lanes outside the
+    // image circle or past n are dead.
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
-                      PupilSample* pupil_samples) const {
-        double x[kLensBatch], y[kLensBatch], r[kLensBatch];
-        for (int i = 0; i < kLensBatch; ++i) film_point(raster_px[i < n ? i : 0], &x[i], &y[i], &r[i]);
+                      double* area_mm2) const {
+        LensAimBatch aim;
         for (int i = 0; i < kLensBatch; ++i) {
-            batch->alive[i] = i < n && pupil->sample(r[i], lens_sample[i], &pupil_samples[i]);
-            if (!batch->alive[i]) pupil_samples[i] = PupilSample{0.0, 0.0, 0.0};
+            const int j = i < n ? i : 0;
+            film_point(raster_px[j], &aim.film_x_mm[i], &aim.film_y_mm[i], &aim.film_r_mm[i]);
+            PupilPick pick;
+            batch->alive[i] = i < n && pupil->pick(aim.film_r_mm[i], lens_sample[j].y, &pick);
+            if (!batch->alive[i]) pick = PupilPick{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+            aim.u_radial[i] = double(lens_sample[j].x);
+            aim.centre_x_mm[i] = pick.centre_x_mm;
+            aim.a_x_mm[i] = pick.a_x_mm, aim.a_y_mm[i] = pick.a_y_mm;
+            aim.b_x_mm[i] = pick.b_x_mm, aim.b_y_mm[i] = pick.b_y_mm;
+            aim.across[i] = pick.across;
+            area_mm2[i] = pick.area_mm2;
         }
-        for (int i = 0; i < kLensBatch; ++i) {
-            LensRay ray = aim(x[i], y[i], r[i], pupil_samples[i]);
-            batch->ox[i] = ray.origin_mm.x, batch->oy[i] = ray.origin_mm.y, batch->oz[i] = ray.origin_mm.z;
-            batch->dx[i] = ray.direction.x, batch->dy[i] = ray.direction.y, batch->dz[i] = ray.direction.z;
-        }
+        aim_batch(aim, aim_planes(), batch, trace_kernel);
     }
 
     // The same as generate_ray for up to kLensBatch samples at once, traced in
     // lockstep (the render loop uses this; results equal generate_ray's).
     void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
         LensRayBatch batch;
-        PupilSample s[kLensBatch];
-        sample_batch(raster_px, lens_sample, n, &batch, s);
+        double area_mm2[kLensBatch];
+        sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
         double cos_theta[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
         trace_from_film_batch(elements, &batch, trace_kernel);
@@ -108,7 +107,7 @@ struct LensSystemCamera {
                 continue;
             }
             LensRay ray{{batch.ox[i], batch.oy[i], batch.oz[i]}, {batch.dx[i], batch.dy[i], batch.dz[i]}};
-            out[i] = camera_ray(ray, cos_theta[i], s[i].area_mm2);
+            out[i] = camera_ray(ray, cos_theta[i], area_mm2[i]);
         }
     }
 

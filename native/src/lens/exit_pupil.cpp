@@ -90,7 +90,15 @@ double boundary_distance(const PupilGeometry& g, double film_x, double cx, doubl
     return hi;
 }
 
-void fill_guide(PupilPolygon* poly) {
+// The tables a sample reads, from the radii and the CDF.
+void finish_sampling_tables(PupilPolygon* poly) {
+    const auto& unit = unit_directions();
+    for (int k = 0; k < kPupilAngles; ++k) {
+        poly->vertex_x_mm[size_t(k)] = poly->radius_mm[size_t(k)] * unit[size_t(k)].x;
+        poly->vertex_y_mm[size_t(k)] = poly->radius_mm[size_t(k)] * unit[size_t(k)].y;
+        const double step = poly->cdf[size_t(k)] - (k == 0 ? 0.0 : poly->cdf[size_t(k - 1)]);
+        poly->inverse_cdf_step[size_t(k)] = 1.0 / std::max(step, 1e-300);
+    }
     int k = 0;
     for (int j = 0; j < kPupilGuideCells; ++j) {
         while (k < kPupilAngles - 1 && poly->cdf[size_t(k)] <= double(j) / kPupilGuideCells) ++k;
@@ -142,7 +150,7 @@ PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], d
     }
     for (double& c : poly.cdf) c /= total;
     poly.cdf.back() = 1.0;
-    fill_guide(&poly);
+    finish_sampling_tables(&poly);
     poly.area_mm2 = total;
     return poly;
 }
@@ -154,7 +162,7 @@ PupilPolygon bounding_disk(double radius_mm) {
     poly.empty = false;
     poly.radius_mm.fill(radius_mm / std::cos(kPi / kPupilAngles));  // the 64-gon holds the disk
     for (int k = 0; k < kPupilAngles; ++k) poly.cdf[size_t(k)] = double(k + 1) / kPupilAngles;
-    fill_guide(&poly);
+    finish_sampling_tables(&poly);
     poly.area_mm2 = kPupilAngles * std::sin(2.0 * kPi / kPupilAngles) * 0.5 * poly.radius_mm[0] * poly.radius_mm[0];
     return poly;
 }
@@ -162,7 +170,7 @@ PupilPolygon bounding_disk(double radius_mm) {
 ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
                      double max_film_radius_mm, bool brute_force)
     : segments_(size_t(kPupilSegments)), plane_z_mm_(elements.back().vertex_z_mm),
-      max_film_radius_mm_(max_film_radius_mm) {
+      max_film_radius_mm_(max_film_radius_mm), segments_per_mm_(kPupilSegments / max_film_radius_mm) {
     if (brute_force) {
         std::fill(segments_.begin(), segments_.end(), bounding_disk(1.5 * elements.back().semi_aperture_mm));
         return;
@@ -180,33 +188,6 @@ ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, d
         double radii[3] = {r0, 0.5 * (r0 + r1), r1};
         segments_[size_t(i)] = build_polygon(g, radii, scan_half_mm);
     });
-}
-
-int ExitPupil::segment_index(double film_radius_mm) const {
-    int i = int(film_radius_mm / max_film_radius_mm_ * kPupilSegments);
-    return std::clamp(i, 0, kPupilSegments - 1);
-}
-
-bool ExitPupil::sample(double film_radius_mm, Point2f u, PupilSample* out) const {
-    const PupilPolygon& poly = segments_[size_t(segment_index(film_radius_mm))];
-    if (poly.empty) return false;
-    // Pick a triangle of the fan by area with u.y, reusing u.y within it for
-    // the position across the triangle; u.x alone sets the distance from the
-    // centre, so radial strata stay as fine as the sampler's.
-    const auto& cdf = poly.cdf;
-    // The first k with cdf[k] > u.y (std::upper_bound's answer), from the guide
-    int k = poly.guide[size_t(std::min(int(double(u.y) * kPupilGuideCells), kPupilGuideCells - 1))];
-    while (k < kPupilAngles - 1 && cdf[size_t(k)] <= double(u.y)) ++k;
-    double lo = k == 0 ? 0.0 : cdf[size_t(k - 1)];
-    double across = std::clamp((double(u.y) - lo) / std::max(cdf[size_t(k)] - lo, 1e-300), 0.0, 1.0);
-    const auto& unit = unit_directions();
-    int k1 = (k + 1) % kPupilAngles;
-    double r0 = poly.radius_mm[size_t(k)], r1 = poly.radius_mm[size_t(k1)];
-    double s = std::sqrt(double(u.x)), t = across;
-    double bx = s * ((1.0 - t) * r0 * unit[size_t(k)].x + t * r1 * unit[size_t(k1)].x);
-    double by = s * ((1.0 - t) * r0 * unit[size_t(k)].y + t * r1 * unit[size_t(k1)].y);
-    *out = PupilSample{poly.centre_x_mm + bx, by, poly.area_mm2};
-    return true;
 }
 
 }  // namespace lc

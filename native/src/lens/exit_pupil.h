@@ -7,10 +7,12 @@
 // built for film points on +x and rotated to the film point's azimuth.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "lens/lens_aim.h"
 #include "lens/lens_trace.h"
 #include "vec.h"
 
@@ -25,16 +27,14 @@ struct PupilPolygon {
     double centre_x_mm = 0.0;   // polygon centre (on the x axis by symmetry)
     std::array<double, kPupilAngles> radius_mm{};  // boundary distance from the centre per angle
     std::array<double, kPupilAngles> cdf{};        // triangle-area CDF for sampling
+    // Derived from the above once, so that a sample needs no division:
+    std::array<double, kPupilAngles> vertex_x_mm{}, vertex_y_mm{};  // boundary points from the centre
+    std::array<double, kPupilAngles> inverse_cdf_step{};            // 1 / (cdf[k] - cdf[k - 1])
     // guide[j]: the first triangle whose CDF exceeds j / kPupilGuideCells, where
     // the search for u in [j, j + 1) / cells starts (a binary search's
     // unpredictable branches cost more than the rest of the sample).
     std::array<uint8_t, kPupilGuideCells> guide{};
     double area_mm2 = 0.0;
-};
-
-struct PupilSample {
-    double x_mm, y_mm;  // point on the sampling plane, film point on +x
-    double area_mm2;    // area of the polygon sampled (uniform density 1/area)
 };
 
 class ExitPupil {
@@ -46,18 +46,41 @@ class ExitPupil {
     ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
               double max_film_radius_mm, bool brute_force = false);
 
-    // Uniform sample of the polygon for a film point at radius r; false when
-    // the ring is outside the image circle.
-    bool sample(double film_radius_mm, Point2f u, PupilSample* out) const;
+    // The fan triangle of the polygon for a film point at radius r that u_y
+    // falls in, by area, and where across it (u_y reused: u.x alone then sets
+    // the distance from the centre, so radial strata stay as fine as the
+    // sampler's). With sqrt(u.x) along, aim_one gives a uniform sample of the
+    // polygon. False when the ring is outside the image circle.
+    bool pick(double film_radius_mm, float u_y, PupilPick* out) const {
+        const PupilPolygon& poly = segments_[size_t(segment_index(film_radius_mm))];
+        if (poly.empty) return false;
+        const double u = double(u_y);
+        // The first k with cdf[k] > u (std::upper_bound's answer), from the guide
+        int k = poly.guide[size_t(std::min(int(u * kPupilGuideCells), kPupilGuideCells - 1))];
+        while (k < kPupilAngles - 1 && poly.cdf[size_t(k)] <= u) ++k;
+        const double lo = k == 0 ? 0.0 : poly.cdf[size_t(k - 1)];
+        const double across = std::clamp((u - lo) * poly.inverse_cdf_step[size_t(k)], 0.0, 1.0);
+        const size_t k1 = size_t((k + 1) % kPupilAngles);
+        *out = PupilPick{poly.centre_x_mm,     poly.vertex_x_mm[size_t(k)], poly.vertex_y_mm[size_t(k)],
+                         poly.vertex_x_mm[k1], poly.vertex_y_mm[k1],        across,
+                         poly.area_mm2};
+        return true;
+    }
+
+    // Which of the kPupilSegments rings a film radius falls in.
+    int segment_index(double film_radius_mm) const {
+        const int i = int(film_radius_mm * segments_per_mm_);
+        return std::clamp(i, 0, kPupilSegments - 1);
+    }
 
     double plane_z_mm() const { return plane_z_mm_; }
     const PupilPolygon& segment(int i) const { return segments_[size_t(i)]; }
-    int segment_index(double film_radius_mm) const;
 
   private:
     std::vector<PupilPolygon> segments_;
     double plane_z_mm_ = 0.0;
     double max_film_radius_mm_ = 1.0;
+    double segments_per_mm_ = kPupilSegments;  // kPupilSegments / max_film_radius_mm_
 };
 
 }  // namespace lc

@@ -62,9 +62,9 @@ double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int t
                         u[i] = {rng.next_float(), rng.next_float()};
                     }
                     LensRayBatch batch;
-                    PupilSample pupil_samples[kLensBatch];
+                    double area_mm2[kLensBatch];
                     camera.sample_batch(raster, u, int(std::min<uint64_t>(kLensBatch, end - first)), &batch,
-                                        pupil_samples);
+                                        area_mm2);
                     for (int i = 0; i < kLensBatch; ++i) local_traced += batch.alive[i];
                     trace_from_film_batch(camera.elements, &batch, camera.trace_kernel);
                     for (int i = 0; i < kLensBatch; ++i) local_passed += batch.alive[i];

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "lens/lens_aim.h"
 #include "lens/lens_trace.h"  // before the target pragma: its inline functions stay portable
 
 #pragma GCC push_options
@@ -31,6 +32,7 @@ struct M8 {
 };
 
 struct D8 {
+    static constexpr int kLanes = 8;
     __m256d lo, hi;
 
     D8() = default;
@@ -78,12 +80,17 @@ inline D8 select(M8 m, D8 a, D8 b) { return {_mm256_blendv_pd(b.lo, a.lo, m.lo),
 
 }  // namespace lc::avx2
 
+#include "lens/lens_aim_lanes.h"
 #include "lens/lens_trace_lanes.h"
 
 namespace lc {
 
 void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LensRayBatch* b) {
     trace_from_film_lanes<avx2::D8, avx2::M8>(elements.data(), elements.size(), b);
+}
+
+void aim_batch_avx2(const LensAimBatch& in, AimPlanes planes, LensRayBatch* out) {
+    aim_lanes<avx2::D8, avx2::M8>(in, planes, out);
 }
 
 }  // namespace lc

@@ -79,16 +79,17 @@ inline void cross_toward_scene_lanes(const LensElement& e, Lanes8<D, M>* l) {
     l->alive = ok;
 }
 
-// trace_from_film_batch_portable's work for the whole batch, kLensBatch / 8
-// groups of eight lanes side by side so that their latencies overlap.
+// trace_from_film_batch_portable's work for the whole batch, in groups of
+// D::kLanes lanes side by side so that their latencies overlap.
 template <class D, class M>
 inline void trace_from_film_lanes(const LensElement* elements, size_t count, LensRayBatch* b) {
-    static_assert(kLensBatch % 8 == 0, "whole groups of eight lanes");
-    constexpr int kGroups = kLensBatch / 8;
+    constexpr int kWidth = D::kLanes;
+    static_assert(kLensBatch % kWidth == 0, "whole groups of lanes");
+    constexpr int kGroups = kLensBatch / kWidth;
     Lanes8<D, M> lanes[kGroups];
     for (int g = 0; g < kGroups; ++g) {
         Lanes8<D, M>& l = lanes[g];
-        const int first = 8 * g;
+        const int first = kWidth * g;
         l.ox = D::load(b->ox + first), l.oy = D::load(b->oy + first), l.oz = D::load(b->oz + first);
         l.dx = D::load(b->dx + first), l.dy = D::load(b->dy + first), l.dz = D::load(b->dz + first);
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
@@ -103,7 +104,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Len
     }
     for (int g = 0; g < kGroups; ++g) {
         const Lanes8<D, M>& l = lanes[g];
-        const int first = 8 * g;
+        const int first = kWidth * g;
         l.ox.store(b->ox + first), l.oy.store(b->oy + first), l.oz.store(b->oz + first);
         l.dx.store(b->dx + first), l.dy.store(b->dy + first), l.dz.store(b->dz + first);
         l.alive.store(b->alive + first);
