@@ -13,6 +13,7 @@
 #include "cameras/camera_ray.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
+#include "lens/lens_to_world.h"
 #include "lens/lens_trace.h"
 #include "scene.h"
 
@@ -76,9 +77,12 @@ struct LensSystemCamera {
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                       double* area_mm2) const {
         LensAimBatch aim;
+        // Film points first, in a loop of their own: their square roots then
+        // overlap instead of waiting behind the picks' branches.
+        for (int i = 0; i < kLensBatch; ++i)
+            film_point(raster_px[i < n ? i : 0], &aim.film_x_mm[i], &aim.film_y_mm[i], &aim.film_r_mm[i]);
         for (int i = 0; i < kLensBatch; ++i) {
             const int j = i < n ? i : 0;
-            film_point(raster_px[j], &aim.film_x_mm[i], &aim.film_y_mm[i], &aim.film_r_mm[i]);
             PupilPick pick;
             batch->alive[i] = i < n && pupil->pick(aim.film_r_mm[i], lens_sample[j].y, &pick);
             if (!batch->alive[i]) pick = PupilPick{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
@@ -101,21 +105,28 @@ struct LensSystemCamera {
         double cos_theta[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
         trace_from_film_batch(elements, &batch, trace_kernel);
+        WorldRayBatch world;
+        lens_to_world_batch(lens_to_world(), batch, cos_theta, area_mm2, &world);
         for (int i = 0; i < n; ++i) {
             if (!batch.alive[i]) {
                 out[i] = std::nullopt;
                 continue;
             }
-            LensRay ray{{batch.ox[i], batch.oy[i], batch.oz[i]}, {batch.dx[i], batch.dy[i], batch.dz[i]}};
-            out[i] = camera_ray(ray, cos_theta[i], area_mm2[i]);
+            out[i] = CameraRay{{world.ox[i], world.oy[i], world.oz[i]},
+                               {world.dx[i], world.dy[i], world.dz[i]},
+                               float(world.weight[i])};
         }
+    }
+
+    LensToWorld lens_to_world() const {
+        return {world_from_camera, entrance_pupil_z_mm, inverse_axial2_per_mm2 * inverse_centre_irradiance};
     }
 
     // A ray that left the lens -> the camera ray with its irradiance weight.
     CameraRay camera_ray(const LensRay& ray, double cos_theta, double area_mm2) const {
         // Film irradiance weight: cos^4 theta * A / Z^2, normalised at the centre
         double cos2 = cos_theta * cos_theta;
-        double weight = cos2 * cos2 * area_mm2 * inverse_axial2_per_mm2 * inverse_centre_irradiance;
+        double weight = cos2 * cos2 * area_mm2 * (inverse_axial2_per_mm2 * inverse_centre_irradiance);
         // Lens frame (mm, +z toward the film) -> camera frame (m, +z toward the scene)
         Vec3d origin_camera{ray.origin_mm.x * 1e-3, ray.origin_mm.y * 1e-3,
                             (entrance_pupil_z_mm - ray.origin_mm.z) * 1e-3};

@@ -190,15 +190,15 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
         const double eta = e.n_film_side / e.n_scene_side;
         for (int i = 0; i < kLensBatch; ++i) {
             const double dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
-            // Normal (0,0,1) - c (p - vertex), facing the incoming ray
-            double mx = -c * px[i], my = -c * py[i], mz = 1.0 - c * (pz[i] - v);
-            double cos_i = -(mx * dx + my * dy + mz * dz);
-            const double flip = cos_i < 0.0 ? -1.0 : 1.0;
-            mx *= flip, my *= flip, mz *= flip, cos_i *= flip;
+            // Normal (0,0,1) - c (p - vertex)
+            const double mx = -c * px[i], my = -c * py[i], mz = 1.0 - c * (pz[i] - v);
+            const double cos_i = -(mx * dx + my * dy + mz * dz);
             const double sin2_i = 1.0 - cos_i * cos_i;
             const double sin2_t = eta * eta * (sin2_i > 0.0 ? sin2_i : 0.0);
             const double cos_t = std::sqrt(sin2_t < 1.0 ? 1.0 - sin2_t : 0.0);
-            const double s = eta * cos_i - cos_t;
+            // refract() turns the normal to face the ray (m and cos_i negated
+            // when cos_i < 0); negating cos_t instead negates s: the same bits.
+            const double s = eta * cos_i - (cos_i < 0.0 ? -cos_t : cos_t);
             nx[i] = dx * eta + mx * s, ny[i] = dy * eta + my * s, nz[i] = dz * eta + mz * s;
             // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
             ok[i] = ok[i] & (sin2_t < 1.0) & (nz[i] < 0.0);

@@ -60,15 +60,16 @@ inline void cross_toward_scene_lanes(const LensElement& e, Lanes8<D, M>* l) {
     if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
         const double eta_scalar = e.n_film_side / e.n_scene_side;
         const D eta(eta_scalar);
-        // Normal (0,0,1) - c (p - vertex), facing the incoming ray
-        D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
-        D cos_i = -(mx * l->dx + my * l->dy + mz * l->dz);
-        const D flip = select(cos_i < zero, D(-1.0), one);
-        mx = mx * flip, my = my * flip, mz = mz * flip, cos_i = cos_i * flip;
+        // Normal (0,0,1) - c (p - vertex)
+        const D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
+        const D cos_i = -(mx * l->dx + my * l->dy + mz * l->dz);
         const D sin2_t = D(eta_scalar * eta_scalar) * max(one - cos_i * cos_i, zero);
         const M transmits = sin2_t < one;
         const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
-        const D s = eta * cos_i - cos_t;
+        // refract() turns the normal to face the ray (m and cos_i negated when
+        // cos_i < 0); negating cos_t instead negates s, the same bits for
+        // fewer instructions.
+        const D s = eta * cos_i - select(cos_i < zero, -cos_t, cos_t);
         nx = l->dx * eta + mx * s, ny = l->dy * eta + my * s, nz = l->dz * eta + mz * s;
         // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
         ok = ok & transmits & (nz < zero);

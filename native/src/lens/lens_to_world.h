@@ -1,0 +1,28 @@
+// The last step of a lens-system camera ray, for a whole batch: from the lens
+// frame (mm) to the world (m), with the film-irradiance weight. The same
+// arithmetic as LensSystemCamera::camera_ray, lane by lane.
+#pragma once
+
+#include "lens/lens_trace.h"
+#include "vec.h"
+
+namespace lc {
+
+struct LensToWorld {
+    Frame world_from_camera;
+    double entrance_pupil_z_mm;  // lens-frame z of the camera origin
+    // cos^4 theta * area times this is the weight: 1 / Z^2 (Z the film to
+    // sampling-plane distance) over the centre irradiance
+    double weight_per_mm2;
+};
+
+struct WorldRayBatch {
+    double ox[kLensBatch], oy[kLensBatch], oz[kLensBatch];
+    double dx[kLensBatch], dy[kLensBatch], dz[kLensBatch];
+    double weight[kLensBatch];
+};
+
+void lens_to_world_batch(const LensToWorld& t, const LensRayBatch& lens, const double* cos_theta,
+                         const double* area_mm2, WorldRayBatch* out);
+
+}  // namespace lc
