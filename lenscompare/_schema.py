@@ -79,6 +79,14 @@ class Table:
                 raise self.error(name, f"expected one of {', '.join(map(repr, choices))}, got {value!r}")
         return value
 
+    def boolean(self, name: str, *, default: Any = _MISSING) -> Any:
+        value = self._get(name, default)
+        if value is default and default is not _MISSING:
+            return value
+        if not isinstance(value, bool):
+            raise self.error(name, f"expected true or false, got {_describe(value)}")
+        return value
+
     def number(self, name: str, *, default: Any = _MISSING, positive: bool = False,
                non_negative: bool = False) -> Any:
         """A finite real number (TOML integer or float)."""

@@ -16,6 +16,7 @@ import numpy as np
 from . import __version__, _native
 from .cameras import native_camera
 from .errors import InputError
+from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
 from .image import Image
 from .native_scene import build_native_scene
 from .progress import progress_bar
@@ -33,7 +34,8 @@ _BAND_SAMPLES = 2_000_000
 
 
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
-           seed: int | None = None, threads: int | None = None, progress: bool | None = None) -> Image:
+           seed: int | None = None, threads: int | None = None, progress: bool | None = None,
+           adaptive: bool | None = None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -44,8 +46,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         Camera model; default the scene's ``camera.model``. ``'auto'`` asks
         :func:`lenscompare.plan.plan_scene` for the cheapest model within the
         default tolerances and records the plan in the metadata.
-    spp, sampler, seed : optional
-        Override the scene's ``[render]`` settings.
+    spp, sampler, seed, adaptive : optional
+        Override the scene's ``[render]`` settings. With ``adaptive``, ``spp``
+        is the mean over the image: a first pass measures each pixel's noise
+        and the rest of the samples go where it is largest
+        (:mod:`lenscompare.adaptive`).
     threads : int, optional
         Worker threads; default all cores. The image does not depend on it.
     progress : bool, optional
@@ -67,7 +72,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         model = plan.model
     if model not in MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
-    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed)
+    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive)
     settings = scene.render
     if settings.spp < 1:
         raise InputError("--spp", f"expected a positive integer, got {settings.spp}")
@@ -84,19 +89,24 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     height, width = scene.camera.height_px, scene.camera.width_px
     pixels = np.zeros((height, width, 3), dtype=np.float32)
 
-    rays_passed = 0
     start = time.perf_counter()
-    band_rows = max(16, -(-_BAND_SAMPLES // (width * settings.spp)))
-    with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
-        for row in range(0, height, band_rows):
-            row_end = min(row + band_rows, height)
-            _, passed = _native.render_rows(native_scene, camera, settings.spp, SAMPLER_CODES[settings.sampler],
-                                            settings.seed, threads, row, row_end, pixels)
-            rays_passed += passed
-            bar.update(row_end - row)
+    if settings.adaptive:
+        pixels, samples, rays_passed, adaptive_info = _render_adaptive(native_scene, camera, settings, threads,
+                                                                       width, height, model, progress)
+    else:
+        rays_passed = 0
+        band_rows = max(16, -(-_BAND_SAMPLES // (width * settings.spp)))
+        with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
+            for row in range(0, height, band_rows):
+                row_end = min(row + band_rows, height)
+                _, passed = _native.render_rows(native_scene, camera, settings.spp, SAMPLER_CODES[settings.sampler],
+                                                settings.seed, threads, row, row_end, pixels)
+                rays_passed += passed
+                bar.update(row_end - row)
+        samples = width * height * settings.spp
+        adaptive_info = None
     seconds = time.perf_counter() - start
 
-    samples = width * height * settings.spp
     metadata = {
         "scene": scene.name,
         "model": model,
@@ -113,6 +123,60 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         "renderer": f"lenscompare {__version__} native (Embree 3)",
         "machine": platform.machine(),
     }
+    if adaptive_info is not None:
+        metadata["adaptive"] = adaptive_info
     if plan is not None:
         metadata["plan"] = plan.to_json()
     return Image(pixels, metadata)
+
+
+def _second_pass_seed(seed: int) -> int:
+    """Another seed, fixed by the first: a second, independent sample set."""
+    return (seed * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**64
+
+
+def _render_adaptive(native_scene, camera, settings, threads: int, width: int, height: int, model: str,
+                     progress: bool | None):
+    """The two passes of :mod:`lenscompare.adaptive`; returns the image, the
+    samples drawn, the rays that passed the lens and what the passes did."""
+    base_spp = adaptive_base_spp(settings.spp)
+    sampler = SAMPLER_CODES[settings.sampler]
+
+    def run_pass(sample_end: np.ndarray, first_sample: int, seed: int, bar) -> tuple[np.ndarray, np.ndarray, int, int]:
+        image = np.zeros((height, width, 3), dtype=np.float32)
+        variance = np.zeros((height, width), dtype=np.float32)
+        samples = passed = 0
+        mean_spp = max(float(sample_end.mean()), 1.0)
+        band_rows = max(16, int(-(-_BAND_SAMPLES // (width * mean_spp))))
+        for row in range(0, height, band_rows):
+            row_end = min(row + band_rows, height)
+            drawn, through = _native.render_rows_adaptive(native_scene, camera, sample_end, first_sample, sampler,
+                                                          seed, threads, row, row_end, image, variance)
+            samples, passed = samples + drawn, passed + through
+            bar.update(row_end - row)
+        return image, variance, samples, passed
+
+    with progress_bar(2 * height, description=f"{model} adaptive {settings.spp} spp", enabled=progress) as bar:
+        first_counts = np.full((height, width), base_spp, dtype=np.uint32)
+        first, variance, samples, passed = run_pass(first_counts, 0, settings.seed, bar)
+        counts = allocate_samples(variance, base_spp=base_spp, mean_spp=settings.spp)
+        refined = counts > base_spp
+        # Samplers whose prefixes are stable continue each pixel's sequence
+        # (samples [base, n) of n); the others draw a fresh set of n - base
+        # under a derived seed. Either way the pixel is the count-weighted
+        # mean of both passes, and no sample is drawn twice.
+        continues = settings.sampler in PREFIX_SAMPLERS
+        if continues:
+            second_counts, second_first, second_seed = np.where(refined, counts, base_spp), base_spp, settings.seed
+        else:
+            second_counts, second_first, second_seed = counts - base_spp, 0, _second_pass_seed(settings.seed)
+        if refined.any():
+            second, _, more, more_passed = run_pass(second_counts.astype(np.uint32), second_first, second_seed, bar)
+            samples, passed = samples + more, passed + more_passed
+        else:
+            second = np.zeros_like(first)
+    n = counts.astype(np.float64)[..., None]
+    pixels = (first.astype(np.float64) * base_spp + second.astype(np.float64) * (n - base_spp)) / n
+    info = {"base_spp": base_spp, "mean_spp": samples / (width * height), "max_spp": int(counts.max()),
+            "pixels_refined": int((counts > base_spp).sum()), "continued_sequences": continues}
+    return pixels.astype(np.float32), samples, passed, info

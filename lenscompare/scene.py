@@ -71,6 +71,7 @@ class RenderSettings:
     sampler: str = "jittered"
     seed: int = 0
     disk_mapping: str = "concentric"
+    adaptive: bool = False  # spp is then the image's mean (lenscompare.adaptive)
 
 
 @dataclass(frozen=True)
@@ -260,13 +261,14 @@ def _read_camera(t: Table) -> Camera:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1),
         sampler=t.string("sampler", default=defaults.sampler, choices=SAMPLERS),
         seed=t.integer("seed", default=defaults.seed, minimum=0),
         disk_mapping=t.string("disk_mapping", default=defaults.disk_mapping, choices=DISK_MAPPINGS),
+        adaptive=t.boolean("adaptive", default=defaults.adaptive),
     )
 
 

@@ -46,6 +46,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--spp", type=positive_int, help="samples per pixel")
     p.add_argument("--sampler", choices=SAMPLERS)
     p.add_argument("--seed", type=non_negative_int)
+    p.add_argument("--adaptive", action="store_true", default=None,
+                   help="spp is the mean: a first pass finds the noisy pixels, the rest of the samples go there")
     p.add_argument("--threads", type=positive_int, help="worker threads (default: all cores)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
     p.set_defaults(run=run)
@@ -65,7 +67,7 @@ def run(args) -> int:
             lens = str(Path(lens).resolve())
         scene = scene.with_camera(lens=lens)
     image = render(scene, model=args.model, spp=args.spp, sampler=args.sampler, seed=args.seed,
-                   threads=args.threads)
+                   threads=args.threads, adaptive=args.adaptive)
     write_exr(args.output, image)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))

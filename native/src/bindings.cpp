@@ -98,6 +98,36 @@ std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& 
     return {stats.samples, stats.rays_passed};
 }
 
+// The adaptive passes: per-pixel sample counts (samples [first_sample, end)
+// of each pixel), and the variance of each pixel's mean as a second output.
+template <class Camera>
+std::tuple<uint64_t, uint64_t> render_rows_adaptive_py(const Scene& scene, const Camera& camera,
+                                                       CArray<const uint32_t, -1, -1> sample_end, int first_sample,
+                                                       int sampler, uint64_t seed, int threads, int row_begin,
+                                                       int row_end, CArray<float, -1, -1, 3> out,
+                                                       CArray<float, -1, -1> variance_of_mean) {
+    RenderSettings s;
+    s.width_px = int(out.shape(1));
+    s.height_px = int(out.shape(0));
+    s.sampler = SamplerKind(sampler);
+    s.seed = seed;
+    s.threads = threads;
+    s.first_sample = std::max(first_sample, 0);
+    s.sample_end = sample_end.data();
+    s.variance_of_mean = variance_of_mean.data();
+    if (std::make_pair(s.width_px, s.height_px) != resolution_px(camera))
+        throw std::invalid_argument("output array does not match the camera's resolution");
+    if (sample_end.shape(0) != out.shape(0) || sample_end.shape(1) != out.shape(1) ||
+        variance_of_mean.shape(0) != out.shape(0) || variance_of_mean.shape(1) != out.shape(1))
+        throw std::invalid_argument("sample counts and variances must have the image's shape");
+    if (row_begin < 0 || row_end > s.height_px || row_begin > row_end) throw std::invalid_argument("bad row range");
+    for (size_t i = 0; i < sample_end.shape(0) * sample_end.shape(1); ++i)
+        if (sample_end.data()[i] > (1u << 20)) throw std::invalid_argument("more than 2^20 samples for one pixel");
+    s.spp = 1;  // unused with sample_end; the per-tile sample buffers grow as needed
+    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
+    return {stats.samples, stats.rays_passed};
+}
+
 // Row i of the output arrays: the ray, or zeros and weight 0 for a vignetted sample.
 void store_ray(const MaybeRay& ray, size_t i, CArray<double, -1, 3>& origin, CArray<double, -1, 3>& direction,
                CArray<float, -1>& weight) {
@@ -120,6 +150,9 @@ template <class Camera>
 void bind_camera_functions(nb::module_& m) {
     m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
           "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>());
+    m.def("render_rows_adaptive", &render_rows_adaptive_py<Camera>, "scene"_a, "camera"_a, "sample_end"_a,
+          "first_sample"_a, "sampler"_a, "seed"_a, "threads"_a, "row_begin"_a, "row_end"_a, "out"_a,
+          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>());
     m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
           "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>());
 }

@@ -28,6 +28,15 @@ struct RenderSettings {
     SamplerKind sampler = SamplerKind::Jittered;
     uint64_t seed = 0;
     int threads = 0;  // 0: all cores
+    // Per-pixel sample counts (adaptive sampling): pixel p, row-major over the
+    // whole image, takes samples [min(first_sample, end), end) of its own
+    // sequence of end = sample_end[p] samples, and its output is their mean
+    // (0 for none). nullptr: samples [0, spp) everywhere.
+    const uint32_t* sample_end = nullptr;
+    int first_sample = 0;
+    // Optional output, one per pixel like the image: the variance of each
+    // pixel's mean, summed over R, G and B (0 below two samples).
+    float* variance_of_mean = nullptr;
 };
 
 struct RenderStats {
@@ -59,7 +68,7 @@ void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* 
 template <class Camera>
 RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
                         int row_end, float* rgb) {
-    std::atomic<uint64_t> rays_passed{0};
+    std::atomic<uint64_t> rays_passed{0}, samples_drawn{0};
     tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
@@ -68,7 +77,8 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
             const int tile_w = tile.cols().size();
             // Double accumulation per pixel of the tile: 1024 spp of float radiance would lose bits.
             std::vector<double> sums(size_t(tile_w) * size_t(tile.rows().size()) * 3, 0.0);
-            uint64_t tile_passed = 0;
+            std::vector<double> squares(s.variance_of_mean ? sums.size() : 0, 0.0);
+            uint64_t tile_passed = 0, tile_samples = 0;
             // Camera samples are gathered across the tile's pixels into
             // batches of kCameraBatch, and the rays packed into 8-wide Embree
             // packets, so that low sample counts still fill both. Each
@@ -82,9 +92,13 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                 scene.radiance(batch, radiance);
                 for (int j = 0; j < batch.count; ++j) {
                     double* sum = &sums[3 * slot[j]];
-                    sum[0] += double(radiance[j].x) * weight[j];
-                    sum[1] += double(radiance[j].y) * weight[j];
-                    sum[2] += double(radiance[j].z) * weight[j];
+                    const double r = double(radiance[j].x) * weight[j], g = double(radiance[j].y) * weight[j],
+                                 b = double(radiance[j].z) * weight[j];
+                    sum[0] += r, sum[1] += g, sum[2] += b;
+                    if (!squares.empty()) {
+                        double* square = &squares[3 * slot[j]];
+                        square[0] += r * r, square[1] += g * g, square[2] += b * b;
+                    }
                 }
                 tile_passed += uint64_t(batch.count);
                 batch.count = 0;
@@ -109,8 +123,13 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
-                    fill_pixel_samples(s.sampler, s.seed, pixel_index, s.spp, film.data(), lens.data());
-                    for (int i = 0; i < s.spp; ++i) {
+                    const int end = s.sample_end ? int(s.sample_end[pixel_index]) : s.spp;
+                    const int first = s.sample_end ? std::min(s.first_sample, end) : 0;
+                    if (end == first) continue;
+                    if (film.size() < size_t(end)) film.resize(size_t(end)), lens.resize(size_t(end));
+                    fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data());
+                    tile_samples += uint64_t(end - first);
+                    for (int i = first; i < end; ++i) {
                         pending_raster[pending] = {float(x) + film[size_t(i)].x, float(y) + film[size_t(i)].y};
                         pending_lens[pending] = lens[size_t(i)];
                         pending_slot[pending++] = local;
@@ -123,14 +142,26 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
             for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
-                    float* out = rgb + 3 * (uint64_t(y) * uint64_t(s.width_px) + uint64_t(x));
-                    for (int c = 0; c < 3; ++c) out[c] = float(sums[3 * local + size_t(c)] / s.spp);
+                    const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+                    const int end = s.sample_end ? int(s.sample_end[pixel_index]) : s.spp;
+                    const int count = end - (s.sample_end ? std::min(s.first_sample, end) : 0);
+                    float* out = rgb + 3 * pixel_index;
+                    double variance = 0.0;
+                    for (int c = 0; c < 3; ++c) {
+                        const double mean = count > 0 ? sums[3 * local + size_t(c)] / count : 0.0;
+                        out[c] = float(mean);
+                        if (!squares.empty() && count > 1)
+                            variance += std::max(squares[3 * local + size_t(c)] / count - mean * mean, 0.0) /
+                                        (count - 1);
+                    }
+                    if (s.variance_of_mean) s.variance_of_mean[pixel_index] = float(variance);
                 }
             rays_passed += tile_passed;
+            samples_drawn += tile_samples;
         });
     });
     RenderStats stats;
-    stats.samples = uint64_t(row_end - row_begin) * uint64_t(s.width_px) * uint64_t(s.spp);
+    stats.samples = samples_drawn.load();
     stats.rays_passed = rays_passed.load();
     return stats;
 }
