@@ -194,7 +194,8 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
                      focal_point=_tuple(focal_point))
 
 
-def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None) -> str:
+def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None,
+                 blur_adaptive: tuple[int, float] | None = None) -> str:
     """POV-Ray 3.7 scene text for ``scene`` through the pinhole or thin lens.
 
     Parameters
@@ -207,6 +208,11 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         Thin lens: ``blur_samples`` (rays per pixel; default the scene's
         ``render.spp``). Unused by the pinhole, whose pixel sampling is set on
         POV-Ray's command line (see :mod:`lenscompare.povray.runner`).
+    blur_adaptive : (int, float), optional
+        Thin lens: POV-Ray's own adaptive focal blur instead of a fixed count,
+        ``(min_samples, variance)``: ``blur_samples min_samples, spp`` and
+        ``variance``, so that a pixel stops once its samples vary less than
+        that (with POV-Ray's default ``confidence 0.9``).
 
     Returns
     -------
@@ -230,7 +236,7 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         "global_settings { assumed_gamma 1.0 ambient_light 0 }",
         f"background {{ rgb {_vec(scene.background)} }}",
         "",
-        _camera_block(scene, camera, spp),
+        _camera_block(scene, camera, spp, blur_adaptive),
         "",
     ]
     for light in scene.lights:
@@ -246,7 +252,7 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
     return "\n".join(lines) + "\n"
 
 
-def _camera_block(scene: Scene, camera: PovCamera, spp: int) -> str:
+def _camera_block(scene: Scene, camera: PovCamera, spp: int, blur_adaptive: tuple[int, float] | None) -> str:
     c = scene.camera
     items = [
         "perspective",
@@ -263,7 +269,8 @@ def _camera_block(scene: Scene, camera: PovCamera, spp: int) -> str:
             f"// f/N = {format_number(camera.aperture_diameter_mm)} mm; POV-Ray's lens diameter is aperture/2",
             f"aperture {format_number(camera.pov_aperture_m)}",
             f"focal_point {_vec(camera.focal_point)}  // focus {format_number(c.focus_distance_m)} m",
-            f"blur_samples {spp}, {spp}",
+            f"blur_samples {spp}, {spp}" if blur_adaptive is None else
+            f"blur_samples {min(int(blur_adaptive[0]), spp)}, {spp} variance {format_number(blur_adaptive[1])}",
         ]
     body = "\n".join(f"  {item}" for item in items)
     return f"camera {{\n{body}\n}}"

@@ -91,7 +91,8 @@ def povray_version(povray: str = "povray") -> str:
 
 
 def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = None, threads: int | None = None,
-                  povray: str = "povray", timeout_s: float | None = None) -> Image:
+                  povray: str = "povray", timeout_s: float | None = None,
+                  blur_adaptive: tuple[int, float] | None = None) -> Image:
     """Render ``scene`` with POV-Ray through the pinhole or the thin lens.
 
     Parameters
@@ -110,6 +111,11 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         The POV-Ray binary (name on ``PATH`` or a path).
     timeout_s : float, optional
         Give up (and stop POV-Ray) after this many seconds.
+    blur_adaptive : (int, float), optional
+        Thin lens only: POV-Ray's adaptive focal blur, ``(min_samples,
+        variance)``, with ``spp`` the most a pixel takes (see
+        :func:`lenscompare.povray.export.scene_to_pov`). The metadata's
+        ``spp`` is then that maximum, not the rays traced.
 
     Returns
     -------
@@ -146,7 +152,9 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         sampling = ["+A0.0", "+AM1", f"+R{depth}", "+J1.0"]
         rays_per_pixel = depth * depth + 1
 
-    text = scene_to_pov(scene, model=model, spp=spp)
+    if blur_adaptive is not None and model != "thin":
+        raise InputError("blur_adaptive", "POV-Ray's adaptive focal blur needs the thin-lens camera")
+    text = scene_to_pov(scene, model=model, spp=spp, blur_adaptive=blur_adaptive)
     with tempfile.TemporaryDirectory(prefix="lenscompare-povray-") as folder:
         work = Path(folder)
         (work / "scene.pov").write_text(text, encoding="utf-8")
@@ -199,7 +207,9 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         "camera": camera.as_metadata(),
         "renderer": _version_from_banner(result.stderr) or "POV-Ray",
         "command": shlex.join(command),
-        "pixel_sampling": ("focal blur: blur_samples N, N, -A" if model == "thin"
+        "pixel_sampling": ((f"adaptive focal blur: blur_samples {min(blur_adaptive[0], spp)}, N, "
+                            f"variance {blur_adaptive[1]:g}, -A" if blur_adaptive else
+                            "focal blur: blur_samples N, N, -A") if model == "thin"
                            else f"anti-aliasing method 1, threshold 0, depth {depth}: centre + {depth}x{depth} "
                                 "jittered sub-pixel rays"),
         "lenscompare_version": __version__,
