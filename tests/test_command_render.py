@@ -87,3 +87,23 @@ def test_model_specific_missing_key(write_scene, minimal_scene_text, tmp_path):
     _assert_clean_input_error(run_cli("render", scene, "-o", tmp_path / "o.exr"), "nofstop.toml", "camera.f_number")
     # The pinhole does not need an f-number.
     assert run_cli("render", scene, "-o", tmp_path / "o.exr", "--model", "pinhole", "--spp", "1").returncode == 0
+
+
+def test_adaptive_flag_and_scene_key(write_scene, minimal_scene_text, tmp_path):
+    """``--adaptive`` (or ``[render] adaptive = true``) renders adaptively and
+    says so in the JSON; a non-boolean value is refused with exit 2."""
+    result = run_cli("render", write_scene(minimal_scene_text), "-o", tmp_path / "a.exr", "--json", "--spp", "16",
+                     "--adaptive")
+    assert result.returncode == 0, result.stderr
+    info = json.loads(result.stdout)["adaptive"]
+    assert info["base_spp"] == 4 and info["mean_spp"] <= 16
+    in_file = minimal_scene_text.replace("[render]", "[render]\nadaptive = true") if "[render]" in \
+        minimal_scene_text else minimal_scene_text + "\n[render]\nadaptive = true\n"
+    result = run_cli("render", write_scene(in_file), "-o", tmp_path / "b.exr", "--json", "--spp", "16")
+    assert result.returncode == 0, result.stderr
+    assert "adaptive" in json.loads(result.stdout)
+    bad = in_file.replace("adaptive = true", 'adaptive = "yes"')
+    result = run_cli("render", write_scene(bad), "-o", tmp_path / "c.exr")
+    assert result.returncode == 2
+    assert "render.adaptive" in result.stderr and "true or false" in result.stderr
+    assert not (tmp_path / "c.exr").exists()

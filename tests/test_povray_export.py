@@ -255,3 +255,14 @@ def test_povray_version_line():
 def test_povray_version_of_a_missing_binary_is_an_external_error():
     with pytest.raises(ExternalError, match="not installed"):
         povray_version("lenscompare-no-such-povray")
+
+
+def test_adaptive_focal_blur_sets_min_max_and_variance(scene):
+    """POV-Ray's own adaptive focal blur (the benchmark gives it a fair run):
+    blur_samples MIN, MAX and a variance threshold; MIN never above MAX."""
+    text = scene_to_pov(scene, model="thin", spp=256, blur_adaptive=(4, 1 / 1024))
+    assert "blur_samples 4, 256 variance 0.0009765625" in text
+    assert "blur_samples 8, 8" in scene_to_pov(scene, model="thin", spp=8, blur_adaptive=(16, 0.01)).replace(
+        " variance 0.01", "")
+    with pytest.raises(InputError, match="thin-lens"):
+        render_povray(scene, model="pinhole", spp=8, blur_adaptive=(4, 0.01))
