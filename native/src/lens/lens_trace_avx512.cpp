@@ -1,6 +1,8 @@
-// The batch lens trace on AVX-512: eight lanes in one register, masks in mask
-// registers. The same template as the AVX2 kernel (lens_trace_lanes.h),
-// half the instructions for everything but the square roots and divisions.
+// The batch lens trace and aim on AVX-512: sixteen lanes as two registers of
+// eight, masks in mask registers. The same templates as the AVX2 kernel
+// (lens_trace_lanes.h, lens_aim_lanes.h), half the instructions for
+// everything but the square roots and divisions. (The two-register wrapper
+// mirrors the AVX2 one by shape; only the intrinsics differ.)
 #include <immintrin.h>
 
 #include <cstdint>

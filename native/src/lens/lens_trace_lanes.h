@@ -1,7 +1,7 @@
-// The lockstep lens trace of lens_trace.h, eight lanes per vector, written
-// once for the SIMD kernels. Each kernel file (lens_trace_avx2.cpp,
-// lens_trace_avx512.cpp) defines an eight-lane double type D and its mask M
-// with the operations used below, switches the compiler to its instruction
+// The lockstep lens trace of lens_trace.h, D::kLanes lanes per group, written
+// once for the SIMD kernels. Each kernel file (lens_trace_avx2.cpp: eight
+// lanes, lens_trace_avx512.cpp: sixteen) defines a double type D of
+// D::kLanes lanes and its mask M with the operations used below, switches the compiler to its instruction
 // set with #pragma GCC target, and only then includes this header, so that
 // the templates are compiled for that instruction set.
 //
@@ -22,13 +22,13 @@
 namespace lc {
 
 template <class D, class M>
-struct Lanes8 {
+struct LaneGroup {
     D ox, oy, oz, dx, dy, dz;
     M alive;
 };
 
 template <class D, class M>
-inline void cross_toward_scene_lanes(const LensElement& e, Lanes8<D, M>* l) {
+inline void cross_toward_scene_lanes(const LensElement& e, LaneGroup<D, M>* l) {
     const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
     D t;
@@ -87,9 +87,9 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Len
     constexpr int kWidth = D::kLanes;
     static_assert(kLensBatch % kWidth == 0, "whole groups of lanes");
     constexpr int kGroups = kLensBatch / kWidth;
-    Lanes8<D, M> lanes[kGroups];
+    LaneGroup<D, M> lanes[kGroups];
     for (int g = 0; g < kGroups; ++g) {
-        Lanes8<D, M>& l = lanes[g];
+        LaneGroup<D, M>& l = lanes[g];
         const int first = kWidth * g;
         l.ox = D::load(b->ox + first), l.oy = D::load(b->oy + first), l.oz = D::load(b->oz + first);
         l.dx = D::load(b->dx + first), l.dy = D::load(b->dy + first), l.dz = D::load(b->dz + first);
@@ -104,7 +104,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Len
         if (!any_alive) break;
     }
     for (int g = 0; g < kGroups; ++g) {
-        const Lanes8<D, M>& l = lanes[g];
+        const LaneGroup<D, M>& l = lanes[g];
         const int first = kWidth * g;
         l.ox.store(b->ox + first), l.oy.store(b->oy + first), l.oz.store(b->oz + first);
         l.dx.store(b->dx + first), l.dy.store(b->dy + first), l.dz.store(b->dz + first);
