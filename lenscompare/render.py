@@ -7,6 +7,7 @@ change a single bit of the result.
 
 from __future__ import annotations
 
+import math
 import os
 import platform
 import time
@@ -87,23 +88,19 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     camera, camera_info = native_camera(scene, model)
     native_scene = build_native_scene(scene)
     height, width = scene.camera.height_px, scene.camera.width_px
-    pixels = np.zeros((height, width, 3), dtype=np.float32)
 
     start = time.perf_counter()
     if settings.adaptive:
         pixels, samples, rays_passed, adaptive_info = _render_adaptive(native_scene, camera, settings, threads,
                                                                        width, height, model, progress)
     else:
-        rays_passed = 0
-        band_rows = max(16, -(-_BAND_SAMPLES // (width * settings.spp)))
+        pixels = np.zeros((height, width, 3), dtype=np.float32)
         with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
-            for row in range(0, height, band_rows):
-                row_end = min(row + band_rows, height)
-                _, passed = _native.render_rows(native_scene, camera, settings.spp, SAMPLER_CODES[settings.sampler],
-                                                settings.seed, threads, row, row_end, pixels)
-                rays_passed += passed
-                bar.update(row_end - row)
-        samples = width * height * settings.spp
+            samples, rays_passed = _render_bands(
+                lambda row, row_end: _native.render_rows(native_scene, camera, settings.spp,
+                                                         SAMPLER_CODES[settings.sampler], settings.seed, threads, row,
+                                                         row_end, pixels),
+                height, width * settings.spp, bar)
         adaptive_info = None
     seconds = time.perf_counter() - start
 
@@ -130,6 +127,19 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     return Image(pixels, metadata)
 
 
+def _render_bands(render_rows, height: int, samples_per_row: float, bar) -> tuple[int, int]:
+    """Calls ``render_rows(row, row_end)`` band by band, advancing the progress
+    bar; returns the samples drawn and the rays that passed the lens."""
+    samples = passed = 0
+    band_rows = max(16, math.ceil(_BAND_SAMPLES / max(samples_per_row, 1.0)))
+    for row in range(0, height, band_rows):
+        row_end = min(row + band_rows, height)
+        drawn, through = render_rows(row, row_end)
+        samples, passed = samples + drawn, passed + through
+        bar.update(row_end - row)
+    return samples, passed
+
+
 def _second_pass_seed(seed: int) -> int:
     """Another seed, fixed by the first: a second, independent sample set."""
     return (seed * 0x9E3779B97F4A7C15 + 0x632BE59BD9B4E019) % 2**64
@@ -145,15 +155,10 @@ def _render_adaptive(native_scene, camera, settings, threads: int, width: int, h
     def run_pass(sample_end: np.ndarray, first_sample: int, seed: int, bar) -> tuple[np.ndarray, np.ndarray, int, int]:
         image = np.zeros((height, width, 3), dtype=np.float32)
         variance = np.zeros((height, width), dtype=np.float32)
-        samples = passed = 0
-        mean_spp = max(float(sample_end.mean()), 1.0)
-        band_rows = max(16, int(-(-_BAND_SAMPLES // (width * mean_spp))))
-        for row in range(0, height, band_rows):
-            row_end = min(row + band_rows, height)
-            drawn, through = _native.render_rows_adaptive(native_scene, camera, sample_end, first_sample, sampler,
-                                                          seed, threads, row, row_end, image, variance)
-            samples, passed = samples + drawn, passed + through
-            bar.update(row_end - row)
+        samples, passed = _render_bands(
+            lambda row, row_end: _native.render_rows_adaptive(native_scene, camera, sample_end, first_sample, sampler,
+                                                              seed, threads, row, row_end, image, variance),
+            height, width * float(sample_end.mean()), bar)
         return image, variance, samples, passed
 
     with progress_bar(2 * height, description=f"{model} adaptive {settings.spp} spp", enabled=progress) as bar:
@@ -178,5 +183,5 @@ def _render_adaptive(native_scene, camera, settings, threads: int, width: int, h
     n = counts.astype(np.float64)[..., None]
     pixels = (first.astype(np.float64) * base_spp + second.astype(np.float64) * (n - base_spp)) / n
     info = {"base_spp": base_spp, "mean_spp": samples / (width * height), "max_spp": int(counts.max()),
-            "pixels_refined": int((counts > base_spp).sum()), "continued_sequences": continues}
+            "pixels_refined": int(refined.sum()), "continued_sequences": continues}
     return pixels.astype(np.float32), samples, passed, info

@@ -80,20 +80,28 @@ std::pair<int, int> resolution_px(const Camera& camera) {
         return {camera.film.width_px, camera.film.height_px};
 }
 
+// Settings for rendering rows [row_begin, row_end) of out, checked against the camera.
 template <class Camera>
-std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
-                                              uint64_t seed, int threads, int row_begin, int row_end,
-                                              CArray<float, -1, -1, 3> out) {
+RenderSettings checked_settings(const Camera& camera, const CArray<float, -1, -1, 3>& out, int sampler, uint64_t seed,
+                                int threads, int row_begin, int row_end) {
     RenderSettings s;
     s.width_px = int(out.shape(1));
     s.height_px = int(out.shape(0));
-    s.spp = spp;
     s.sampler = SamplerKind(sampler);
     s.seed = seed;
     s.threads = threads;
     if (std::make_pair(s.width_px, s.height_px) != resolution_px(camera))
         throw std::invalid_argument("output array does not match the camera's resolution");
     if (row_begin < 0 || row_end > s.height_px || row_begin > row_end) throw std::invalid_argument("bad row range");
+    return s;
+}
+
+template <class Camera>
+std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
+                                              uint64_t seed, int threads, int row_begin, int row_end,
+                                              CArray<float, -1, -1, 3> out) {
+    RenderSettings s = checked_settings(camera, out, sampler, seed, threads, row_begin, row_end);
+    s.spp = spp;
     RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
     return {stats.samples, stats.rays_passed};
 }
@@ -106,23 +114,15 @@ std::tuple<uint64_t, uint64_t> render_rows_adaptive_py(const Scene& scene, const
                                                        int sampler, uint64_t seed, int threads, int row_begin,
                                                        int row_end, CArray<float, -1, -1, 3> out,
                                                        CArray<float, -1, -1> variance_of_mean) {
-    RenderSettings s;
-    s.width_px = int(out.shape(1));
-    s.height_px = int(out.shape(0));
-    s.sampler = SamplerKind(sampler);
-    s.seed = seed;
-    s.threads = threads;
-    s.first_sample = std::max(first_sample, 0);
-    s.sample_end = sample_end.data();
-    s.variance_of_mean = variance_of_mean.data();
-    if (std::make_pair(s.width_px, s.height_px) != resolution_px(camera))
-        throw std::invalid_argument("output array does not match the camera's resolution");
+    RenderSettings s = checked_settings(camera, out, sampler, seed, threads, row_begin, row_end);
     if (sample_end.shape(0) != out.shape(0) || sample_end.shape(1) != out.shape(1) ||
         variance_of_mean.shape(0) != out.shape(0) || variance_of_mean.shape(1) != out.shape(1))
         throw std::invalid_argument("sample counts and variances must have the image's shape");
-    if (row_begin < 0 || row_end > s.height_px || row_begin > row_end) throw std::invalid_argument("bad row range");
     for (size_t i = 0; i < sample_end.shape(0) * sample_end.shape(1); ++i)
         if (sample_end.data()[i] > (1u << 20)) throw std::invalid_argument("more than 2^20 samples for one pixel");
+    s.first_sample = std::max(first_sample, 0);
+    s.sample_end = sample_end.data();
+    s.variance_of_mean = variance_of_mean.data();
     s.spp = 1;  // unused with sample_end; the per-tile sample buffers grow as needed
     RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
     return {stats.samples, stats.rays_passed};

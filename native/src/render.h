@@ -37,6 +37,16 @@ struct RenderSettings {
     // Optional output, one per pixel like the image: the variance of each
     // pixel's mean, summed over R, G and B (0 below two samples).
     float* variance_of_mean = nullptr;
+
+    // The samples [first, end) pixel p takes.
+    struct SampleRange {
+        int first, end;
+    };
+    SampleRange samples_of(uint64_t pixel_index) const {
+        if (!sample_end) return {0, spp};
+        const int end = int(sample_end[pixel_index]);
+        return {std::min(first_sample, end), end};
+    }
 };
 
 struct RenderStats {
@@ -123,8 +133,7 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
-                    const int end = s.sample_end ? int(s.sample_end[pixel_index]) : s.spp;
-                    const int first = s.sample_end ? std::min(s.first_sample, end) : 0;
+                    const auto [first, end] = s.samples_of(pixel_index);
                     if (end == first) continue;
                     if (film.size() < size_t(end)) film.resize(size_t(end)), lens.resize(size_t(end));
                     fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data());
@@ -143,8 +152,8 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                 for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
                     size_t local = size_t(y - tile.rows().begin()) * size_t(tile_w) + size_t(x - tile.cols().begin());
                     const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
-                    const int end = s.sample_end ? int(s.sample_end[pixel_index]) : s.spp;
-                    const int count = end - (s.sample_end ? std::min(s.first_sample, end) : 0);
+                    const auto [first, end] = s.samples_of(pixel_index);
+                    const int count = end - first;
                     float* out = rgb + 3 * pixel_index;
                     double variance = 0.0;
                     for (int c = 0; c < 3; ++c) {

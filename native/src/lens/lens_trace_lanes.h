@@ -1,9 +1,9 @@
 // The lockstep lens trace of lens_trace.h, D::kLanes lanes per group, written
 // once for the SIMD kernels. Each kernel file (lens_trace_avx2.cpp: eight
-// lanes, lens_trace_avx512.cpp: sixteen) defines a double type D of
-// D::kLanes lanes and its mask M with the operations used below, switches the compiler to its instruction
-// set with #pragma GCC target, and only then includes this header, so that
-// the templates are compiled for that instruction set.
+// lanes, lens_trace_avx512.cpp: sixteen) defines a double type D of D::kLanes
+// lanes and its mask M with the operations used below, switches the compiler
+// to its instruction set with #pragma GCC target, and only then includes this
+// header, so that the templates are compiled for that instruction set.
 //
 // Bit-identical to cross_toward_scene_batch: the same IEEE operations in the
 // same order (no FMA: it rounds once and would change the bits). Comparisons
