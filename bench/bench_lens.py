@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 from lenscompare import _native
-from lenscompare.cameras import native_camera
+from lenscompare.cameras import camera_for
 from lenscompare.render import render
 from lenscompare.scene import load_scene
 
@@ -62,7 +62,7 @@ def main():
     for name, focus_m in LENSES.items():
         lens_scene = scene.with_camera(lens=name, focus_distance_m=focus_m)
         start = time.perf_counter()
-        camera, _ = native_camera(lens_scene, "lens")
+        camera = camera_for(lens_scene, "lens").native()
         setup_s = time.perf_counter() - start
         if name == "dgauss.50mm":
             dgauss_camera = camera

@@ -22,7 +22,7 @@ import platform
 from pathlib import Path
 
 from lenscompare import _native
-from lenscompare.cameras import native_camera
+from lenscompare.cameras import camera_for
 from lenscompare.native_scene import build_native_scene
 from lenscompare.render import render
 from lenscompare.scene import load_scene
@@ -44,7 +44,7 @@ def main():
 
     scene = load_scene(SCENE)
     raw_rays_per_second = 0.0
-    camera, _ = native_camera(scene, "pinhole")
+    camera = camera_for(scene, "pinhole").native()
     native_scene = build_native_scene(scene)
     for _ in range(args.repeats):
         seconds, rays, _hits = _native.raw_primary_throughput(native_scene, camera, args.spp, args.threads)

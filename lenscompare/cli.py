@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .commands import COMMANDS
 from .errors import InputError, LensCompareError
 
 __all__ = ["main"]
@@ -24,8 +25,6 @@ class _ArgumentParser(argparse.ArgumentParser):
 
 
 def _build_parser() -> argparse.ArgumentParser:
-    from .commands import COMMANDS
-
     parser = _ArgumentParser(
         prog="lenscompare",
         description="Render one scene through pinhole, thin, thick and full-lens "

@@ -12,8 +12,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import OpenEXR
 
 from .atomic import atomic_output
+from .cameras import CameraModel
 from .errors import InputError
 
 __all__ = ["Image", "write_exr", "read_exr", "write_png_preview", "srgb_encode"]
@@ -30,11 +32,20 @@ class Image:
     pixels : ndarray, float32, shape (H, W, 3)
         Linear RGB; row 0 is the top of the picture.
     metadata : dict
-        JSON-serialisable provenance (model, spp, seed, timing, ...).
+        JSON-serialisable provenance (model, spp, seed, timing, ...); written
+        into the EXR header. ``metadata["camera"]`` is ``camera.to_json()``.
+    camera : CameraModel, optional
+        The camera the image was rendered through (native and POV-Ray renders
+        carry it; an image read from a file does not).
+    variance : ndarray, float32, shape (H, W), optional
+        Per-pixel variance of the mean, summed over R, G and B, where the
+        renderer measured it (native renders).
     """
 
     pixels: np.ndarray
     metadata: dict[str, Any] = field(default_factory=dict)
+    camera: CameraModel | None = None
+    variance: np.ndarray | None = None
 
     @property
     def height_px(self) -> int:
@@ -50,8 +61,6 @@ def write_exr(path: str | os.PathLike, image: Image, *, option: str = "-o") -> N
 
     The metadata goes into a string header attribute ``lenscompare`` as JSON.
     """
-    import OpenEXR
-
     pixels = np.ascontiguousarray(image.pixels, dtype=np.float32)
     header = {
         "compression": OpenEXR.ZIP_COMPRESSION,
@@ -72,8 +81,6 @@ def read_exr(path: str | os.PathLike) -> Image:
     InputError
         The file cannot be read or has no R, G, B channels.
     """
-    import OpenEXR
-
     source = os.fspath(path)
     if not os.path.isfile(source):  # checked here: the library would print its own message too
         raise InputError(source, "no such file")
@@ -99,7 +106,7 @@ def read_exr(path: str | os.PathLike) -> Image:
 
 def srgb_encode(linear: np.ndarray, *, exposure: float = 1.0) -> np.ndarray:
     """Linear RGB -> 8-bit sRGB (IEC 61966-2-1 curve via colour-science), clipped."""
-    import colour
+    import colour  # here, not at the top: colour-science takes about a second to import
 
     scaled = np.clip(np.nan_to_num(np.asarray(linear, dtype=float) * exposure), 0.0, 1.0)
     encoded = colour.cctf_encoding(scaled, function="sRGB")
@@ -108,7 +115,7 @@ def srgb_encode(linear: np.ndarray, *, exposure: float = 1.0) -> np.ndarray:
 
 def write_png_preview(path: str | os.PathLike, image: Image, *, exposure: float = 1.0) -> None:
     """Write an sRGB-encoded 8-bit PNG preview, atomically."""
-    import imageio.v3 as iio
+    import imageio.v3 as iio  # here: only previews need it, and it is slow to import
 
     data = srgb_encode(image.pixels, exposure=exposure)
     with atomic_output(path) as tmp:

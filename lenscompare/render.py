@@ -15,9 +15,9 @@ import time
 import numpy as np
 
 from . import __version__, _native
-from .cameras import native_camera
-from .errors import InputError
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
+from .cameras import CameraModel, camera_for
+from .errors import InputError
 from .image import Image
 from .native_scene import build_native_scene
 from .progress import progress_bar
@@ -36,17 +36,16 @@ _BAND_SAMPLES = 2_000_000
 
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
-           adaptive: bool | None = None) -> Image:
+           adaptive: bool | None = None, camera: CameraModel | None = None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
     ----------
     scene : Scene
         A loaded scene (:func:`lenscompare.scene.load_scene`).
-    model : {'pinhole', 'thin', 'thick', 'lens', 'auto'}, optional
-        Camera model; default the scene's ``camera.model``. ``'auto'`` asks
-        :func:`lenscompare.plan.plan_scene` for the cheapest model within the
-        default tolerances and records the plan in the metadata.
+    model : {'pinhole', 'thin', 'thick', 'lens'}, optional
+        Camera model; default the scene's ``camera.model``. (``--model auto``
+        is the planner's: :func:`lenscompare.plan.render_planned`.)
     spp, sampler, seed, adaptive : optional
         Override the scene's ``[render]`` settings. With ``adaptive``, ``spp``
         is the mean over the image: a first pass measures each pixel's noise
@@ -54,23 +53,20 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         (:mod:`lenscompare.adaptive`).
     threads : int, optional
         Worker threads; default all cores. The image does not depend on it.
+    camera : CameraModel, optional
+        The camera value, when the caller has built it already
+        (:func:`lenscompare.cameras.camera_for`); its model wins over ``model``.
     progress : bool, optional
         Force the progress bar on or off (default: on for a terminal only).
 
     Returns
     -------
     Image
-        Linear radiance, with metadata: model, spp, sampler, seed, seconds,
-        samples_per_second, threads, and the camera's derived quantities.
+        Linear radiance, with the camera value (``image.camera``) and
+        metadata: model, spp, sampler, seed, seconds, samples_per_second,
+        threads, and the camera's derived quantities.
     """
-    model = model or scene.camera.model
-    plan = None
-    if model == "auto":
-        # Simulate only what the scene calls for (default tolerances; no timing renders).
-        from .plan import plan_scene
-
-        plan = plan_scene(scene, measure_costs=False)
-        model = plan.model
+    model = camera.model if camera is not None else (model or scene.camera.model)
     if model not in MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive)
@@ -85,23 +81,24 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if threads < 0:
         raise InputError("--threads", f"expected a positive integer, got {threads}")
 
-    camera, camera_info = native_camera(scene, model)
+    camera = camera or camera_for(scene, model)
+    native_camera = camera.native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
     height, width = scene.camera.height_px, scene.camera.width_px
 
     start = time.perf_counter()
     if settings.adaptive:
-        pixels, samples, rays_passed, adaptive_info = _render_adaptive(native_scene, camera, settings, threads,
-                                                                       width, height, model, progress)
+        pixels, variance, samples, rays_passed, adaptive_info = _render_adaptive(
+            native_scene, native_camera, settings, threads, width, height, model, progress)
     else:
         pixels = np.zeros((height, width, 3), dtype=np.float32)
         with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
             samples, rays_passed = _render_bands(
-                lambda row, row_end: _native.render_rows(native_scene, camera, settings.spp,
+                lambda row, row_end: _native.render_rows(native_scene, native_camera, settings.spp,
                                                          SAMPLER_CODES[settings.sampler], settings.seed, threads, row,
                                                          row_end, pixels),
                 height, width * settings.spp, bar)
-        adaptive_info = None
+        variance, adaptive_info = None, None
     seconds = time.perf_counter() - start
 
     metadata = {
@@ -116,15 +113,13 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         "samples_per_second": samples / seconds if seconds > 0 else float("inf"),
         "ray_pass_fraction": rays_passed / samples,
         "resolution": [width, height],
-        "camera": camera_info,
+        "camera": camera.to_json(),
         "renderer": f"lenscompare {__version__} native (Embree 3)",
         "machine": platform.machine(),
     }
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
-    if plan is not None:
-        metadata["plan"] = plan.to_json()
-    return Image(pixels, metadata)
+    return Image(pixels, metadata, camera=camera, variance=variance)
 
 
 def _render_bands(render_rows, height: int, samples_per_row: float, bar) -> tuple[int, int]:
@@ -148,7 +143,8 @@ def _second_pass_seed(seed: int) -> int:
 def _render_adaptive(native_scene, camera, settings, threads: int, width: int, height: int, model: str,
                      progress: bool | None):
     """The two passes of :mod:`lenscompare.adaptive`; returns the image, the
-    samples drawn, the rays that passed the lens and what the passes did."""
+    variance of each pixel's mean, the samples drawn, the rays that passed the
+    lens and what the passes did."""
     base_spp = adaptive_base_spp(settings.spp)
     sampler = SAMPLER_CODES[settings.sampler]
 
@@ -176,12 +172,15 @@ def _render_adaptive(native_scene, camera, settings, threads: int, width: int, h
         else:
             second_counts, second_first, second_seed = counts - base_spp, 0, _second_pass_seed(settings.seed)
         if refined.any():
-            second, _, more, more_passed = run_pass(second_counts.astype(np.uint32), second_first, second_seed, bar)
+            second, second_variance, more, more_passed = run_pass(second_counts.astype(np.uint32), second_first, second_seed, bar)
             samples, passed = samples + more, passed + more_passed
         else:
-            second = np.zeros_like(first)
+            second, second_variance = np.zeros_like(first), np.zeros_like(variance)
     n = counts.astype(np.float64)[..., None]
     pixels = (first.astype(np.float64) * base_spp + second.astype(np.float64) * (n - base_spp)) / n
+    # The same weights on the two passes' variances of the mean (independent passes).
+    weight_first, weight_second = base_spp / n[..., 0], (n[..., 0] - base_spp) / n[..., 0]
+    variance_of_mean = weight_first ** 2 * variance + weight_second ** 2 * second_variance
     info = {"base_spp": base_spp, "mean_spp": samples / (width * height), "max_spp": int(counts.max()),
             "pixels_refined": int(refined.sum()), "continued_sequences": continues}
-    return pixels.astype(np.float32), samples, passed, info
+    return pixels.astype(np.float32), variance_of_mean.astype(np.float32), samples, passed, info

@@ -23,6 +23,8 @@ else:  # pragma: no cover
 
 from ._schema import Table
 from .errors import InputError
+from .lenses import Prescription, resolve_lens
+from .units import mm_from_m
 
 __all__ = [
     "MODELS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
@@ -51,8 +53,12 @@ class Camera:
     film_mm: tuple[float, float] = (36.0, 24.0)
     focal_length_mm: float | None = None
     f_number: float | None = None
-    lens: str | None = None  # shipped name or path (resolved against the scene's folder)
+    lens: Prescription | None = None  # resolved once, when the scene is loaded (lenses.resolve_lens)
     principal_plane_gap_mm: float | None = None
+
+    @property
+    def focus_distance_mm(self) -> float:
+        return mm_from_m(self.focus_distance_m)
 
     @property
     def width_px(self) -> int:
@@ -145,7 +151,14 @@ class Scene:
     base_dir: Path = field(default_factory=Path.cwd)
 
     def with_camera(self, **changes) -> "Scene":
-        """A copy with some camera fields replaced (e.g. ``model="pinhole"``)."""
+        """A copy with some camera fields replaced (e.g. ``model="pinhole"``).
+
+        ``lens`` may be a :class:`~lenscompare.lenses.Prescription` or a name
+        or path, resolved as the scene file's own ``camera.lens`` would be.
+        """
+        lens = changes.get("lens")
+        if lens is not None and not isinstance(lens, Prescription):
+            changes["lens"] = resolve_lens(lens, base_dir=self.base_dir, source=self.source)
         return replace(self, camera=replace(self.camera, **changes))
 
     def with_render(self, **changes) -> "Scene":
@@ -196,7 +209,7 @@ def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = N
     background = root.table("background")
     background.check_keys(["color"])
     return Scene(
-        camera=_read_camera(root.table("camera", required=True)),
+        camera=_read_camera(root.table("camera", required=True), base_dir=base_dir),
         render=_read_render(root.table("render")),
         background=background.vector("color", 3, default=(0.0, 0.0, 0.0), non_negative=True),
         materials=materials,
@@ -217,7 +230,7 @@ def _read_measure(root: Table) -> tuple[str, ...]:
     return tuple(dict.fromkeys(value))
 
 
-def _read_camera(t: Table) -> Camera:
+def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
                   "film_mm", "resolution", "lens", "principal_plane_gap_mm"])
     position = t.vector("position", 3)
@@ -242,7 +255,7 @@ def _read_camera(t: Table) -> Camera:
 
     focal_length_mm = t.number("focal_length_mm", default=None, positive=True)
     focus_distance_m = t.number("focus_distance", positive=True)
-    if focal_length_mm is not None and not focus_distance_m * 1000.0 > focal_length_mm:
+    if focal_length_mm is not None and not mm_from_m(focus_distance_m) > focal_length_mm:
         raise t.error("focus_distance", f"{focus_distance_m:g} m is not beyond the focal length "
                       f"{focal_length_mm:g} mm (nothing can be focused there)")
     return Camera(
@@ -255,9 +268,18 @@ def _read_camera(t: Table) -> Camera:
         film_mm=film_mm,
         focal_length_mm=focal_length_mm,
         f_number=t.number("f_number", default=None, positive=True),
-        lens=t.string("lens", default=None),
+        lens=_read_lens(t, base_dir),
         principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None),
     )
+
+
+def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
+    """The prescription ``camera.lens`` names, resolved here once (shipped name,
+    else beside the scene file, else as given)."""
+    name = t.string("lens", default=None)
+    if name is None:
+        return None
+    return resolve_lens(name, base_dir=base_dir, source=t.source, key=t.path("lens"))
 
 
 def _read_render(t: Table) -> RenderSettings:

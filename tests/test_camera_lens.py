@@ -13,8 +13,7 @@ import numpy as np
 import pytest
 
 from lenscompare import _native
-from lenscompare.cameras import lens as lens_model
-from lenscompare.cameras import native_camera
+from lenscompare.cameras import camera_for
 from lenscompare.lenses import chief_ray_distortion_percent, chief_ray_film_height_mm, load_prescription
 from lenscompare.metrics import find_point_sources, relative_illumination_at
 from lenscompare.render import render
@@ -53,7 +52,7 @@ def test_rays_are_finite_everywhere_on_the_film(lens, f_number):
     """Grazing rays at rims, TIR, rays turning back, corners outside the image
     circle, a tiny stop: every sample gives a finite ray or none, never NaN."""
     focus = 10.0 if lens.startswith("telephoto") else 2.0
-    camera, _ = native_camera(lens_scene(lens, f_number=f_number, focus_distance=focus), "lens")
+    camera = camera_for(lens_scene(lens, f_number=f_number, focus_distance=focus), "lens").native()
     rng = np.random.default_rng(3)
     n = 60000
     raster = rng.random((n, 2)) * [360, 240]
@@ -69,7 +68,7 @@ def test_rays_are_finite_everywhere_on_the_film(lens, f_number):
 
 
 def test_fisheye_corners_are_black_and_cost_no_trace():
-    camera, _ = native_camera(lens_scene("fisheye.10mm"), "lens")
+    camera = camera_for(lens_scene("fisheye.10mm"), "lens").native()
     corners = np.array([[0.5, 0.5], [359.5, 239.5]] * 500, np.float32)
     samples, traced, passed = _native.count_lens_passes(camera, corners, np.full((1000, 2), 0.5, np.float32))
     assert (samples, traced, passed) == (1000, 0, 0)
@@ -81,7 +80,7 @@ def test_fisheye_corners_are_black_and_cost_no_trace():
 @pytest.mark.parametrize("lens", SHIPPED)
 def test_at_least_90_percent_of_traced_rays_pass_at_full_aperture(lens):
     focus = 10.0 if lens.startswith("telephoto") else 3.0
-    camera, _ = native_camera(lens_scene(lens, focus_distance=focus), "lens")
+    camera = camera_for(lens_scene(lens, focus_distance=focus), "lens").native()
     rng = np.random.default_rng(0)
     raster = (rng.random((100000, 2)) * [360, 240]).astype(np.float32)
     samples, traced, passed = _native.count_lens_passes(camera, raster, rng.random((100000, 2)).astype(np.float32))
@@ -93,8 +92,8 @@ def test_pupil_sampler_is_unbiased_against_the_whole_rear_element(lens):
     """Film irradiance (uniform scene) from the traced pupil polygons equals
     brute-force sampling of a disk 1.5x the rear element, within 4 sigma."""
     scene = lens_scene(lens, focus_distance=10.0 if lens.startswith("telephoto") else 3.0)
-    tight, _ = lens_model.build(scene)
-    brute, _ = lens_model.build(scene, brute_force_pupil=True)
+    tight = camera_for(scene, "lens").native()
+    brute = camera_for(scene, "lens").native(brute_force_pupil=True)
     n = 300000
     u = np.random.default_rng(7).random((n, 2))
     for x_px in (180.0, 270.0, 345.0):
@@ -166,14 +165,14 @@ def test_focus_closer_than_the_lens_can_reach_is_refused(write_scene):
     from lenscompare.errors import InputError
 
     with pytest.raises(InputError, match=r"camera.focus_distance.*closest"):
-        native_camera(lens_scene("dgauss.50mm", focus_distance=0.04), "lens")
+        camera_for(lens_scene("dgauss.50mm", focus_distance=0.04), "lens")
 
 
 def test_faster_than_the_lens_is_refused():
     from lenscompare.errors import InputError
 
     with pytest.raises(InputError, match=r"camera.f_number: f/1.4 is faster"):
-        native_camera(lens_scene("dgauss.50mm", f_number=1.4), "lens")
+        camera_for(lens_scene("dgauss.50mm", f_number=1.4), "lens")
 
 
 def test_focus_at_a_very_large_distance_is_finite():
@@ -222,8 +221,8 @@ def test_lockstep_batch_trace_gives_the_scalar_trace_bit_for_bit(lens, f_number)
     """The render loop traces lens rays eight at a time, in AVX intrinsics where
     the CPU has them; every kernel must give the scalar reference trace's
     result to the last bit."""
-    camera, _ = native_camera(lens_scene(lens, f_number=f_number,
-                                         focus_distance=10.0 if lens.startswith("telephoto") else 2.0), "lens")
+    camera = camera_for(lens_scene(lens, f_number=f_number,
+                                   focus_distance=10.0 if lens.startswith("telephoto") else 2.0), "lens").native()
     rng = np.random.default_rng(11)
     n = 20000
     raster = (rng.random((n, 2)) * [360, 240]).astype(np.float32)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from lenscompare import _native
-from lenscompare.cameras import native_camera
-from lenscompare.cameras.common import camera_frame
+from lenscompare.cameras import camera_for
+from lenscompare.cameras import CameraFrame
 from lenscompare.metrics.blur_disk import find_point_sources
 from lenscompare.optics import focus_film_distance_mm
 from lenscompare.render import render
@@ -29,15 +29,16 @@ def rays(camera, raster_px, lens=None):
 
 def test_centre_ray_goes_down_the_view_axis_and_edges_span_the_field():
     scene = parse_scene(camera_scene_text(model="pinhole", position=(1.0, 2.0, 3.0), look_at=(2.0, 2.5, 5.0)))
-    camera, info = native_camera(scene, "pinhole")
+    info = camera_for(scene, "pinhole")
+    camera = info.native()
     origin, direction, weight = rays(camera, [[180, 120], [360, 120], [180, 0]])
-    _, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    _, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     np.testing.assert_allclose(origin, [[1.0, 2.0, 3.0]] * 3)
     np.testing.assert_allclose(direction[0], forward, atol=1e-12)
     assert np.all(weight == 1.0)
     # Right edge of the film: half-angle atan(18 / d'); top edge: atan(12 / d').
     d_prime = focus_film_distance_mm(2000.0, 50.0)
-    assert info["film_distance_mm"] == pytest.approx(d_prime)
+    assert info.film_distance_mm == pytest.approx(d_prime)
     assert np.degrees(np.arctan2(direction[1] @ right, direction[1] @ forward)) == pytest.approx(
         np.degrees(np.arctan(18.0 / d_prime)), abs=1e-9)
     assert np.degrees(np.arctan2(direction[2] @ up, direction[2] @ forward)) == pytest.approx(
@@ -58,7 +59,7 @@ def test_plus_x_is_right_and_plus_y_is_up():
 
 def analytic_raster_px(point, scene, film_distance_mm):
     """Projection of a world point, derived independently of the C++ code."""
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     p = np.asarray(point) - origin
     x, y, z = p @ right, p @ up, p @ forward
     film_w, film_h = scene.camera.film_mm
@@ -76,7 +77,7 @@ def test_point_sources_land_on_the_analytic_projection_tilted_camera():
     text = camera_scene_text(model="pinhole", position=(0.3, 1.2, -0.5), look_at=(-0.4, 0.2, 4.0),
                              up=(0.25, 1.0, 0.1), resolution=(240, 160), spp=1024)
     scene = parse_scene(text)
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     # Points spread over the frame at different depths (camera-space x, y, z in m).
     camera_points = [(-0.8, 0.5, 3.0), (0.9, -0.4, 3.5), (0.0, 0.0, 2.5), (-0.3, -0.4, 2.2), (1.2, 0.7, 5.0)]
     world = [origin + right * x + up * y + forward * z for x, y, z in camera_points]

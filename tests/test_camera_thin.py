@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from lenscompare.cameras import native_camera
-from lenscompare.cameras.common import camera_frame
+from lenscompare.cameras import camera_for
+from lenscompare.cameras import CameraFrame
 from lenscompare.metrics.blur_disk import find_point_sources
 from lenscompare.optics import circle_of_confusion_mm, focus_film_distance_mm
 from lenscompare.render import render
@@ -21,8 +21,8 @@ def test_every_ray_passes_through_the_focus_point_and_leaves_the_lens_disk(mappi
     text = camera_scene_text(f_number=2.0, focus_distance=3.0, **TILTED)
     text = text.replace("spp = 64", f'spp = 64\ndisk_mapping = "{mapping}"')
     scene = parse_scene(text)
-    camera, info = native_camera(scene, "thin")
-    origin_w, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    camera = camera_for(scene, "thin").native(disk_mapping=scene.render.disk_mapping)
+    origin_w, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     rng = np.random.default_rng(1)
     for raster in ([180.0, 120.0], [3.5, 230.25], [359.0, 0.5]):
         lens = rng.random((500, 2))
@@ -54,7 +54,7 @@ def test_blur_disks_match_equation_5_off_centre_tilted_camera():
     pitch_mm = 36.0 / width
     text = camera_scene_text(f_number=n, focus_distance=focus_m, resolution=(width, height), spp=256, **TILTED)
     scene = parse_scene(text)
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     d_prime = focus_film_distance_mm(focus_m * 1000.0, f_mm)
     # Camera-space points (x, y, axial depth z): two in front of focus, two behind, off-centre.
     points = [(-0.2, 0.1, 1.0), (0.25, -0.15, 1.3), (-0.8, -0.5, 4.0), (2.0, 1.2, 8.0)]

@@ -72,7 +72,7 @@ def test_missing_sub_command_is_exit_2(main, capsys):
 
 
 def test_lens_info_function_gives_the_same_data(main):
-    from lenscompare.commands.lens import lens_info
+    from lenscompare.lenses.info import lens_info
     from lenscompare.lenses import load_prescription, paraxial_data
 
     lens = load_prescription("wide.22mm")

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from lenscompare import _native
-from lenscompare.cameras import native_camera
+from lenscompare.cameras import camera_for
 from lenscompare.errors import InputError
 from lenscompare.lenses import film_distance_mm, paraxial_data, parse_prescription, trace_from_scene
 from lenscompare.scene import parse_scene
@@ -99,7 +99,7 @@ def test_native_lens_camera_rays_are_finite_with_non_negative_weights(data, focu
     text = MINIMAL_SCENE.replace('model = "thin"', f'model = "lens"\nlens = "{f.name}"').replace(
         "f_number = 2.8\n", "").replace("focus_distance = 2.0", f"focus_distance = {focus_m!r}")
     try:
-        camera, _ = native_camera(parse_scene(text), "lens")
+        camera = camera_for(parse_scene(text), "lens").native()
     except InputError:
         return
     rng = np.random.default_rng(seed)
@@ -129,7 +129,7 @@ def test_ideal_cameras_give_finite_unit_rays(focal_mm, f_number, focus_m, pose, 
         scene = parse_scene(text)
     except InputError:
         return  # e.g. up parallel to the view: refused cleanly
-    camera, _ = native_camera(scene, model)
+    camera = camera_for(scene, model).native(disk_mapping=scene.render.disk_mapping)
     rng = np.random.default_rng(0)
     raster = (rng.random((64, 2)) * [36, 24]).astype(np.float32)
     origin, direction, weight = np.zeros((64, 3)), np.zeros((64, 3)), np.zeros(64, np.float32)

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lenscompare.cameras.common import camera_frame
+from lenscompare.cameras import CameraFrame
 from lenscompare.image import Image, write_exr
 from lenscompare.metrics import measure_blur_disk, relative_rmse, ssim
 from lenscompare.optics import circle_of_confusion_mm, focus_film_distance_mm
@@ -154,7 +154,7 @@ def projection_scene(model):
     from types import SimpleNamespace
 
     width, height, focus_m = 180, 120, 4.0
-    origin, right, up, forward = (np.array(v) for v in camera_frame(SimpleNamespace(**PROJECTION_CAMERA)))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(SimpleNamespace(**PROJECTION_CAMERA)))
     d_prime_mm = focus_film_distance_mm(focus_m * 1000.0, 50.0)
     half_w, half_h = 18.0 / d_prime_mm, 12.0 / d_prime_mm
     c = PROJECTION_CAMERA

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import lenscompare.povray.runner as runner
-from lenscompare.cameras.common import camera_frame
+from lenscompare.cameras import CameraFrame
 from lenscompare.errors import ExternalError, InputError
 from lenscompare.optics import focus_film_distance_mm
 from lenscompare.povray import pov_camera, povray_version, render_povray, scene_to_pov
@@ -108,7 +108,7 @@ def test_starts_with_version_and_linear_no_ambient_globals(scene):
 
 def test_thin_lens_camera_numbers(scene):
     text = camera_block(scene_to_pov(scene, model="thin", spp=300))
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     d_prime = focus_film_distance_mm(2500.0, 35.0)
     (location,), (right_v,), (up_v,), (direction,) = (vectors(text, k) for k in ("location", "right", "up",
                                                                                   "direction"))
@@ -135,7 +135,7 @@ def test_pinhole_has_no_focal_blur_and_shares_the_frame(scene):
     pinhole, thin = (camera_block(scene_to_pov(scene, model=m)) for m in ("pinhole", "thin"))
     for word in ("aperture", "focal_point", "blur_samples"):
         assert word not in pinhole
-    _, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    _, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     np.testing.assert_allclose(vectors(pinhole, "direction")[0], forward, rtol=1e-15, atol=1e-15)
     for key in ("location", "right", "up"):
         np.testing.assert_array_equal(vectors(pinhole, key)[0], vectors(thin, key)[0])

@@ -1,32 +1,38 @@
-"""Camera models on the Python side: validate a scene's camera for one model
-and build the matching native camera. One file per model.
+"""Camera models on the Python side: one frozen value per model, built once
+from a scene, and the native camera each value builds. One file per model.
 
-``native_camera(scene, model)`` is the only entry point the renderer uses.
+``camera_for(scene, model)`` is the one entry point: the renderer, the POV-Ray
+exporter, the planner and the measurements all read the value it returns.
 """
 
 from __future__ import annotations
 
 from ..errors import InputError
-from . import lens, pinhole, thick, thin
+from .base import CameraModel
+from .frame import CameraFrame, Film
+from .lens import LensSystemCamera
+from .pinhole import PinholeCamera
+from .thick import ThickLensCamera
+from .thin import ThinLensCamera
 
-__all__ = ["native_camera", "NATIVE_MODELS"]
+__all__ = ["camera_for", "CameraModel", "CameraFrame", "Film", "PinholeCamera", "ThinLensCamera",
+           "ThickLensCamera", "LensSystemCamera", "CAMERA_TYPES"]
 
-_BUILDERS = {"pinhole": pinhole.build, "thin": thin.build, "thick": thick.build, "lens": lens.build}
-NATIVE_MODELS = tuple(_BUILDERS)
+CAMERA_TYPES = {cls.model: cls for cls in (PinholeCamera, ThinLensCamera, ThickLensCamera, LensSystemCamera)}
 
 
-def native_camera(scene, model: str):
-    """Native camera for ``scene`` seen through ``model``.
+def camera_for(scene, model: str | None = None) -> CameraModel:
+    """The camera value of ``scene`` seen through ``model`` (default: the scene's).
 
-    Returns
-    -------
-    camera : lenscompare._native camera object
-    description : dict
-        The derived quantities (film distance, aperture, ...) for metadata.
+    Raises
+    ------
+    InputError
+        Unknown model, or the scene lacks a key the model needs, or the lens
+        cannot do what the scene asks (focus, f-number).
     """
+    model = model or scene.camera.model
     try:
-        build = _BUILDERS[model]
+        kind = CAMERA_TYPES[model]
     except KeyError:
-        raise InputError("--model", f"the {model!r} model is not available yet "
-                         f"(available: {', '.join(NATIVE_MODELS)})") from None
-    return build(scene)
+        raise InputError("--model", f"expected one of {', '.join(CAMERA_TYPES)}, got {model!r}") from None
+    return kind.from_scene(scene)

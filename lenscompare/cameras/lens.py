@@ -18,16 +18,18 @@ at the first vertex, +z toward the film) and converts to metres once.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import _native
-from ..lenses import aperture_stop_index, film_distance_mm, paraxial_data, stopped_down
-from .common import camera_frame, scene_prescription
+from ..lenses import ParaxialData, Prescription, aperture_stop_index, film_distance_mm, paraxial_data, stopped_down
+from .base import CameraModel, require
+from .frame import CameraFrame, Film
 
-__all__ = ["build", "lens_elements"]
+__all__ = ["LensSystemCamera", "lens_elements"]
 
-
-def lens_elements(prescription) -> dict[str, np.ndarray]:
+def lens_elements(prescription: Prescription) -> dict[str, np.ndarray]:
     """Per-surface arrays in the lens frame, as the native camera takes them."""
     surfaces = prescription.surfaces
     return {
@@ -41,29 +43,57 @@ def lens_elements(prescription) -> dict[str, np.ndarray]:
     }
 
 
-def build(scene, *, brute_force_pupil: bool = False):
-    camera = scene.camera
-    prescription = scene_prescription(scene, "lens")
-    if camera.f_number is not None:
-        prescription = stopped_down(prescription, camera.f_number, source=scene.source, key="camera.f_number")
-    data = paraxial_data(prescription)
-    film_distance = film_distance_mm(prescription, camera.focus_distance_m, source=scene.source,
-                                     key="camera.focus_distance")
-    film_z_mm = data.total_track_mm + film_distance
-    origin, right, up, forward = camera_frame(camera)
-    native = _native.LensSystemCamera(
-        origin, right, up, forward, camera.width_px, camera.height_px, camera.film_mm[0], camera.film_mm[1],
-        **lens_elements(prescription),
-        film_z_mm=film_z_mm,
-        entrance_pupil_z_mm=data.entrance_pupil_position_mm,
-        brute_force_pupil=brute_force_pupil,
-    )
-    return native, {
-        "lens": prescription.name,
-        "lens_sha256": prescription.sha256,
-        "focal_length_mm": data.effective_focal_length_mm,
-        "f_number": data.f_number,
-        "film_distance_mm": film_distance,  # from the last vertex
-        "film_distance_from_rear_principal_plane_mm": film_z_mm - data.rear_principal_plane_mm,
-        "entrance_pupil_position_mm": data.entrance_pupil_position_mm,
-    }
+@dataclass(frozen=True, kw_only=True)
+class LensSystemCamera(CameraModel):
+    """A real lens, stopped down to the scene's f-number and focused by moving the film.
+
+    Attributes (beyond :class:`CameraModel`)
+    ----------------------------------------
+    prescription : Prescription
+        The lens as rendered (its stop closed to ``f_number``).
+    paraxial : ParaxialData
+        First-order data of that prescription.
+    film_z_mm : float
+        Film position, mm from the first vertex toward the film.
+    """
+
+    model = "lens"
+    prescription: Prescription
+    paraxial: ParaxialData
+    film_z_mm: float
+
+    @classmethod
+    def from_scene(cls, scene) -> "LensSystemCamera":
+        camera = scene.camera
+        prescription = require(scene, camera.lens, "lens", "lens")
+        if camera.f_number is not None:
+            prescription = stopped_down(prescription, camera.f_number, source=scene.source, key="camera.f_number")
+        data = paraxial_data(prescription)
+        film_z_mm = data.total_track_mm + film_distance_mm(prescription, camera.focus_distance_m,
+                                                           source=scene.source, key="camera.focus_distance")
+        return cls(frame=CameraFrame.of(camera), film=Film.of(camera), focus_distance_m=camera.focus_distance_m,
+                   focal_length_mm=data.effective_focal_length_mm,
+                   film_distance_mm=film_z_mm - data.rear_principal_plane_mm,
+                   f_number=data.f_number, aperture_diameter_mm=data.entrance_pupil_diameter_mm,
+                   prescription=prescription, paraxial=data, film_z_mm=film_z_mm)
+
+    @property
+    def film_distance_from_last_vertex_mm(self) -> float:
+        return self.film_z_mm - self.paraxial.total_track_mm
+
+    def native(self, *, disk_mapping: str = "concentric",
+               brute_force_pupil: bool = False) -> "_native.LensSystemCamera":
+        """The native camera; ``disk_mapping`` is unused (the exit-pupil sampler
+        maps lens samples itself)."""
+        return _native.LensSystemCamera(
+            *self.frame, self.film.width_px, self.film.height_px, self.film.width_mm, self.film.height_mm,
+            **lens_elements(self.prescription),
+            film_z_mm=self.film_z_mm,
+            entrance_pupil_z_mm=self.paraxial.entrance_pupil_position_mm,
+            brute_force_pupil=brute_force_pupil,
+        )
+
+    def to_json(self) -> dict:
+        return {**super().to_json(), "lens": self.prescription.name, "lens_sha256": self.prescription.sha256,
+                "film_distance_from_last_vertex_mm": self.film_distance_from_last_vertex_mm,
+                "entrance_pupil_position_mm": self.paraxial.entrance_pupil_position_mm}

@@ -14,19 +14,29 @@ frames match and focusing changes the field of view (DESIGN.md).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .. import _native
 from ..optics import focus_film_distance_mm
-from .common import camera_frame, check_focus_reachable, focal_length_mm, screen_half_extent
+from .base import CameraModel, check_focus_reachable, scene_focal_length_mm
+from .frame import CameraFrame, Film
 
-__all__ = ["build"]
+__all__ = ["PinholeCamera"]
 
 
-def build(scene):
-    f_mm = focal_length_mm(scene, "pinhole")
-    check_focus_reachable(scene, f_mm)
-    film_distance_mm = focus_film_distance_mm(scene.camera.focus_distance_m * 1000.0, f_mm)
-    half_w, half_h = screen_half_extent(scene, film_distance_mm)
-    origin, right, up, forward = camera_frame(scene.camera)
-    camera = _native.PinholeCamera(origin, right, up, forward, scene.camera.width_px, scene.camera.height_px,
-                                   half_w, half_h)
-    return camera, {"focal_length_mm": f_mm, "film_distance_mm": film_distance_mm}
+@dataclass(frozen=True, kw_only=True)
+class PinholeCamera(CameraModel):
+    model = "pinhole"
+
+    @classmethod
+    def from_scene(cls, scene) -> "PinholeCamera":
+        f_mm = scene_focal_length_mm(scene, "pinhole")
+        check_focus_reachable(scene, f_mm)
+        return cls(frame=CameraFrame.of(scene.camera), film=Film.of(scene.camera),
+                   focus_distance_m=scene.camera.focus_distance_m, focal_length_mm=f_mm,
+                   film_distance_mm=focus_film_distance_mm(scene.camera.focus_distance_mm, f_mm))
+
+    def native(self, *, disk_mapping: str = "concentric") -> "_native.PinholeCamera":
+        """The native camera (``disk_mapping`` is unused: a pinhole has no lens)."""
+        half_w, half_h = self.screen_half_extent
+        return _native.PinholeCamera(*self.frame, self.film.width_px, self.film.height_px, half_w, half_h)

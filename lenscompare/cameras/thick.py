@@ -18,25 +18,39 @@ places the film d' behind H', so the lens is ``gap`` longer than a thin one.
 
 from __future__ import annotations
 
-from .. import _native
-from . import thin
-from .common import require, scene_prescription
+from dataclasses import dataclass
 
-__all__ = ["build", "principal_plane_gap_mm"]
+from .. import _native
+from ..lenses import paraxial_data
+from ..units import m_from_mm
+from .base import require
+from .thin import ThinLensCamera
+
+__all__ = ["ThickLensCamera", "principal_plane_gap_mm"]
 
 
 def principal_plane_gap_mm(scene) -> float:
     """H -> H' in mm, from ``camera.lens`` when given, else the scene key."""
     if scene.camera.lens is not None:
-        from ..lenses import paraxial_data
-
-        data = paraxial_data(scene_prescription(scene, "thick"))
+        data = paraxial_data(scene.camera.lens)
         return data.rear_principal_plane_mm - data.front_principal_plane_mm
     return require(scene, scene.camera.principal_plane_gap_mm, "principal_plane_gap_mm", "thick")
 
 
-def build(scene):
-    gap_mm = principal_plane_gap_mm(scene)
-    at_h, info = thin.build(scene, model="thick")
-    camera = _native.ThickLensCamera(at_h, principal_plane_gap_m=gap_mm / 1000.0)
-    return camera, {**info, "principal_plane_gap_mm": gap_mm}
+@dataclass(frozen=True, kw_only=True)
+class ThickLensCamera(ThinLensCamera):
+    """The thin lens at H, with the film moved ``principal_plane_gap_mm`` back."""
+
+    model = "thick"
+    principal_plane_gap_mm: float = 0.0
+
+    @classmethod
+    def from_scene(cls, scene, **_):
+        return super().from_scene(scene, model="thick", principal_plane_gap_mm=principal_plane_gap_mm(scene))
+
+    def native(self, *, disk_mapping: str = "concentric") -> "_native.ThickLensCamera":
+        return _native.ThickLensCamera(super().native(disk_mapping=disk_mapping),
+                                       principal_plane_gap_m=m_from_mm(self.principal_plane_gap_mm))
+
+    def to_json(self) -> dict:
+        return {**super().to_json(), "principal_plane_gap_mm": self.principal_plane_gap_mm}

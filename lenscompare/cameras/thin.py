@@ -10,35 +10,44 @@ film_mm             pair   mm    film width and height
 ==================  =====  ====  ===========================================
 
 The film sits at d' = f d / (d - f) (eq. 4); ``camera.position`` is the lens
-centre. Millimetres become metres here, once: the native camera gets the lens
-radius and the focus distance in scene units.
+centre. The native camera gets the lens radius and the focus distance in scene
+units (m), converted here.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .. import _native
 from ..optics import aperture_diameter_mm, focus_film_distance_mm
-from .common import camera_frame, check_focus_reachable, focal_length_mm, require, screen_half_extent
+from ..units import m_from_mm
+from .base import CameraModel, check_focus_reachable, require, scene_focal_length_mm
+from .frame import CameraFrame, Film
 
-__all__ = ["build", "DISK_MAPPING_CODES"]
+__all__ = ["ThinLensCamera", "DISK_MAPPING_CODES"]
 
 DISK_MAPPING_CODES = {"polar": _native.DISK_POLAR, "concentric": _native.DISK_CONCENTRIC}
 
 
-def build(scene, *, model: str = "thin"):
-    camera = scene.camera
-    f_mm = focal_length_mm(scene, model)
-    n = require(scene, camera.f_number, "f_number", model)
-    check_focus_reachable(scene, f_mm)
-    film_distance_mm = focus_film_distance_mm(camera.focus_distance_m * 1000.0, f_mm)
-    half_w, half_h = screen_half_extent(scene, film_distance_mm)
-    aperture_mm = aperture_diameter_mm(f_mm, n)
-    origin, right, up, forward = camera_frame(camera)
-    native = _native.ThinLensCamera(
-        origin, right, up, forward, camera.width_px, camera.height_px, half_w, half_h,
-        lens_radius_m=aperture_mm / 2.0 / 1000.0,
-        focus_distance_m=camera.focus_distance_m,
-        disk_mapping=DISK_MAPPING_CODES[scene.render.disk_mapping],
-    )
-    return native, {"focal_length_mm": f_mm, "film_distance_mm": film_distance_mm,
-                    "aperture_diameter_mm": aperture_mm, "f_number": n}
+@dataclass(frozen=True, kw_only=True)
+class ThinLensCamera(CameraModel):
+    model = "thin"
+
+    @classmethod
+    def from_scene(cls, scene, *, model: str = "thin", **extra):
+        f_mm = scene_focal_length_mm(scene, model)
+        n = require(scene, scene.camera.f_number, "f_number", model)
+        check_focus_reachable(scene, f_mm)
+        return cls(frame=CameraFrame.of(scene.camera), film=Film.of(scene.camera),
+                   focus_distance_m=scene.camera.focus_distance_m, focal_length_mm=f_mm,
+                   film_distance_mm=focus_film_distance_mm(scene.camera.focus_distance_mm, f_mm),
+                   f_number=n, aperture_diameter_mm=aperture_diameter_mm(f_mm, n), **extra)
+
+    def native(self, *, disk_mapping: str = "concentric") -> "_native.ThinLensCamera":
+        half_w, half_h = self.screen_half_extent
+        return _native.ThinLensCamera(
+            *self.frame, self.film.width_px, self.film.height_px, half_w, half_h,
+            lens_radius_m=m_from_mm(self.aperture_diameter_mm / 2.0),
+            focus_distance_m=self.focus_distance_m,
+            disk_mapping=DISK_MAPPING_CODES[disk_mapping],
+        )

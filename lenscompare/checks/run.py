@@ -6,6 +6,15 @@ import time
 from dataclasses import dataclass
 
 from ..errors import InputError, LensCompareError
+from ..experiment import Run
+from ..image import read_exr
+from ..lenses import load_prescription
+from ..lenses.info import lens_info
+from ..measure import measure_blur_disks
+from ..metrics import ciede2000, luminance, relative_rmse, ssim
+from ..povray import render_povray
+from ..render import render
+from ..scene import load_scene
 from .config import Check
 
 __all__ = ["CheckResult", "run_check"]
@@ -30,17 +39,11 @@ def run_check(check: Check, *, threads: int | None = None) -> CheckResult:
 
 
 def _blur_equation5(check: Check, threads):
-    from types import SimpleNamespace
-
-    from ..render import render
-    from ..report.measure import measure_blur_disks
-    from ..scene import load_scene
-
     o = check.options
     scene = load_scene(check.path("scene"))
     image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
     # The report's measurement, on one render.
-    rows = measure_blur_disks(scene, [SimpleNamespace(label=o["model"], image=image)])["renders"][o["model"]]
+    rows = measure_blur_disks(scene, [Run(scene, o["model"], "native", image)])["renders"][o["model"]]
     errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
     if not errors:
         return False, "no blur disk large enough to measure", {}
@@ -51,11 +54,6 @@ def _blur_equation5(check: Check, threads):
 
 
 def _povray_ssim(check: Check, threads):
-    from ..metrics import relative_rmse, ssim
-    from ..povray import render_povray
-    from ..render import render
-    from ..scene import load_scene
-
     o = check.options
     scene = load_scene(check.path("scene"))
     native = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False).pixels
@@ -68,9 +66,6 @@ def _povray_ssim(check: Check, threads):
 
 
 def _lens_paraxial(check: Check, threads):
-    from ..commands.lens import lens_info
-    from ..lenses import load_prescription
-
     o = check.options
     lens = str(check.path("lens")) if ("/" in str(o["lens"]) or str(o["lens"]).endswith(".dat")) else o["lens"]
     info = lens_info(load_prescription(lens))
@@ -85,11 +80,6 @@ def _lens_paraxial(check: Check, threads):
 
 
 def _image_matches(check: Check, threads):
-    from ..image import read_exr
-    from ..metrics import ciede2000, luminance, ssim
-    from ..render import render
-    from ..scene import load_scene
-
     o = check.options
     theirs = read_exr(check.path("image")).pixels
     scene = load_scene(check.path("scene"))

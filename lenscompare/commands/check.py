@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from ..checks import DEFAULT_CONFIG, load_checks, run_check, write_junit
+
 __all__ = ["add_parser", "run"]
 
 
@@ -16,8 +18,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..checks import DEFAULT_CONFIG, load_checks, run_check, write_junit
-
     checks = load_checks(args.config or DEFAULT_CONFIG)
     results = []
     for check in checks:

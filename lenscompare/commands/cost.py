@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..cost import CostSettings, run_cost_study
+from ..errors import InputError
+from ..scene import load_scene
+
 __all__ = ["add_parser", "run"]
 
 
@@ -23,10 +27,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..cost import CostSettings, run_cost_study
-    from ..errors import InputError
-    from ..scene import load_scene
-
     if args.threads is not None and args.threads < 1:
         raise InputError("--threads", f"expected a positive integer, got {args.threads}")
     scenes = [load_scene(p) for p in args.scenes]

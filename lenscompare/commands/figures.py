@@ -10,6 +10,8 @@ import argparse
 import json
 import math
 
+from ..figures import write_teaching_figures
+
 __all__ = ["add_parser", "run"]
 
 
@@ -52,8 +54,6 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     """Write the figures; print the PNG paths (or JSON); return 0."""
-    from ..figures import write_teaching_figures
-
     written = write_teaching_figures(
         args.output, lens=args.lens, focal_length_mm=args.focal_length_mm,
         f_number=args.f_number, focus_distance_m=args.focus_distance,

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import json
 
+from ..plan import plan_scene
+from ..scene import load_scene
+
 __all__ = ["add_parser", "run"]
 
 
@@ -20,9 +23,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..plan import plan_scene
-    from ..scene import load_scene
-
     plan = plan_scene(load_scene(args.scene), tolerance_px=args.tolerance_px,
                       tolerance_percent=args.tolerance_percent, measure_costs=not args.no_costs)
     data = plan.to_json()

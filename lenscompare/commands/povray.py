@@ -14,6 +14,8 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
+from ..image import write_exr
+from ..povray import render_povray
 from ..scene import MODELS, load_scene
 from .render import positive_int
 
@@ -49,9 +51,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..image import write_exr
-    from ..povray import render_povray
-
     if not str(args.output).lower().endswith(".exr"):
         raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
     folder = Path(args.output).parent

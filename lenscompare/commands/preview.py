@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
+from ..image import read_exr, write_png_preview
 
 __all__ = ["add_parser", "run"]
 
@@ -17,8 +18,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..image import read_exr, write_png_preview
-
     if not str(args.output).lower().endswith(".png"):
         raise InputError("-o", f"expected a .png file name, got {args.output!r}")
     if not args.exposure > 0:

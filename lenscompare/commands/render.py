@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 from pathlib import Path
 
 from ..errors import InputError
+from ..image import write_exr
+from ..plan import render_planned
+from ..render import render
 from ..scene import MODELS, SAMPLERS, load_scene
 
 __all__ = ["add_parser", "run"]
@@ -17,8 +21,6 @@ def positive_int(text: str) -> int:
     except ValueError:
         value = 0
     if value < 1:
-        import argparse
-
         raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
     return value
 
@@ -29,8 +31,6 @@ def non_negative_int(text: str) -> int:
     except ValueError:
         value = -1
     if value < 0:
-        import argparse
-
         raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
     return value
 
@@ -54,9 +54,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..image import write_exr
-    from ..render import render
-
     if not str(args.output).lower().endswith(".exr"):
         raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
     scene = load_scene(args.scene)
@@ -66,8 +63,11 @@ def run(args) -> int:
         if Path(lens).exists():
             lens = str(Path(lens).resolve())
         scene = scene.with_camera(lens=lens)
-    image = render(scene, model=args.model, spp=args.spp, sampler=args.sampler, seed=args.seed,
-                   threads=args.threads, adaptive=args.adaptive)
+    options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive)
+    if args.model == "auto":  # simulate only what the scene calls for (default tolerances)
+        image = render_planned(scene, **options)
+    else:
+        image = render(scene, model=args.model, **options)
     write_exr(args.output, image)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))

@@ -4,6 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import InputError
+from ..experiment import ExperimentSettings
+from ..report import build_report
+from ..scene import load_scene
+
 __all__ = ["add_parser", "run", "DEFAULT_SCENES"]
 
 DEFAULT_SCENES = Path(__file__).resolve().parent.parent.parent / "reference_scenes"
@@ -25,10 +30,6 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..errors import InputError
-    from ..report import ReportSettings, build_report
-    from ..scene import load_scene
-
     paths = [Path(s) for s in args.scenes] or sorted(DEFAULT_SCENES.glob("*.toml"))
     if not paths:
         raise InputError("SCENE", f"no scene files given and none in {DEFAULT_SCENES}")
@@ -38,7 +39,7 @@ def run(args) -> int:
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
         raise InputError("SCENE", f"two scenes share a name ({', '.join(names)}); names become file names")
-    settings = ReportSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray)
+    settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray)
     results = build_report(scenes, args.output, settings)
     index = Path(args.output).resolve() / "index.html"
     print(f"Report written in {results['total_seconds']:.0f} s: open {index}")

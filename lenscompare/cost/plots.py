@@ -14,7 +14,7 @@ SAMPLER_STYLE = {"random": ("#7f7f7f", "o"), "jittered": ("#1f77b4", "s"), "regu
 
 
 def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
-    import matplotlib
+    import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -31,11 +31,7 @@ def reference_key(scene: Scene, model: str, *, spp: int, sampler: str, seed: int
     content = dataclasses.asdict(scene)
     for volatile in ("source", "base_dir", "description", "name"):
         content.pop(volatile, None)
-    lens_hash = None
-    if scene.camera.lens is not None and model in ("lens", "thick", "thin", "pinhole"):
-        from ..cameras.common import scene_prescription
-
-        lens_hash = scene_prescription(scene, model).sha256
+    lens_hash = scene.camera.lens.sha256 if scene.camera.lens is not None else None
     payload = {"scene": content, "model": model, "spp": spp, "sampler": sampler, "seed": seed,
                "lens_sha256": lens_hash, "lenscompare": __version__}
     return hashlib.sha256(json.dumps(payload, sort_keys=True, default=str).encode()).hexdigest()

@@ -11,7 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ExternalError
+from ..experiment import ExperimentSettings, prepare_scene
 from ..metrics import relative_rmse, rmse, ssim
+from ..plan import MODEL_ORDER, plan_scene
+from ..povray import render_povray
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
 from .references import converged_reference
@@ -95,8 +98,6 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None) -> dict:
 
 
 def _omitted_effects(scene: Scene) -> dict[str, dict]:
-    from ..plan import MODEL_ORDER, plan_scene
-
     plan = plan_scene(scene, measure_costs=False)
     return {model: {name: {"magnitude": e.magnitude, "unit": e.unit}
                     for name, e in plan.effects.items()
@@ -105,8 +106,6 @@ def _omitted_effects(scene: Scene) -> dict[str, dict]:
 
 
 def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress) -> dict | None:
-    from ..povray import render_povray
-
     points = []
     for spp in settings.povray_spp_values:
         try:
@@ -165,9 +164,8 @@ def pareto_front(points: list[tuple[float, float, str]]) -> list[tuple[float, fl
 
 
 def prepared_for_cost(scene: Scene, settings: CostSettings) -> Scene:
-    from ..report.runs import ReportSettings, prepare_scene
-
-    prepared, _ = prepare_scene(scene, ReportSettings(lens=settings.lens))
+    """The experiment's scene (lens, f-number), at the study's smaller resolution."""
+    prepared, _ = prepare_scene(scene, ExperimentSettings(lens=settings.lens))
     w, h = prepared.camera.resolution
     d = settings.resolution_divisor
     while d > 1 and (w % d or h % d):

@@ -3,6 +3,8 @@
 Pure Python and numpy.  One job per module:
 
 - :mod:`.prescription` reads and validates pbrt lens files;
+- :mod:`.resolve` finds the file a scene's ``camera.lens`` names;
+- :mod:`.info` gathers a lens's first-order data for ``lens info`` and checks;
 - :mod:`.paraxial` gives first-order data (focal lengths, principal planes,
   pupils, f-number) and stops a lens down;
 - :mod:`.focus` places the film for a focus distance;
@@ -38,6 +40,7 @@ from .prescription import (
     sag_mm,
     shipped_lens_names,
 )
+from .resolve import resolve_lens
 from .trace import TracedRays, trace_from_film, trace_from_scene
 
 __all__ = [
@@ -47,6 +50,7 @@ __all__ = [
     "parse_prescription",
     "sag_mm",
     "shipped_lens_names",
+    "resolve_lens",
     "ParaxialData",
     "aperture_stop_index",
     "paraxial_data",

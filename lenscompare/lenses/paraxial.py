@@ -24,6 +24,7 @@ n_d, and the lenses sit in air on both sides.  For the system matrix
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -140,6 +141,7 @@ def aperture_stop_index(prescription: Prescription) -> int:
     return int(np.argmin(ratios))
 
 
+@functools.lru_cache(maxsize=256)
 def paraxial_data(prescription: Prescription) -> ParaxialData:
     """First-order data of a lens for an object at infinity in n_d light.
 
@@ -159,7 +161,8 @@ def paraxial_data(prescription: Prescription) -> ParaxialData:
 
     Notes
     -----
-    A pupil at infinity (a telecentric side) reads ``inf``.
+    A pupil at infinity (a telecentric side) reads ``inf``. Memoised: a
+    prescription (a frozen value) has its data computed once per process.
     """
     (a, b), (c, d) = ray_transfer_matrix(prescription).tolist()
     if c == 0.0:
@@ -190,6 +193,20 @@ def paraxial_data(prescription: Prescription) -> ParaxialData:
         total_track_mm=track,
         stop_index=stop,
     )
+
+
+F_NUMBER_RELATIVE_TOLERANCE = 1e-4
+"""Relative difference below which a requested f-number counts as the lens's own."""
+
+
+def _distinct_digits(a: float, b: float) -> tuple[str, str]:
+    """``a`` and ``b`` printed with the fewest significant digits (at least 3)
+    that tell them apart, so a refusal shows why."""
+    for digits in range(3, 17):
+        shown = f"{a:.{digits}g}", f"{b:.{digits}g}"
+        if shown[0] != shown[1]:
+            return shown
+    return shown
 
 
 def stop_semi_aperture_for_f_number(prescription: Prescription, f_number: float, *,
@@ -230,10 +247,12 @@ def stop_semi_aperture_for_f_number(prescription: Prescription, f_number: float,
         raise InputError(source, f"f-number must be a positive number, got {f_number!r}", key=key)
     f_number = requested
     data = paraxial_data(prescription)
-    # Tolerate rounding so that asking for the lens's own f-number works.
-    if f_number < data.f_number * (1.0 - 1e-9):
-        raise InputError(source, f"f/{f_number:g} is faster than {prescription.name} allows "
-                         f"(f/{data.f_number:.4g} wide open); it can only be stopped down",
+    # A request within F_NUMBER_RELATIVE_TOLERANCE of the lens's own f-number is
+    # wide open: a file's f/5 must not be refused for a lens at f/5.00002.
+    if f_number < data.f_number * (1.0 - F_NUMBER_RELATIVE_TOLERANCE):
+        asked, own = _distinct_digits(f_number, data.f_number)
+        raise InputError(source, f"f/{asked} is faster than {prescription.name} allows "
+                         f"(f/{own} wide open); it can only be stopped down",
                          key=key)
     stop_semi = prescription.surfaces[data.stop_index].semi_aperture_mm
     return stop_semi * min(1.0, data.f_number / f_number)

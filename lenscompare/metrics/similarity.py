@@ -235,7 +235,7 @@ def ciede2000(image_true, image_test, *, white_luminance=None) -> ColourDifferen
 def _colour():
     """colour-science, imported on use: it takes most of a second to import."""
     with np.printoptions():  # importing colour sets numpy's legacy printing globally: undo it
-        import colour
+        import colour  # here, not at the top: colour-science takes about a second to import
     return colour
 
 

@@ -8,10 +8,12 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+from ..image import Image
+from ..render import render
 from ..scene import MODELS, Scene
-from .effects import EFFECTS, Effect, lens_context
+from .effects import EFFECTS, Effect, ideal_camera
 
-__all__ = ["Plan", "plan_scene", "MODEL_ORDER"]
+__all__ = ["Plan", "plan_scene", "render_planned", "MODEL_ORDER"]
 
 # Cheapest first; each model simulates the effects of those before it.
 MODEL_ORDER = ("pinhole", "thin", "thick", "lens")
@@ -58,8 +60,8 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
     for name, value in (("--tolerance-px", tolerance_px), ("--tolerance-percent", tolerance_percent)):
         if not (value >= 0 and math.isfinite(value)):
             raise InputError(name, f"expected a number >= 0, got {value}")
-    ctx = lens_context(scene)
-    effects = {e.name: e for e in (effect(scene, ctx) for effect in EFFECTS)}
+    camera = ideal_camera(scene)
+    effects = {e.name: e for e in (effect(scene, camera) for effect in EFFECTS)}
     limit = {"px": tolerance_px, "%": tolerance_percent}
     needed = {name: e.magnitude > limit[e.unit] for name, e in effects.items()}
     model = "pinhole"
@@ -75,8 +77,6 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
 def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, float]:
     """Each model's predicted time for the scene's full render, from a 1-spp
     render of a small copy (samples per second scale with pixels and spp)."""
-    from ..render import render
-
     w, h = scene.camera.resolution
     scale = max(1, int(math.sqrt(w * h / 20000)))
     small = scene.with_camera(resolution=(max(1, w // scale), max(1, h // scale)))
@@ -93,3 +93,17 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, 
             continue  # the scene lacks what this model needs
         out[model] = w * h * scene.render.spp / rate
     return out
+
+
+def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: float = 2.0,
+                   **render_options) -> Image:
+    """``--model auto``: render with the cheapest model within tolerance.
+
+    The plan is made from the scene alone (no timing renders) and stored in
+    ``image.metadata["plan"]``; ``render_options`` go to
+    :func:`lenscompare.render.render`.
+    """
+    plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
+    image = render(scene, model=plan.model, **render_options)
+    image.metadata["plan"] = plan.to_json()
+    return image

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..cameras.common import camera_frame
+from ..cameras import CameraFrame
 from ..native_scene import box_quads, rectangle_quad
 from ..scene import Box, Scene, Sphere
 
@@ -51,7 +51,7 @@ def visible_depth_range_m(scene: Scene, *, tan_half_w: float, tan_half_h: float)
     tan_half_w, tan_half_h : float
         Tangents of the half fields of view (film half-size over film distance).
     """
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
+    origin, right, up, forward = (np.array(v) for v in CameraFrame.of(scene.camera))
     to_camera = np.stack([right, up, forward])
     planes = _frustum_planes(tan_half_w, tan_half_h)
     lo, hi = math.inf, -math.inf

@@ -38,7 +38,7 @@ global                        ``assumed_gamma 1.0`` (linear colours),
 
 Camera. World coordinates are POV-Ray's own (left-handed, +y up), so positions
 copy straight over. The camera is written as explicit vectors, the native
-camera's frame (:func:`lenscompare.cameras.common.camera_frame`): ``location`` =
+camera's frame (:class:`lenscompare.cameras.CameraFrame`): ``location`` =
 ``camera.position``, ``direction`` = the unit view direction, ``right`` and
 ``up`` = the frame's right and up scaled to the film over the film distance,
 film_w / d' and film_h / d', with d' = f d / (d - f) of the thin lens focused at
@@ -63,8 +63,10 @@ aims ``direction`` 1/32 px right of and below the axis to cancel it
 |direction| so the focal plane stays at the focus distance. The pinhole
 (anti-aliasing, no focal blur) has no such bias and no such correction.
 
-Lengths: scene lengths are metres; the camera's are millimetres. This module
-converts f / N (mm) to metres once, in :func:`pov_camera`.
+Lengths: scene lengths are metres; the camera's are millimetres. Everything
+comes from the camera value the native render uses
+(:func:`lenscompare.cameras.camera_for`); f / N goes from mm to metres once, in
+:func:`pov_camera`.
 """
 
 from __future__ import annotations
@@ -74,9 +76,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..cameras.common import camera_frame, check_focus_reachable, focal_length_mm, require
+from ..cameras import CameraModel, camera_for
 from ..errors import InputError
-from ..optics import aperture_diameter_mm, focus_film_distance_mm
+from ..units import m_from_mm
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
 
 __all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
@@ -115,6 +117,8 @@ class PovCamera:
     focal_point : tuple of float or None
         Point on the view axis whose distance from ``location`` tells POV-Ray
         the focus distance, m (None for the pinhole).
+    camera : CameraModel
+        The camera value this was exported from (the native render's).
     """
 
     model: str
@@ -128,6 +132,7 @@ class PovCamera:
     aperture_diameter_mm: float | None = None
     pov_aperture_m: float | None = None
     focal_point: tuple[float, float, float] | None = None
+    camera: CameraModel | None = None
 
     def as_metadata(self) -> dict:
         info = {"focal_length_mm": self.focal_length_mm, "film_distance_mm": self.film_distance_mm,
@@ -170,28 +175,25 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
             raise InputError("--model", f"POV-Ray has no thick-lens / lens-system camera (model {model!r}); "
                              f"POV-Ray renders only {' and '.join(POVRAY_MODELS)}")
         raise InputError("--model", f"expected one of {', '.join(POVRAY_MODELS)}, got {model!r}")
-    camera = scene.camera
-    f_mm = focal_length_mm(scene, model)
-    check_focus_reachable(scene, f_mm)
-    d_prime_mm = focus_film_distance_mm(camera.focus_distance_m * 1000.0, f_mm)
-    film_w_mm, film_h_mm = camera.film_mm
-    angle_deg = math.degrees(2.0 * math.atan(film_w_mm / 2.0 / d_prime_mm))
-    origin, right, up, forward = (np.asarray(v) for v in camera_frame(camera))
-    right_v, up_v = right * (film_w_mm / d_prime_mm), up * (film_h_mm / d_prime_mm)
+    value = camera_for(scene, model)
+    f_mm, d_prime_mm = value.focal_length_mm, value.film_distance_mm
+    film = value.film
+    angle_deg = math.degrees(2.0 * math.atan(film.width_mm / 2.0 / d_prime_mm))
+    origin, right, up, forward = (np.asarray(v) for v in value.frame)
+    right_v, up_v = right * (film.width_mm / d_prime_mm), up * (film.height_mm / d_prime_mm)
     if model == "pinhole":
         return PovCamera(model, _tuple(origin), _tuple(forward), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
-                         angle_deg)
+                         angle_deg, camera=value)
 
-    n = require(scene, camera.f_number, "f_number", "thin")
-    aperture_mm = aperture_diameter_mm(f_mm, n)
+    aperture_mm = value.aperture_diameter_mm
     # Cancel the focal-blur film bias (samples 1/32 px left of and above centre): aim right and down.
     bias = FOCAL_BLUR_FILM_BIAS_PX
-    direction = forward + right_v * (bias / camera.width_px) - up_v * (bias / camera.height_px)
+    direction = forward + right_v * (bias / film.width_px) - up_v * (bias / film.height_px)
     # POV-Ray's focal plane lies at |focal_point - location| / |direction| along the axis.
-    focal_point = origin + forward * (camera.focus_distance_m * float(np.linalg.norm(direction)))
+    focal_point = origin + forward * (value.focus_distance_m * float(np.linalg.norm(direction)))
     return PovCamera(model, _tuple(origin), _tuple(direction), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
-                     angle_deg, aperture_diameter_mm=aperture_mm, pov_aperture_m=2.0 * aperture_mm / 1000.0,
-                     focal_point=_tuple(focal_point))
+                     angle_deg, aperture_diameter_mm=aperture_mm, pov_aperture_m=2.0 * m_from_mm(aperture_mm),
+                     focal_point=_tuple(focal_point), camera=value)
 
 
 def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None,

@@ -204,7 +204,8 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         "samples_per_second": samples / seconds if seconds > 0 else float("inf"),
         "threads": int(threads) if threads is not None else os.cpu_count(),
         "resolution": [width, height],
-        "camera": camera.as_metadata(),
+        "camera": camera.camera.to_json(),
+        "povray_camera": camera.as_metadata(),
         "renderer": _version_from_banner(result.stderr) or "POV-Ray",
         "command": shlex.join(command),
         "pixel_sampling": ((f"adaptive focal blur: blur_samples {min(blur_adaptive[0], spp)}, N, "
@@ -214,7 +215,7 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
                                 "jittered sub-pixel rays"),
         "lenscompare_version": __version__,
     }
-    return Image(pixels.astype("float32", copy=False), metadata)
+    return Image(pixels.astype("float32", copy=False), metadata, camera=camera.camera)
 
 
 def _clean_env(home: str) -> dict:

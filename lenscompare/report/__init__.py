@@ -10,23 +10,32 @@ import platform
 import time
 from pathlib import Path
 
-from .. import __version__
+import numpy as np
+import skimage
+
+from .. import __version__, measure
 from ..atomic import atomic_output
+from ..cost import CostSettings, run_cost_study, time_table_rows
 from ..errors import InputError
+from ..experiment import POVRAY_MODELS, ExperimentSettings, prepare_scene, render_models
+from ..figures import write_teaching_figures
+from ..lenses import load_prescription
+from ..plan import plan_scene
+from ..povray import povray_version
 from ..progress import progress_bar
 from ..scene import MODELS, Scene
-from . import measure, plots
+from . import plots
 from .html import render_page
-from .runs import POVRAY_MODELS, ReportSettings, prepare_scene, render_scene
+from .save import save_runs
 
-__all__ = ["build_report", "ReportSettings"]
+__all__ = ["build_report"]
 
 # Published Double Gauss values (../shared/data/lenses/README.md, optiland 0.6.3).
 DGAUSS_DISTORTION = [(10.0, -0.221), (20.0, -1.07)]
 DGAUSS_RELATIVE_ILLUMINATION = [(10.0, 0.70), (20.0, 0.29)]
 
 
-def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: ReportSettings | None = None, *,
+def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: ExperimentSettings | None = None, *,
                  progress: bool | None = None) -> dict:
     """Render, measure and write the report; return the results dictionary.
 
@@ -36,10 +45,10 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Repo
     out_dir : path
         Created if missing; ``index.html``, ``results.json``, ``renders/`` and
         ``plots/`` are written into it (each file atomically).
-    settings : ReportSettings, optional
+    settings : ExperimentSettings, optional
         Lens, quick mode, threads, whether to run POV-Ray.
     """
-    settings = settings or ReportSettings()
+    settings = settings or ExperimentSettings()
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputError("-o", f"{str(out)!r} exists and is not a folder")
@@ -55,9 +64,10 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Repo
     with progress_bar(renders_per_scene * len(scenes), description="report", unit="render",
                       enabled=progress) as bar:
         for scene, notes in prepared:
-            runs, render_notes = render_scene(scene, out, settings, progress=bar)
-            results["scenes"][scene.name] = _measure_scene(scene, runs, out, notes + render_notes)
-            results["renders"].extend(r.summary() for r in runs)
+            runs, render_notes = render_models(scene, settings, progress=bar)
+            summaries = save_runs(runs, out)
+            results["scenes"][scene.name] = _measure_scene(scene, runs, summaries, out, notes + render_notes)
+            results["renders"].extend(summaries)
 
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
     results["cost"] = _cost_section(scenes, out, settings)
@@ -71,12 +81,12 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Repo
     return results
 
 
-def _measure_scene(scene: Scene, runs, out: Path, notes: list[str]) -> dict:
+def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: list[str]) -> dict:
     by_label = {r.label: r for r in runs}
     entry = {"description": scene.description, "notes": notes, "measure": list(scene.measure),
-             "renders": [{**r.summary(), "seconds": r.seconds} for r in runs]}
+             "renders": summaries}
     entry["plan"] = _plan_against_measured(scene, by_label)
-    lens_is_dgauss = scene.camera.lens == "dgauss.50mm"
+    lens_is_dgauss = scene.camera.lens.sha256 == load_prescription("dgauss.50mm").sha256
     if "blur_disks" in scene.measure:
         entry["blur_disks"] = measure.measure_blur_disks(scene, runs)
         entry["blur_disks"]["plot"] = "plots/" + plots.plot_blur(
@@ -102,8 +112,6 @@ def _measure_scene(scene: Scene, runs, out: Path, notes: list[str]) -> dict:
 
 def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
     """The planner's predictions for this scene beside what the renders show."""
-    from ..plan import plan_scene
-
     plan = plan_scene(scene, measure_costs=False).to_json()
     seconds = {label: run.seconds for label, run in by_label.items()}
     plan["render_seconds"] = {m: seconds.get(m) for m in MODELS}
@@ -112,10 +120,8 @@ def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
     return plan
 
 
-def _cost_section(scenes, out: Path, settings: ReportSettings) -> dict | None:
+def _cost_section(scenes, out: Path, settings: ExperimentSettings) -> dict | None:
     """A small cost study on the showcase scene (or the first scene)."""
-    from ..cost import CostSettings, run_cost_study, time_table_rows
-
     scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
     if scene is None:
         return None
@@ -127,11 +133,7 @@ def _cost_section(scenes, out: Path, settings: ReportSettings) -> dict | None:
             "time_to_1_percent": [list(row) for row in time_table_rows(results)]}
 
 
-def _teaching_figures(out: Path, settings: ReportSettings, notes: list[str]) -> dict:
-    try:
-        from ..figures import write_teaching_figures
-    except ImportError:
-        return {}
+def _teaching_figures(out: Path, settings: ExperimentSettings, notes: list[str]) -> dict:
     try:
         files = write_teaching_figures(out / "figures", lens=settings.lens)
     except Exception as error:  # a figure must not sink the report; say so in it
@@ -141,31 +143,21 @@ def _teaching_figures(out: Path, settings: ReportSettings, notes: list[str]) -> 
 
 
 def _provenance(scenes, prepared, settings) -> dict:
-    import numpy
-    import skimage
-
-    from ..lenses import load_prescription
-
     info = {
         "created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "lenscompare": __version__, "python": platform.python_version(), "numpy": numpy.__version__,
+        "lenscompare": __version__, "python": platform.python_version(), "numpy": np.__version__,
         "scikit-image": skimage.__version__, "machine": platform.machine(), "processor": platform.processor(),
         "cpu_count": os.cpu_count(), "threads": settings.threads or os.cpu_count(),
         "scenes": {s.name: {"source": s.source, "spp": p.render.spp, "sampler": p.render.sampler,
-                            "seed": p.render.seed, "resolution": list(p.camera.resolution), "lens": p.camera.lens,
-                            "f_number": p.camera.f_number}
+                            "seed": p.render.seed, "resolution": list(p.camera.resolution),
+                            "lens": p.camera.lens.name, "f_number": p.camera.f_number}
                    for s, (p, _) in zip(scenes, prepared)},
+        # The prescriptions the renders used, as loaded with their scenes (never re-read).
+        "lenses": {p.camera.lens.name: {"sha256": p.camera.lens.sha256, "source": p.camera.lens.source}
+                   for p, _ in prepared},
     }
-    lens_names = {p.camera.lens for p, _ in prepared}
-    info["lenses"] = {}
-    for name in sorted(lens_names):
-        prescription = load_prescription(name) if "/" not in name else None
-        if prescription:
-            info["lenses"][name] = {"sha256": prescription.sha256, "source": prescription.source}
     if settings.povray:
         try:
-            from ..povray import povray_version
-
             info["povray"] = povray_version()
         except Exception as error:  # noqa: BLE001 - recorded, not fatal
             info["povray"] = f"unavailable ({error})"
@@ -173,8 +165,6 @@ def _provenance(scenes, prepared, settings) -> dict:
 
 
 def _json_default(value):
-    import numpy as np
-
     if isinstance(value, (np.floating, np.integer)):
         return value.item()
     if isinstance(value, np.ndarray):

@@ -16,7 +16,7 @@ COLOURS = {"pinhole": "#7f7f7f", "thin": "#1f77b4", "thick": "#2ca02c", "lens": 
 
 
 def _figure(width=6.4, height=4.0):
-    import matplotlib
+    import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -1,6 +1,11 @@
-"""What the report measures on each scene, per model: blur disks against
+"""What a scene's images are measured for, per run: blur disks against
 equation 5, distortion from a dot grid, relative illumination from a flat
-field, and image similarity between models and against POV-Ray."""
+field, and image similarity. The report and the checks both use these.
+
+Each run's image carries the camera value it was rendered through
+(``image.camera``): focal length, film distance, aperture and pixel pitch come
+from there, never from a default.
+"""
 
 from __future__ import annotations
 
@@ -8,8 +13,8 @@ import math
 
 import numpy as np
 
-from ..cameras.common import camera_frame
-from ..metrics import (
+from .cameras import CameraModel
+from .metrics import (
     ciede2000,
     distortion_percent,
     dot_centroids,
@@ -24,17 +29,18 @@ from ..metrics import (
     rmse,
     ssim,
 )
-from ..optics import circle_of_confusion_mm
-from ..scene import EmissiveMaterial, Scene, Sphere
+from .optics import circle_of_confusion_mm
+from .scene import EmissiveMaterial, Scene, Sphere
+from .units import mm_from_m
 
 __all__ = ["measure_blur_disks", "measure_distortion", "measure_vignetting", "compare_images"]
 
 
-def _camera_points(scene: Scene, points):
-    """World points -> camera-space (x right, y up, z along the view), metres."""
-    origin, right, up, forward = (np.array(v) for v in camera_frame(scene.camera))
-    p = np.asarray(points, dtype=float) - origin
-    return np.stack([p @ right, p @ up, p @ forward], axis=-1)
+def _camera_of(run) -> CameraModel:
+    camera = run.image.camera
+    if camera is None:
+        raise ValueError(f"run {run.label!r}: its image carries no camera value to measure against")
+    return camera
 
 
 def _emissive_spheres(scene: Scene) -> list[Sphere]:
@@ -42,42 +48,23 @@ def _emissive_spheres(scene: Scene) -> list[Sphere]:
             and isinstance(scene.materials[o.material], EmissiveMaterial)]
 
 
-def _projection_distance_mm(info: dict) -> float:
-    """Film distance that sets the image scale: from the lens (pinhole, thin,
-    thick) or from the rear principal plane (lens system)."""
-    return info.get("film_distance_from_rear_principal_plane_mm", info.get("film_distance_mm", 50.0))
-
-
-def _pitch_mm(scene: Scene) -> float:
-    return scene.camera.film_mm[0] / scene.camera.width_px
-
-
-def _project_px(scene: Scene, camera_xyz, film_distance_mm: float) -> np.ndarray:
-    """Ideal (pinhole) raster position of camera-space points for a film distance."""
-    w, h = scene.camera.resolution
-    film_w, film_h = scene.camera.film_mm
-    x, y, z = camera_xyz[..., 0], camera_xyz[..., 1], camera_xyz[..., 2]
-    return np.stack([(film_distance_mm * x / z / film_w + 0.5) * w, (0.5 - film_distance_mm * y / z / film_h) * h],
-                    axis=-1)
-
-
 def measure_blur_disks(scene: Scene, runs) -> dict:
     """Blur-disk diameter of every emissive sphere, per render, against eq. 5."""
     spheres = _emissive_spheres(scene)
-    xyz = _camera_points(scene, [s.center for s in spheres])
-    pitch = _pitch_mm(scene)
-    result = {"depth_m": xyz[:, 2].tolist(), "renders": {}}
+    result = {"depth_m": [], "renders": {}}
     for run in runs:
-        info = run.image.metadata.get("camera", {})
-        f_mm, n = info.get("focal_length_mm"), info.get("f_number")
-        aperture_mm = f_mm / n if n else 0.0  # the pinhole: no aperture, no blur
-        film_mm = _projection_distance_mm(info)
-        expected_px = [circle_of_confusion_mm(z * 1000.0, focus_distance_mm=scene.camera.focus_distance_m * 1000.0,
-                                              focal_length_mm=f_mm, aperture_diameter_mm=aperture_mm) / pitch
+        camera = _camera_of(run)
+        xyz = camera.frame.camera_from_world([s.center for s in spheres])
+        result["depth_m"] = xyz[:, 2].tolist()
+        pitch, film_mm = camera.pixel_pitch_mm, camera.film_distance_mm
+        # The pinhole has no aperture (diameter 0): no blur.
+        expected_px = [circle_of_confusion_mm(mm_from_m(z), focus_distance_mm=camera.focus_distance_mm,
+                                              focal_length_mm=camera.focal_length_mm,
+                                              aperture_diameter_mm=camera.aperture_diameter_mm) / pitch
                        for z in xyz[:, 2]]
         # Centroids found in the image, paired with where each sphere projects.
         found = find_point_sources(run.image.pixels)
-        projected = _project_px(scene, xyz, film_mm)
+        projected = camera.project_px(xyz)
         rows = []
         for sphere, (x, y, z), proj, expected in zip(spheres, xyz, projected, expected_px):
             if not found:
@@ -101,17 +88,17 @@ def measure_distortion(scene: Scene, runs) -> dict:
     """Radial distortion of a dot grid, per render, against the ideal projection
     whose scale is fitted on the dots within 6 degrees of the axis."""
     spheres = _emissive_spheres(scene)
-    xyz = _camera_points(scene, [s.center for s in spheres])
-    tan_xy = np.stack([xyz[:, 0] / xyz[:, 2], xyz[:, 1] / xyz[:, 2]], axis=-1)
-    field_deg = np.degrees(np.arctan(np.hypot(tan_xy[:, 0], tan_xy[:, 1])))
     w, h = scene.camera.resolution
     centre = np.array([w / 2.0, h / 2.0])
-    direction = tan_xy * [1.0, -1.0]  # raster y grows downward
     result = {"renders": {}}
     for run in runs:
+        camera = _camera_of(run)
+        xyz = camera.frame.camera_from_world([s.center for s in spheres])
+        tan_xy = np.stack([xyz[:, 0] / xyz[:, 2], xyz[:, 1] / xyz[:, 2]], axis=-1)
+        field_deg = np.degrees(np.arctan(np.hypot(tan_xy[:, 0], tan_xy[:, 1])))
+        direction = tan_xy * [1.0, -1.0]  # raster y grows downward
         measured = dot_centroids(run.image.pixels)
-        info = run.image.metadata.get("camera", {})
-        guess = centre + direction * _projection_distance_mm(info) / _pitch_mm(scene)
+        guess = centre + direction * camera.film_distance_mm / camera.pixel_pitch_mm
         i_measured, i_ideal = match_points(measured, guess, max_distance_px=0.03 * w)
         m, d, fields = measured[i_measured], direction[i_ideal], field_deg[i_ideal]
         # Dots the frame cuts have biased centroids: keep those well inside.
@@ -138,11 +125,10 @@ def measure_distortion(scene: Scene, runs) -> dict:
 def measure_vignetting(scene: Scene, runs) -> dict:
     """Relative illumination against field angle from a flat-field render."""
     result = {"renders": {}}
-    pitch = _pitch_mm(scene)
     for run in runs:
+        camera = _camera_of(run)
         radius_px, ri = relative_illumination(run.image.pixels, n_bins=24)
-        f_mm = _projection_distance_mm(run.image.metadata.get("camera", {}))
-        field = np.degrees(np.arctan(np.asarray(radius_px) * pitch / f_mm))
+        field = np.degrees(np.arctan(np.asarray(radius_px) * camera.pixel_pitch_mm / camera.film_distance_mm))
         at = {}
         for angle in (10.0, 20.0):
             if field.max() >= angle:

@@ -1,0 +1,114 @@
+"""What every camera model shares, as one frozen value built once from a scene.
+
+A camera value holds the derived geometry (focal length, film distance,
+aperture, pixel pitch, frame) that the native tracer, the POV-Ray exporter,
+the planner and the measurements all read, so none of them derives it again.
+Lengths in mm unless the name says ``_m``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..errors import InputError
+from ..lenses import paraxial_data
+from ..units import mm_from_m
+from .frame import CameraFrame, Film
+
+__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class CameraModel:
+    """Geometry shared by every model.
+
+    Attributes
+    ----------
+    frame : CameraFrame
+        World position (the entrance-pupil centre) and orientation.
+    film : Film
+        Film size in mm and pixels.
+    focus_distance_m : float
+        Plane of sharp focus, from ``frame.origin`` along the view axis, m.
+    focal_length_mm : float
+        Focal length (the lens system's effective focal length).
+    film_distance_mm : float
+        From the rear principal plane (the thin lens itself; H' of a thick
+        lens or a lens system) to the film: it sets the image scale.
+    f_number : float or None
+        Working aperture; None for the pinhole.
+    aperture_diameter_mm : float
+        Entrance-pupil diameter f / N; 0 for the pinhole.
+    """
+
+    model: ClassVar[str]
+    frame: CameraFrame
+    film: Film
+    focus_distance_m: float
+    focal_length_mm: float
+    film_distance_mm: float
+    f_number: float | None = None
+    aperture_diameter_mm: float = 0.0
+
+    @property
+    def focus_distance_mm(self) -> float:
+        return mm_from_m(self.focus_distance_m)
+
+    @property
+    def pixel_pitch_mm(self) -> float:
+        return self.film.pixel_pitch_mm
+
+    @property
+    def screen_half_extent(self) -> tuple[float, float]:
+        """Tangents of the half fields: half film width and height over the film distance."""
+        return (self.film.width_mm / 2.0 / self.film_distance_mm, self.film.height_mm / 2.0 / self.film_distance_mm)
+
+    @property
+    def corner_field_deg(self) -> float:
+        """Field angle of the film corner (ideal projection), degrees."""
+        return math.degrees(math.atan(self.film.half_diagonal_mm / self.film_distance_mm))
+
+    def project_px(self, camera_xyz_m) -> np.ndarray:
+        """Ideal (pinhole) raster position of camera-space points, (..., 2) px, y down."""
+        xyz = np.asarray(camera_xyz_m, dtype=float)
+        x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
+        w, h = self.film.resolution
+        return np.stack([(self.film_distance_mm * x / z / self.film.width_mm + 0.5) * w,
+                         (0.5 - self.film_distance_mm * y / z / self.film.height_mm) * h], axis=-1)
+
+    def to_json(self) -> dict:
+        """The derived quantities, for image metadata and reports."""
+        info = {"model": self.model, "focal_length_mm": self.focal_length_mm,
+                "film_distance_mm": self.film_distance_mm, "focus_distance_m": self.focus_distance_m,
+                "pixel_pitch_mm": self.pixel_pitch_mm}
+        if self.f_number is not None:
+            info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm)
+        return info
+
+
+def require(scene, value, key: str, model: str):
+    """``value``, or an InputError naming the camera key the model needs."""
+    if value is None:
+        raise InputError(scene.source, f"required for the {model} model", key=f"camera.{key}")
+    return value
+
+
+def scene_focal_length_mm(scene, model: str) -> float:
+    """The focal length a pinhole/thin/thick camera uses, mm: the effective
+    focal length of ``camera.lens`` when the scene names one (so the idealised
+    models share the real lens), else ``camera.focal_length_mm``."""
+    lens = scene.camera.lens
+    if lens is not None:
+        return paraxial_data(lens).effective_focal_length_mm
+    return require(scene, scene.camera.focal_length_mm, "focal_length_mm", model)
+
+
+def check_focus_reachable(scene, focal_length_mm: float) -> None:
+    """A thin lens focuses only beyond its focal length (eq. 4)."""
+    if not mm_from_m(scene.camera.focus_distance_m) > focal_length_mm:
+        raise InputError(scene.source, f"{scene.camera.focus_distance_m:g} m is not beyond the focal length "
+                         f"{focal_length_mm:g} mm", key="camera.focus_distance")

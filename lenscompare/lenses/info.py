@@ -1,0 +1,59 @@
+"""A lens's first-order data as one flat record: what ``lenscompare lens info``
+prints and what the ``lens_paraxial`` check compares.
+
+Values are for an object at infinity in n_d light, wide open; axial positions
+are mm from the FIRST vertex, positive toward the film (DESIGN.md).
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from .focus import closest_focus_distance_m
+from .paraxial import paraxial_data
+from .prescription import Prescription
+
+__all__ = ["LENS_INFO_FIELDS", "lens_info"]
+
+# (JSON key, label for the table, unit) in the order both outputs list them.
+LENS_INFO_FIELDS = (
+    ("effective_focal_length_mm", "effective focal length", "mm"),
+    ("back_focal_length_mm", "back focal length (last vertex to F')", "mm"),
+    ("front_focal_length_mm", "front focal length (F to first vertex)", "mm"),
+    ("front_focal_point_mm", "front focal point F", "mm"),
+    ("rear_focal_point_mm", "rear focal point F'", "mm"),
+    ("front_principal_plane_mm", "front principal plane H", "mm"),
+    ("rear_principal_plane_mm", "rear principal plane H'", "mm"),
+    ("entrance_pupil_position_mm", "entrance pupil position", "mm"),
+    ("entrance_pupil_diameter_mm", "entrance pupil diameter", "mm"),
+    ("exit_pupil_position_mm", "exit pupil position", "mm"),
+    ("exit_pupil_diameter_mm", "exit pupil diameter", "mm"),
+    ("f_number", "paraxial f-number", ""),
+    ("total_track_mm", "total track (first to last vertex)", "mm"),
+    ("closest_focus_m", "closest focus (beyond, from entrance pupil)", "m"),
+)
+
+
+def lens_info(prescription: Prescription) -> dict:
+    """First-order data of a lens as a flat dict (the ``--json`` object).
+
+    Keys: ``name``, ``source``, ``sha256``, ``surfaces``, ``stop_surface``
+    (1-based row among the surfaces), the keys of
+    :class:`~lenscompare.lenses.paraxial.ParaxialData` ending in ``_mm`` and
+    ``f_number``, and ``closest_focus_m`` (None when the lens forms no real
+    image).  Pupils at infinity read ``inf`` here and ``null`` in JSON.
+    """
+    data = paraxial_data(prescription)
+    try:
+        closest_m = closest_focus_distance_m(prescription)
+    except InputError:  # a lens that forms no real image still has first-order data
+        closest_m = None
+    info = {
+        "name": prescription.name,
+        "source": prescription.source,
+        "sha256": prescription.sha256,
+        "surfaces": len(prescription.surfaces),
+        "stop_surface": data.stop_index + 1,
+    }
+    for key, _, _ in LENS_INFO_FIELDS:
+        info[key] = closest_m if key == "closest_focus_m" else getattr(data, key)
+    return info
