@@ -5,6 +5,8 @@ from __future__ import annotations
 import os
 import sys
 
+from tqdm import tqdm
+
 __all__ = ["progress_bar", "progress_enabled"]
 
 
@@ -15,8 +17,6 @@ def progress_enabled() -> bool:
 
 def progress_bar(total: int, *, description: str, unit: str = "row", enabled: bool | None = None):
     """A tqdm bar on stderr (disabled unless :func:`progress_enabled`)."""
-    from tqdm import tqdm
-
     if enabled is None:
         enabled = progress_enabled()
     return tqdm(total=total, desc=description, unit=unit, disable=not enabled, leave=False, file=sys.stderr)

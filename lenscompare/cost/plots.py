@@ -17,7 +17,7 @@ def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
     import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after use("Agg"): no display here
 
     models = list(study["models"])
     fig, axes = plt.subplots(1, len(models), figsize=(3.6 * len(models), 3.6), dpi=100, sharey=True)

@@ -19,7 +19,7 @@ def _figure(width=6.4, height=4.0):
     import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after use("Agg"): no display here
 
     fig, ax = plt.subplots(figsize=(width, height), dpi=110)
     ax.grid(True, alpha=0.3)
