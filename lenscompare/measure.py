@@ -13,7 +13,9 @@ import math
 
 import numpy as np
 
-from .cameras import CameraModel
+from .cameras import CameraModel, LensSystemCamera
+from .lenses import relative_illumination as relative_illumination_traced
+from .lenses import traced_spot_diameter_mm
 from .metrics import (
     ciede2000,
     distortion_percent,
@@ -49,92 +51,136 @@ def _emissive_spheres(scene: Scene) -> list[Sphere]:
 
 
 def measure_blur_disks(scene: Scene, runs) -> dict:
-    """Blur-disk diameter of every emissive sphere, per render, against eq. 5."""
+    """Blur-disk diameter of every emissive sphere, per render.
+
+    Each row holds the measured second-moment diameter beside two expectations:
+    equation 5 (``eq5_px``; the measurement's departure from it is
+    ``departure_from_eq5_percent``) and the expectation for the model that
+    rendered it (``expected_px``, ``error_percent``): equation 5 again for the
+    pinhole, thin and thick lens, and a real-ray spot traced through the
+    prescription at the same depth and field with the same second-moment
+    definition for the lens system (:func:`lenscompare.lenses.traced_spot_diameter_mm`),
+    whose blur departs from equation 5 through pupil vignetting and aberrations.
+    """
     spheres = _emissive_spheres(scene)
     result = {"depth_m": [], "renders": {}}
     for run in runs:
         camera = _camera_of(run)
         xyz = camera.frame.camera_from_world([s.center for s in spheres])
         result["depth_m"] = xyz[:, 2].tolist()
-        pitch, film_mm = camera.pixel_pitch_mm, camera.film_distance_mm
-        # The pinhole has no aperture (diameter 0): no blur.
-        expected_px = [circle_of_confusion_mm(mm_from_m(z), focus_distance_mm=camera.focus_distance_mm,
-                                              focal_length_mm=camera.focal_length_mm,
-                                              aperture_diameter_mm=camera.aperture_diameter_mm) / pitch
-                       for z in xyz[:, 2]]
+        pitch = camera.pixel_pitch_mm
         # Centroids found in the image, paired with where each sphere projects.
         found = find_point_sources(run.image.pixels)
         projected = camera.project_px(xyz)
         rows = []
-        for sphere, (x, y, z), proj, expected in zip(spheres, xyz, projected, expected_px):
+        for sphere, (x, y, z), proj in zip(spheres, xyz, projected):
             if not found:
                 break
             source = min(found, key=lambda s: math.dist(s.centroid_px, proj))
             if math.dist(source.centroid_px, proj) > 0.05 * scene.camera.width_px:
                 rows.append(None)
                 continue
-            sphere_px = 2.0 * sphere.radius * film_mm / z / pitch
-            disk = measure_blur_disk(run.image.pixels, center_px=source.centroid_px,
-                                     window_radius_px=expected + sphere_px + 4, source_diameter_px=sphere_px)
+            # The pinhole has no aperture (diameter 0): no blur.
+            eq5_px = circle_of_confusion_mm(mm_from_m(z), focus_distance_mm=camera.focus_distance_mm,
+                                            focal_length_mm=camera.focal_length_mm,
+                                            aperture_diameter_mm=camera.aperture_diameter_mm) / pitch
+            sphere_px = 2.0 * sphere.radius * camera.image_scale_mm / z / pitch
+            window_px = eq5_px + sphere_px + 4
+            expected_px, expected_from = eq5_px, "equation 5"
+            if isinstance(camera, LensSystemCamera):
+                # The same window on the traced spot as on the image's.
+                expected_px = traced_spot_diameter_mm(
+                    camera.prescription, height_mm=mm_from_m(math.hypot(x, y)), distance_mm=mm_from_m(z),
+                    film_z_mm=camera.film_z_mm, window_radius_mm=window_px * pitch) / pitch
+                expected_from = f"real rays through {camera.prescription.name}"
+            disk = measure_blur_disk(run.image.pixels, center_px=source.centroid_px, window_radius_px=window_px,
+                                     source_diameter_px=sphere_px)
             d = disk.second_moment_diameter_px
-            rows.append({"depth_m": z, "expected_px": expected, "measured_px": d,
-                         "encircled_energy_px": disk.encircled_energy_diameter_px,
-                         "error_percent": 100.0 * (d / expected - 1.0) if expected > 1.0 else None})
+            rows.append({"depth_m": z, "field_deg": math.degrees(math.atan(math.hypot(x, y) / z)),
+                         "measured_px": d, "encircled_energy_px": disk.encircled_energy_diameter_px,
+                         "eq5_px": eq5_px, "departure_from_eq5_percent": _percent(d, eq5_px),
+                         "expected_px": expected_px, "expected_from": expected_from,
+                         "error_percent": _percent(d, expected_px)})
         result["renders"][run.label] = rows
     return result
 
 
+def _percent(measured: float, expected: float) -> float | None:
+    """Relative difference in percent; None where the expectation is too small to divide by."""
+    return 100.0 * (measured / expected - 1.0) if expected > 1.0 else None
+
+
+DISTORTION_DEFINITION = ("dot centroid against its paraxial image point (the paraxial chief ray through the "
+                         "entrance-pupil centre on the rendered film: no fitted scale); at the scene's f-number the "
+                         "centroid also holds any coma")
+
+
 def measure_distortion(scene: Scene, runs) -> dict:
-    """Radial distortion of a dot grid, per render, against the ideal projection
-    whose scale is fitted on the dots within 6 degrees of the axis."""
+    """Radial distortion of a dot grid, per render, against the ideal projection.
+
+    The ideal position of each dot is its paraxial image point,
+    ``camera.image_scale_mm * tan(theta)`` from the centre; nothing is fitted,
+    so distortion near the axis is not absorbed into the scale (see
+    :data:`DISTORTION_DEFINITION`).
+    """
     spheres = _emissive_spheres(scene)
     w, h = scene.camera.resolution
     centre = np.array([w / 2.0, h / 2.0])
-    result = {"renders": {}}
+    result = {"definition": DISTORTION_DEFINITION, "renders": {}}
     for run in runs:
         camera = _camera_of(run)
         xyz = camera.frame.camera_from_world([s.center for s in spheres])
         tan_xy = np.stack([xyz[:, 0] / xyz[:, 2], xyz[:, 1] / xyz[:, 2]], axis=-1)
         field_deg = np.degrees(np.arctan(np.hypot(tan_xy[:, 0], tan_xy[:, 1])))
         direction = tan_xy * [1.0, -1.0]  # raster y grows downward
+        ideal_all = centre + direction * camera.image_scale_mm / camera.pixel_pitch_mm
         measured = dot_centroids(run.image.pixels)
-        guess = centre + direction * camera.film_distance_mm / camera.pixel_pitch_mm
-        i_measured, i_ideal = match_points(measured, guess, max_distance_px=0.03 * w)
-        m, d, fields = measured[i_measured], direction[i_ideal], field_deg[i_ideal]
+        i_measured, i_ideal = match_points(measured, ideal_all, max_distance_px=0.03 * w)
+        m, ideal, fields = measured[i_measured], ideal_all[i_ideal], field_deg[i_ideal]
         # Dots the frame cuts have biased centroids: keep those well inside.
         margin = 0.02 * w
         inside = np.all((m > margin) & (m < np.array([w, h]) - margin), axis=1)
-        m, d, fields = m[inside], d[inside], fields[inside]
-        inner = fields < 6.0
-        if inner.sum() < 3:
+        m, ideal, fields = m[inside], ideal[inside], fields[inside]
+        off_axis = fields > 4.0  # near the axis a centroid error of 0.05 px is a large percentage
+        if off_axis.sum() < 3:
             result["renders"][run.label] = None
             continue
-        scale = float(np.sum((m[inner] - centre) * d[inner]) / np.sum(d[inner] * d[inner]))
-        ideal = centre + d * scale
-        off_axis = fields > 4.0  # near the axis a centroid error of 0.05 px is a large percentage
         radial = distortion_percent(m[off_axis], ideal[off_axis], center_px=centre)
         fit = fit_radial_distortion(m, ideal, center_px=centre, normalize_radius_px=float(np.hypot(*centre)))
         result["renders"][run.label] = {
             "field_deg": fields[off_axis].tolist(), "distortion_percent": np.asarray(radial.percent).tolist(),
             "k1": fit.k1, "k2": fit.k2, "dots_matched": int(len(m)), "dots_in_scene": int(len(spheres)),
             "max_abs_distortion_percent": float(np.nanmax(np.abs(radial.percent))),
+            "f_number": camera.f_number,
         }
     return result
 
 
 def measure_vignetting(scene: Scene, runs) -> dict:
-    """Relative illumination against field angle from a flat-field render."""
+    """Relative illumination against field angle from a flat-field render.
+
+    For the lens system, ``traced`` holds the independent expectation at the
+    same f-number: :func:`lenscompare.lenses.relative_illumination` (real rays,
+    pupil area and cos factors) at a few field angles.
+    """
     result = {"renders": {}}
     for run in runs:
         camera = _camera_of(run)
         radius_px, ri = relative_illumination(run.image.pixels, n_bins=24)
-        field = np.degrees(np.arctan(np.asarray(radius_px) * camera.pixel_pitch_mm / camera.film_distance_mm))
+        field = np.degrees(np.arctan(np.asarray(radius_px) * camera.pixel_pitch_mm / camera.image_scale_mm))
         at = {}
         for angle in (10.0, 20.0):
             if field.max() >= angle:
                 at[f"{angle:g}_deg"] = float(np.interp(angle, field, ri))
-        result["renders"][run.label] = {"field_deg": field.tolist(), "relative_illumination": np.asarray(ri).tolist(),
-                                        "at": at}
+        entry = {"field_deg": field.tolist(), "relative_illumination": np.asarray(ri).tolist(), "at": at,
+                 "f_number": camera.f_number}
+        if isinstance(camera, LensSystemCamera):
+            angles = [a for a in (5.0, 10.0, 15.0, 20.0, 25.0) if a <= field.max()]
+            entry["traced"] = {"field_deg": angles,
+                               "relative_illumination": [relative_illumination_traced(camera.prescription, a,
+                                                                                       samples_across=160)
+                                                         for a in angles]}
+        result["renders"][run.label] = entry
     return result
 
 

@@ -63,6 +63,13 @@ class CameraModel:
         return self.film.pixel_pitch_mm
 
     @property
+    def image_scale_mm(self) -> float:
+        """Film height per unit tangent of the field angle seen from
+        ``frame.origin``: the ideal (paraxial) projection. The film distance
+        for the ideal models; the lens system overrides it."""
+        return self.film_distance_mm
+
+    @property
     def screen_half_extent(self) -> tuple[float, float]:
         """Tangents of the half fields: half film width and height over the film distance."""
         return (self.film.width_mm / 2.0 / self.film_distance_mm, self.film.height_mm / 2.0 / self.film_distance_mm)
@@ -70,20 +77,22 @@ class CameraModel:
     @property
     def corner_field_deg(self) -> float:
         """Field angle of the film corner (ideal projection), degrees."""
-        return math.degrees(math.atan(self.film.half_diagonal_mm / self.film_distance_mm))
+        return math.degrees(math.atan(self.film.half_diagonal_mm / self.image_scale_mm))
 
     def project_px(self, camera_xyz_m) -> np.ndarray:
         """Ideal (pinhole) raster position of camera-space points, (..., 2) px, y down."""
         xyz = np.asarray(camera_xyz_m, dtype=float)
         x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
         w, h = self.film.resolution
-        return np.stack([(self.film_distance_mm * x / z / self.film.width_mm + 0.5) * w,
-                         (0.5 - self.film_distance_mm * y / z / self.film.height_mm) * h], axis=-1)
+        scale = self.image_scale_mm
+        return np.stack([(scale * x / z / self.film.width_mm + 0.5) * w,
+                         (0.5 - scale * y / z / self.film.height_mm) * h], axis=-1)
 
     def to_json(self) -> dict:
         """The derived quantities, for image metadata and reports."""
         info = {"model": self.model, "focal_length_mm": self.focal_length_mm,
-                "film_distance_mm": self.film_distance_mm, "focus_distance_m": self.focus_distance_m,
+                "film_distance_mm": self.film_distance_mm, "image_scale_mm": self.image_scale_mm,
+                "focus_distance_m": self.focus_distance_m,
                 "pixel_pitch_mm": self.pixel_pitch_mm}
         if self.f_number is not None:
             info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm)

@@ -20,8 +20,16 @@ def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
     import matplotlib.pyplot as plt  # after use("Agg"): no display here
 
     models = list(study["models"])
-    fig, axes = plt.subplots(1, len(models), figsize=(3.6 * len(models), 3.6), dpi=100, sharey=True)
-    axes = list(axes) if len(models) > 1 else [axes]
+    # Two panels a row, 3.5 in each at 100 dpi: read at 100 % zoom on a 700 px column.
+    columns = min(2, len(models))
+    rows = -(-len(models) // columns)
+    plt.rcParams.update({"font.size": 10, "legend.fontsize": 9, "axes.titlesize": 11})
+    fig, axes = plt.subplots(rows, columns, figsize=(3.5 * columns, 3.2 * rows + 0.5), dpi=100, sharey=True,
+                             squeeze=False)
+    axes = list(axes.ravel())
+    for extra in axes[len(models):]:
+        extra.remove()
+    axes = axes[:len(models)]
     for ax, model in zip(axes, models):
         everything = []
         for sampler, series in study["models"][model].items():
@@ -41,10 +49,16 @@ def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
         ax.set_title(model)
         ax.set_xlabel("wall time (s)")
         ax.grid(True, which="both", alpha=0.2)
-    axes[0].set_ylabel("relative RMSE vs converged")
-    axes[-1].legend(fontsize=7)
+    for ax in axes[::columns]:
+        ax.set_ylabel("relative RMSE vs converged")
+    # One legend for every panel (POV-Ray appears only beside the thin lens).
+    handles = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=min(5, len(handles)), frameon=False)
     fig.suptitle(f"{scene_name}: error against time")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.07 if rows > 1 else 0.12, 1, 1))
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format="png")
     plt.close(fig)

@@ -20,8 +20,10 @@ from .analysis import (
     chief_ray_distortion_percent,
     chief_ray_film_height_mm,
     image_circle_radius_mm,
+    paraxial_image_scale_mm,
     real_f_number,
     relative_illumination,
+    traced_spot_diameter_mm,
 )
 from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
 from .paraxial import (
@@ -66,6 +68,8 @@ __all__ = [
     "chief_ray_distortion_percent",
     "chief_ray_film_height_mm",
     "image_circle_radius_mm",
+    "paraxial_image_scale_mm",
+    "traced_spot_diameter_mm",
     "real_f_number",
     "relative_illumination",
 ]

@@ -66,7 +66,8 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
         for scene, notes in prepared:
             runs, render_notes = render_models(scene, settings, progress=bar)
             summaries = save_runs(runs, out)
-            results["scenes"][scene.name] = _measure_scene(scene, runs, summaries, out, notes + render_notes)
+            results["scenes"][scene.name] = _measure_scene(scene, runs, summaries, out, notes + render_notes,
+                                                           settings)
             results["renders"].extend(summaries)
 
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
@@ -81,9 +82,16 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     return results
 
 
-def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: list[str]) -> dict:
+def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: list[str],
+                   settings: ExperimentSettings) -> dict:
     by_label = {r.label: r for r in runs}
+    camera = scene.camera
     entry = {"description": scene.description, "notes": notes, "measure": list(scene.measure),
+             # What was rendered (the description is the scene file's own and may name other settings).
+             "rendered": {"lens": camera.lens.name, "f_number": camera.f_number,
+                          "focus_distance_m": camera.focus_distance_m, "resolution": list(camera.resolution),
+                          "spp": scene.render.spp,
+                          "povray_spp": settings.povray_spp(scene) if settings.povray else None},
              "renders": summaries}
     entry["plan"] = _plan_against_measured(scene, by_label)
     lens_is_dgauss = scene.camera.lens.sha256 == load_prescription("dgauss.50mm").sha256

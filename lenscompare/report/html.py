@@ -28,9 +28,9 @@ table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.9em; }
 th, td { border: 1px solid #ddd; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f4f4f4; } td.l, th.l { text-align: left; }
 .grid { display: flex; flex-wrap: wrap; gap: 0.8em; }
-figure { margin: 0; } figure img { display: block; max-width: 280px; image-rendering: pixelated; border: 1px solid #ccc; }
+figure { margin: 0; } figure img { display: block; max-width: 360px; image-rendering: pixelated; border: 1px solid #ccc; }
 figcaption { font-size: 0.85em; text-align: center; }
-img.plot { max-width: 640px; } .note { color: #555; font-size: 0.9em; }
+img.plot { max-width: 100%; }  /* plots are drawn at the size they are read at */ .note { color: #555; font-size: 0.9em; }
 nav a { margin-right: 1em; }
 """
 
@@ -68,6 +68,19 @@ def _measured_effects(scene_entry) -> dict:
     return out
 
 
+def _traced_at(data: dict, angle: float):
+    traced = data.get("traced")
+    if not traced or angle not in traced["field_deg"]:
+        return None
+    return traced["relative_illumination"][traced["field_deg"].index(angle)]
+
+
+def _seconds_cell(seconds, extrapolated: bool) -> str:
+    if seconds is None:
+        return "not reached"
+    return f"{seconds:.3g} (extrapolated)" if extrapolated else f"{seconds:.3g}"
+
+
 def _section(key, body):
     title = dict(SECTIONS)[key]
     return f'<section id="{key}"><h2>{html.escape(title)}</h2>{body}</section>'
@@ -89,7 +102,12 @@ def render_page(results: dict) -> str:
 
     body = []
     for name, s in scenes.items():
-        body.append(f"<h3>{html.escape(name)}</h3><p class='note'>{html.escape(s['description'])}</p><div class='grid'>")
+        r = s["rendered"]
+        rendered = (f"Rendered through {r['lens']} at f/{r['f_number']:g}, focused at {r['focus_distance_m']:g} m, "
+                    f"{r['resolution'][0]}×{r['resolution'][1]} px, {r['spp']} spp"
+                    + (f" (POV-Ray {r['povray_spp']})" if r.get("povray_spp") else "") + ".")
+        body.append(f"<h3>{html.escape(name)}</h3><p class='note'>{html.escape(s['description'])}</p>"
+                    f"<p class='note'><strong>{html.escape(rendered)}</strong></p><div class='grid'>")
         for r in s["renders"]:
             label = r["model"] + (" · POV-Ray" if r["renderer"] == "povray" else "")
             body.append(f"<figure><img src='{html.escape(r['png'])}' alt='{html.escape(name)} {html.escape(label)}'>"
@@ -107,8 +125,16 @@ def render_page(results: dict) -> str:
         for label, entries in blur["renders"].items():
             for e in entries:
                 if e:
-                    rows.append([label, e["depth_m"], e["expected_px"], e["measured_px"], e["error_percent"]])
-        body.append(_table(["render", "depth (m)", "eq. 5 (px)", "measured (px)", "error (%)"], rows))
+                    rows.append([label, e["depth_m"], e["field_deg"], e["measured_px"], e["eq5_px"],
+                                 e["departure_from_eq5_percent"], e["expected_px"], e["expected_from"],
+                                 e["error_percent"]])
+        body.append("<p class='note'>Second-moment diameters (corrected for pixel footprint and source size). "
+                    "Departure from eq. 5 is what the model does to the blur; the error is against what that model "
+                    "should give: eq. 5 for the ideal models, a real-ray spot traced through the prescription at "
+                    "the same depth and field for the lens system (pupil vignetting and aberrations make its blur "
+                    "depart from eq. 5 off the axis).</p>")
+        body.append(_table(["render", "depth (m)", "field (°)", "measured (px)", "eq. 5 (px)",
+                            "departure from eq. 5 (%)", "expected (px)", "expected from", "error (%)"], rows))
     parts.append(_section("blur", "".join(body) or "<p>No blur-disk scene in this report.</p>"))
 
     body = []
@@ -117,9 +143,10 @@ def render_page(results: dict) -> str:
         if not d:
             continue
         body.append(f"<img class='plot' src='{html.escape(d['plot'])}' alt='distortion against field angle'>")
-        rows = [[label, v["max_abs_distortion_percent"], v["k1"], v["k2"], f"{v['dots_matched']}/{v['dots_in_scene']}"]
-                for label, v in d["renders"].items() if v]
-        body.append(_table(["render", "max |distortion| (%)", "k1", "k2", "dots matched"], rows))
+        body.append(f"<p class='note'>Distortion: {html.escape(d['definition'])}.</p>")
+        rows = [[label, v["f_number"], v["max_abs_distortion_percent"], v["k1"], v["k2"],
+                 f"{v['dots_matched']}/{v['dots_in_scene']}"] for label, v in d["renders"].items() if v]
+        body.append(_table(["render", "f-number", "max |distortion| (%)", "k1", "k2", "dots matched"], rows))
     parts.append(_section("distortion", "".join(body) or "<p>No dot-grid scene in this report.</p>"))
 
     body = []
@@ -128,8 +155,10 @@ def render_page(results: dict) -> str:
         if not v:
             continue
         body.append(f"<img class='plot' src='{html.escape(v['plot'])}' alt='relative illumination'>")
-        rows = [[label, data["at"].get("10_deg"), data["at"].get("20_deg")] for label, data in v["renders"].items()]
-        body.append(_table(["render", "RI at 10°", "RI at 20°"], rows))
+        rows = [[label, data["f_number"], data["at"].get("10_deg"), data["at"].get("20_deg"),
+                 _traced_at(data, 10.0), _traced_at(data, 20.0)] for label, data in v["renders"].items()]
+        body.append(_table(["render", "f-number", "RI at 10°", "RI at 20°", "real-ray trace at 10°",
+                            "real-ray trace at 20°"], rows))
     parts.append(_section("vignetting", "".join(body) or "<p>No flat-field scene in this report.</p>"))
 
     rows = [[name, model, c["ssim"], c["relative_rmse"], c["psnr_db"], c["ciede2000_mean"]]
@@ -153,8 +182,11 @@ def render_page(results: dict) -> str:
     if cost:
         body = ("<ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in cost["findings"]) + "</ul>"
                 + f"<img class='plot' src='{html.escape(cost['plot'])}' alt='error against time'>"
-                + _table(["scene", "model", "sampler", "seconds to 1 % RMSE", "extrapolated"],
-                         cost["time_to_1_percent"], 3)
+                + "<p class='note'>Seconds to 1 % relative RMSE against the converged image. A time marked "
+                  "<em>extrapolated</em> was not reached at this report's sample counts: it extends the last two "
+                  "renders' slope (run <code>lenscompare cost</code> without --quick to measure it).</p>"
+                + _table(["scene", "model", "sampler", "seconds to 1 % RMSE"],
+                         [[s, m, k, _seconds_cell(t, x)] for s, m, k, t, x in cost["time_to_1_percent"]], 3)
                 + f"<p><a href='{html.escape(cost['index'])}'>The whole study</a></p>")
     else:
         body = "<p>No cost study in this report.</p>"
