@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "lenscompare"
 
 # Lowest first. Units on one layer do not import each other.
 LAYERS = [
-    {"__init__", "errors", "units", "progress", "_native"},
+    {"__init__", "errors", "units", "progress", "_native", "reference_scenes"},
     {"atomic", "_schema"},
     {"optics", "metrics", "lenses"},
     {"scene", "adaptive"},

@@ -36,6 +36,26 @@ def test_image_matches_its_own_render(tmp_path):
     assert result.returncode == 0, result.stdout
 
 
+def test_a_short_scene_name_means_the_shipped_scene_unless_such_a_file_exists(tmp_path):
+    from lenscompare.checks import load_checks
+    from lenscompare.reference_scenes import find_scene, scenes_dir, shipped_scene_names
+
+    assert {"blur_disks", "dot_grid", "flat_field", "showcase"} <= set(shipped_scene_names())
+    # The source tree's reference_scenes/ is the packaged folder itself.
+    assert (REPO / "reference_scenes").resolve() == scenes_dir().resolve()
+    config = tmp_path / "checks.toml"
+    config.write_text('[[check]]\ntype = "blur_equation5"\nscene = "showcase"\n'
+                      '[[check]]\ntype = "blur_equation5"\nscene = "mine"\n'
+                      '[[check]]\ntype = "blur_equation5"\nscene = "showcase.toml"\n')
+    shipped, own, path = load_checks(config)
+    assert shipped.path("scene") == scenes_dir() / "showcase.toml"
+    assert own.path("scene") == tmp_path / "mine"  # neither a file nor shipped: reading it will say so
+    assert path.path("scene") == tmp_path / "showcase.toml"  # a .toml name is always a path
+    (tmp_path / "showcase").write_text("")
+    assert shipped.path("scene") == tmp_path / "showcase"  # a file of that name wins
+    assert find_scene("showcase", tmp_path / "elsewhere") == scenes_dir() / "showcase.toml"
+
+
 def test_bad_config_exits_2(tmp_path):
     config = tmp_path / "bad.toml"
     config.write_text('[[check]]\ntype = "blur_equation5"\nscene = "x.toml"\ntolerance = 3\n')

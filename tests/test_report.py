@@ -1,10 +1,12 @@
 """``lenscompare report``: a quick report renders, measures and writes a page
 whose every image loads in a real browser (headless Chromium)."""
 
+import copy
 import json
 import re
 import shutil
 import subprocess
+from importlib import resources
 
 import pytest
 
@@ -41,6 +43,39 @@ def test_results_json_holds_every_render_and_measurement(quick_report):
     assert results["scenes"]["showcase"]["vs_povray"]["thin"]["ssim"] > 0.95
     for render in results["renders"]:
         assert (quick_report / render["exr"]).is_file() and (quick_report / render["png"]).is_file()
+
+
+def _schema_errors(results: dict) -> list[str]:
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads(resources.files("lenscompare.report").joinpath("results.schema.json").read_text())
+    jsonschema.Draft202012Validator.check_schema(schema)
+    return [f"{'/'.join(map(str, e.absolute_path))}: {e.message}"
+            for e in jsonschema.Draft202012Validator(schema).iter_errors(results)]
+
+
+def test_results_json_follows_the_published_schema(quick_report):
+    results = json.loads((quick_report / "results.json").read_text())
+    assert _schema_errors(results) == []
+    # Strict where the shape is fixed: a renamed or missing key is caught ...
+    broken = copy.deepcopy(results)
+    broken["scenes"]["showcase"]["vs_lens"]["thin"]["SSIM"] = broken["scenes"]["showcase"]["vs_lens"]["thin"].pop("ssim")
+    del broken["scenes"]["showcase"]["renders"][0]["seconds"]
+    del broken["scenes"]["blur_disks"]["blur_disks"]
+    broken["render_list"] = broken.pop("renders")
+    errors = " ".join(_schema_errors(broken))
+    for missing in ("'ssim' is a required property", "'SSIM' was unexpected", "'seconds' is a required property",
+                    "'blur_disks' is a required property", "'renders' is a required property"):
+        assert missing in errors, (missing, errors)
+    # ... but any scene name is allowed.
+    renamed = copy.deepcopy(results)
+    renamed["scenes"]["my scene, v2"] = renamed["scenes"].pop("showcase")
+    assert _schema_errors(renamed) == []
+
+
+def test_an_unknown_short_scene_name_is_refused_with_the_shipped_names(tmp_path):
+    result = run_cli("report", "no_such_scene", "-o", tmp_path / "out", cwd=tmp_path)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert "no_such_scene" in result.stderr and "showcase" in result.stderr, result.stderr
 
 
 def test_page_has_its_sections_and_every_image_loads_in_chromium(quick_report):

@@ -6,6 +6,16 @@ name = "thin-lens blur disks within 2 % of equation 5"   # optional
 type = "blur_equation5"        # see CHECK_TYPES for each type's keys
 scene = "scenes/blur.toml"     # paths are relative to this file
 ```
+
+How a check's ``scene`` is found: a path (relative paths against the config
+file's folder) when that file exists; otherwise a bare name with no folder and
+no ``.toml`` (``scene = "showcase"``) names the scene of that name shipped in
+the package (``lenscompare/reference_scenes/``, see
+:func:`lenscompare.reference_scenes.find_scene`).  The shipped ``default.toml``
+names its scenes this way, so it runs the same from a source tree and from an
+installed wheel, and a copy of it keeps working wherever it is put.  ``image``
+and ``lens`` paths are relative to the config file (a lens may also be a
+shipped lens name such as ``dgauss.50mm``).
 """
 
 from __future__ import annotations
@@ -13,6 +23,7 @@ from __future__ import annotations
 import os
 import sys
 from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -22,10 +33,13 @@ else:  # pragma: no cover
 
 from .._schema import Table
 from ..errors import InputError
+from ..reference_scenes import find_scene
 
 __all__ = ["Check", "CHECK_TYPES", "load_checks", "DEFAULT_CONFIG"]
 
-DEFAULT_CONFIG = Path(__file__).resolve().parent / "default.toml"
+# Read through importlib.resources: the package's own folder, in a source tree
+# or an installed wheel.
+DEFAULT_CONFIG = Path(str(resources.files(__package__) / "default.toml"))
 
 # type -> (required keys, optional keys with defaults)
 CHECK_TYPES = {
@@ -44,6 +58,10 @@ class Check:
     base_dir: Path
 
     def path(self, key: str) -> Path:
+        """The file an option names: relative to the config file; for ``scene``
+        a shipped scene's short name too (see the module docstring)."""
+        if key == "scene":
+            return find_scene(self.options[key], self.base_dir)
         value = Path(self.options[key])
         return value if value.is_absolute() else self.base_dir / value
 

@@ -6,12 +6,15 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..experiment import ExperimentSettings
+from ..reference_scenes import find_scene, scenes_dir, shipped_scene_names
 from ..report import build_report
 from ..scene import load_scene
 
 __all__ = ["add_parser", "run", "DEFAULT_SCENES"]
 
-DEFAULT_SCENES = Path(__file__).resolve().parent.parent.parent / "reference_scenes"
+# The scenes shipped in the package (lenscompare/reference_scenes/; the source
+# tree's reference_scenes/ links to it), so an installed wheel finds them too.
+DEFAULT_SCENES = scenes_dir()
 
 
 def add_parser(subparsers) -> None:
@@ -20,7 +23,8 @@ def add_parser(subparsers) -> None:
         description="Render the scenes through pinhole, thin, thick and full-lens cameras and POV-Ray, measure "
                     "blur, distortion, vignetting and similarity, and write DIR/index.html and DIR/results.json.")
     p.add_argument("scenes", nargs="*", metavar="SCENE.toml",
-                   help="scene files (default: the reference scenes)")
+                   help="scene files, or short names of the shipped scenes (showcase, blur_disks, ...) when no "
+                        "such file exists (default: every shipped reference scene)")
     p.add_argument("-o", "--output", required=True, metavar="DIR")
     p.add_argument("--lens", default="dgauss.50mm", help="lens for scenes that name none (default dgauss.50mm)")
     p.add_argument("--quick", action="store_true", help="half resolution, a quarter of the samples (CI)")
@@ -30,7 +34,11 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    paths = [Path(s) for s in args.scenes] or sorted(DEFAULT_SCENES.glob("*.toml"))
+    paths = [find_scene(s) for s in args.scenes] or sorted(DEFAULT_SCENES.glob("*.toml"))
+    for given, path in zip(args.scenes, paths):
+        if not path.exists() and Path(given).name == given and not given.endswith(".toml"):
+            raise InputError(given, "no such scene file, nor a shipped scene of that name (shipped: "
+                                    + ", ".join(shipped_scene_names()) + ")")
     if not paths:
         raise InputError("SCENE", f"no scene files given and none in {DEFAULT_SCENES}")
     if args.threads is not None and args.threads < 1:
