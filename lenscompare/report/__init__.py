@@ -76,7 +76,7 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
     with atomic_output(out / "results.json") as tmp:
-        tmp.write_text(json.dumps(results, indent=2, default=_json_default))
+        tmp.write_text(json.dumps(_finite(results), indent=2, default=_json_default, allow_nan=False))
     with atomic_output(out / "index.html") as tmp:
         tmp.write_text(render_page(results), encoding="utf-8")
     return results
@@ -170,6 +170,18 @@ def _provenance(scenes, prepared, settings) -> dict:
         except Exception as error:  # noqa: BLE001 - recorded, not fatal
             info["povray"] = f"unavailable ({error})"
     return info
+
+
+def _finite(value):
+    """Strict JSON has no Infinity or NaN: those become null (e.g. the PSNR of
+    identical images)."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        return None
+    return value
 
 
 def _json_default(value):
