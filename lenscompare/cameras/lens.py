@@ -41,7 +41,7 @@ def lens_elements(prescription) -> dict[str, np.ndarray]:
     }
 
 
-def build(scene, *, brute_force_pupil: bool = False):
+def build(scene):
     camera = scene.camera
     prescription = scene_prescription(scene, "lens")
     if camera.f_number is not None:
@@ -56,7 +56,6 @@ def build(scene, *, brute_force_pupil: bool = False):
         **lens_elements(prescription),
         film_z_mm=film_z_mm,
         entrance_pupil_z_mm=data.entrance_pupil_position_mm,
-        brute_force_pupil=brute_force_pupil,
     )
     return native, {
         "lens": prescription.name,

@@ -38,5 +38,5 @@ def principal_plane_gap_mm(scene) -> float:
 def build(scene):
     gap_mm = principal_plane_gap_mm(scene)
     at_h, info = thin.build(scene, model="thick")
-    camera = _native.ThickLensCamera(at_h, principal_plane_gap_m=gap_mm / 1000.0)
+    camera = _native.ThickLensCamera(at_h)
     return camera, {**info, "principal_plane_gap_mm": gap_mm}
