@@ -138,12 +138,16 @@ void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px
 template <class Camera>
 void bind_camera_functions(nb::module_& m) {
     m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
-          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>());
+          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows [row_begin, row_end) into out with spp samples per pixel; (samples, rays passed).");
     m.def("render_rows_adaptive", &render_rows_adaptive_py<Camera>, "scene"_a, "camera"_a, "sample_end"_a,
           "first_sample"_a, "sampler"_a, "seed"_a, "threads"_a, "row_begin"_a, "row_end"_a, "out"_a,
-          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>());
+          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows with each pixel's samples [first_sample, sample_end), and its mean's variance; "
+          "(samples, rays passed).");
     m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
-          "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>());
+          "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted).");
 }
 
 }  // namespace
@@ -161,7 +165,7 @@ NB_MODULE(_native, m) {
     m.attr("MATERIAL_EMISSIVE") = int(MaterialKind::Emissive);
     m.attr("MATERIAL_DIFFUSE") = int(MaterialKind::Diffuse);
 
-    nb::class_<Scene>(m, "Scene")
+    nb::class_<Scene>(m, "Scene", "The Embree scene with its materials, lights and background.")
         .def("__init__",
              [](Scene* self, CArray<const float, -1, 4> spheres, CArray<const int32_t, -1> sphere_material,
                 CArray<const float, -1, 4, 3> quads, CArray<const int32_t, -1> quad_material,
@@ -173,9 +177,12 @@ NB_MODULE(_native, m) {
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
                                                light_position_m, light_intensity, background));
-             });
+             },
+             "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
+             "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
+             "background"_a);
 
-    nb::class_<PinholeCamera>(m, "PinholeCamera")
+    nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",
              [](PinholeCamera* self, const Triple& origin, const Triple& right, const Triple& up, const Triple& forward,
                 int width_px, int height_px, double screen_half_width, double screen_half_height) {
@@ -185,7 +192,7 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a);
 
-    nb::class_<ThinLensCamera>(m, "ThinLensCamera")
+    nb::class_<ThinLensCamera>(m, "ThinLensCamera", "Thin lens: a disk of lens_radius_m focused at focus_distance_m.")
         .def("__init__",
              [](ThinLensCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double screen_half_width,
@@ -197,14 +204,16 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
 
-    nb::class_<ThickLensCamera>(m, "ThickLensCamera")
+    nb::class_<ThickLensCamera>(m, "ThickLensCamera",
+                                "Thick lens: in object space the thin lens at its front principal plane H.")
         .def("__init__",
              [](ThickLensCamera* self, const ThinLensCamera& at_front_principal_plane) {
                  new (self) ThickLensCamera{at_front_principal_plane};
              },
              "at_front_principal_plane"_a);
 
-    nb::class_<LensSystemCamera>(m, "LensSystemCamera")
+    nb::class_<LensSystemCamera>(m, "LensSystemCamera",
+                                 "Full lens system: film samples traced through every surface (lens frame in mm).")
         .def("__init__",
              [](LensSystemCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double film_width_mm, double film_height_mm,
@@ -230,7 +239,8 @@ NB_MODULE(_native, m) {
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a,
              nb::call_guard<nb::gil_scoped_release>())
-        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; });
+        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
+                     "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
