@@ -5,9 +5,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
-#include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
-#include <nanobind/stl/vector.h>
 
 #include <array>
 #include <algorithm>
@@ -16,6 +14,7 @@
 #include <utility>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "bindings_arrays.h"
 #include "cameras/lens_system.h"
