@@ -21,7 +21,7 @@ import os
 import time
 from pathlib import Path
 
-from lenscompare import _native
+from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
 from lenscompare.render import render
 from lenscompare.scene import load_scene
@@ -66,7 +66,7 @@ def main():
         setup_s = time.perf_counter() - start
         if name == "dgauss.50mm":
             dgauss_camera = camera
-        seconds, samples, traced, passed = _native.measure_lens_throughput(camera, args.rays, args.threads)
+        seconds, samples, traced, passed = diagnostics.measure_lens_throughput(camera, args.rays, args.threads)
         results["lenses"][name] = {
             "setup_seconds": setup_s,
             "traced_fraction_of_samples": traced / samples,
@@ -75,9 +75,9 @@ def main():
         }
     # What SIMD buys: the same Double Gauss rays through each batch kernel (same bits)
     results["dgauss_rays_per_second_by_kernel"] = {}
-    for kernel in _native.lens_trace_kernels():
-        dgauss_camera.trace_kernel = kernel
-        seconds, _, traced, _ = _native.measure_lens_throughput(dgauss_camera, args.rays, args.threads)
+    for kernel in diagnostics.lens_trace_kernels():
+        diagnostics.set_lens_trace_kernel(dgauss_camera, kernel)
+        seconds, _, traced, _ = diagnostics.measure_lens_throughput(dgauss_camera, args.rays, args.threads)
         results["dgauss_rays_per_second_by_kernel"][kernel] = traced / seconds
     dgauss = results["lenses"]["dgauss.50mm"]
     results["dgauss_lens_rays_per_second"] = dgauss["lens_rays_per_second"]

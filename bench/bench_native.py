@@ -21,7 +21,7 @@ import dataclasses
 import platform
 from pathlib import Path
 
-from lenscompare import _native
+from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
 from lenscompare.native_scene import build_native_scene
 from lenscompare.render import render
@@ -47,7 +47,7 @@ def main():
     camera = camera_for(scene, "pinhole").native()
     native_scene = build_native_scene(scene)
     for _ in range(args.repeats):
-        seconds, rays, _hits = _native.raw_primary_throughput(native_scene, camera, args.spp, args.threads)
+        seconds, rays, _hits = diagnostics.raw_primary_throughput(native_scene, camera, args.spp, args.threads)
         raw_rays_per_second = max(raw_rays_per_second, rays / seconds)
 
     results = {

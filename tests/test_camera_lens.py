@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from lenscompare import _native
+from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
 from lenscompare.lenses import chief_ray_distortion_percent, chief_ray_film_height_mm, load_prescription
 from lenscompare.metrics import find_point_sources, relative_illumination_at
@@ -23,7 +24,7 @@ from helpers import REPO, camera_scene_text, sphere_text
 
 SHIPPED = ["dgauss.50mm", "wide.22mm", "fisheye.10mm", "telephoto.250mm"]
 SINGLET = str(REPO / "tests" / "data" / "lenses" / "thin_singlet.dat")
-KERNELS = _native.lens_trace_kernels()
+KERNELS = diagnostics.lens_trace_kernels()
 
 
 def lens_scene(lens, *, f_number=None, focus_distance=3.0, resolution=(360, 240), film_mm=(36.0, 24.0), spp=16,
@@ -70,7 +71,7 @@ def test_rays_are_finite_everywhere_on_the_film(lens, f_number):
 def test_fisheye_corners_are_black_and_cost_no_trace():
     camera = camera_for(lens_scene("fisheye.10mm"), "lens").native()
     corners = np.array([[0.5, 0.5], [359.5, 239.5]] * 500, np.float32)
-    samples, traced, passed = _native.count_lens_passes(camera, corners, np.full((1000, 2), 0.5, np.float32))
+    samples, traced, passed = diagnostics.count_lens_passes(camera, corners, np.full((1000, 2), 0.5, np.float32))
     assert (samples, traced, passed) == (1000, 0, 0)
     image = render(lens_scene("fisheye.10mm", resolution=(90, 60), spp=4, background=1.0), threads=2)
     assert image.pixels[0, 0].max() == 0.0 and image.pixels[-1, -1].max() == 0.0
@@ -83,7 +84,7 @@ def test_at_least_90_percent_of_traced_rays_pass_at_full_aperture(lens):
     camera = camera_for(lens_scene(lens, focus_distance=focus), "lens").native()
     rng = np.random.default_rng(0)
     raster = (rng.random((100000, 2)) * [360, 240]).astype(np.float32)
-    samples, traced, passed = _native.count_lens_passes(camera, raster, rng.random((100000, 2)).astype(np.float32))
+    samples, traced, passed = diagnostics.count_lens_passes(camera, raster, rng.random((100000, 2)).astype(np.float32))
     assert passed / traced >= 0.9, passed / traced
 
 
@@ -93,7 +94,7 @@ def test_pupil_sampler_is_unbiased_against_the_whole_rear_element(lens):
     brute-force sampling of a disk 1.5x the rear element, within 4 sigma."""
     scene = lens_scene(lens, focus_distance=10.0 if lens.startswith("telephoto") else 3.0)
     tight = camera_for(scene, "lens").native()
-    brute = camera_for(scene, "lens").native(brute_force_pupil=True)
+    brute = diagnostics.with_brute_force_pupil(tight)
     n = 300000
     u = np.random.default_rng(7).random((n, 2))
     for x_px in (180.0, 270.0, 345.0):
@@ -230,8 +231,8 @@ def test_lockstep_batch_trace_gives_the_scalar_trace_bit_for_bit(lens, f_number)
     scalar = rays(camera, raster, u)
     assert np.isfinite(scalar[2]).all() and (scalar[2] > 0).any()
     for kernel in KERNELS:
-        camera.trace_kernel = kernel
+        diagnostics.set_lens_trace_kernel(camera, kernel)
         batched = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.float32)
-        _native.generate_lens_rays_batched(camera, raster, u, *batched)
+        diagnostics.generate_lens_rays_batched(camera, raster, u, *batched)
         for a, b in zip(scalar, batched):
             assert a.tobytes() == b.tobytes(), kernel

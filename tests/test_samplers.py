@@ -5,11 +5,12 @@ import pytest
 from scipy import stats
 
 from lenscompare import _native
+from lenscompare._native import diagnostics
 
 
 def pixel_samples(sampler, spp, seed=0, pixel=0):
     film, lens = np.zeros((spp, 2), np.float32), np.zeros((spp, 2), np.float32)
-    _native.pixel_samples(sampler, seed, pixel, film, lens)
+    diagnostics.pixel_samples(sampler, seed, pixel, film, lens)
     return film, lens
 
 
@@ -44,7 +45,7 @@ def test_disk_mappings_are_uniform_on_the_disk(mapping):
     """Chi-square over equal-area cells (rings x sectors) of the unit disk."""
     u = np.random.default_rng(2).random((40000, 2)).astype(np.float32)
     out = np.zeros_like(u)
-    _native.map_to_disk(u, mapping, out)
+    diagnostics.map_to_disk(u, mapping, out)
     r = np.hypot(out[:, 0], out[:, 1])
     assert r.max() <= 1.0 + 1e-6
     rings, sectors = 5, 8
@@ -57,7 +58,7 @@ def test_disk_mappings_are_uniform_on_the_disk(mapping):
 def test_concentric_maps_square_edges_to_the_circle_and_centre_to_centre():
     u = np.array([[0.5, 0.5], [1.0, 0.5], [0.5, 0.0], [0.0, 0.0]], np.float32)
     out = np.zeros_like(u)
-    _native.map_to_disk(u, _native.DISK_CONCENTRIC, out)
+    diagnostics.map_to_disk(u, _native.DISK_CONCENTRIC, out)
     np.testing.assert_allclose(np.hypot(out[:, 0], out[:, 1]), [0, 1, 1, 1], atol=1e-6)
 
 
@@ -276,7 +277,7 @@ def test_net_check_rejects_random_points():
 @pytest.mark.parametrize("m", range(11))
 def test_unscrambled_sobol_is_scipys_sobol_and_a_02_net(m):
     from scipy.stats import qmc
-    film, lens = pixel_samples(_native.SAMPLER_SOBOL_UNSCRAMBLED, 2 ** m, seed=5, pixel=17)
+    film, lens = pixel_samples(diagnostics.SAMPLER_SOBOL_UNSCRAMBLED, 2 ** m, seed=5, pixel=17)
     assert np.array_equal(film, lens)
     assert is_02_net(film, m)
     reference = qmc.Sobol(d=2, scramble=False).random_base2(m)  # same points, Gray-code order
@@ -320,7 +321,7 @@ def test_sobol_lens_points_are_uniform_on_the_disk(mapping):
     """Chi-square over equal-area cells (rings x sectors), as for the mappings themselves."""
     u = np.concatenate([pixel_samples(_native.SAMPLER_SOBOL, 64, seed=9, pixel=p)[1] for p in range(600)])
     out = np.zeros_like(u)
-    _native.map_to_disk(u, mapping, out)
+    diagnostics.map_to_disk(u, mapping, out)
     r = np.hypot(out[:, 0], out[:, 1])
     rings, sectors = 5, 8
     ring = np.minimum((r ** 2 * rings).astype(int), rings - 1)

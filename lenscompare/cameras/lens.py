@@ -100,8 +100,7 @@ class LensSystemCamera(CameraModel):
     def film_distance_from_last_vertex_mm(self) -> float:
         return self.film_z_mm - self.paraxial.total_track_mm
 
-    def native(self, *, disk_mapping: str = "concentric",
-               brute_force_pupil: bool = False) -> "_native.LensSystemCamera":
+    def native(self, *, disk_mapping: str = "concentric") -> "_native.LensSystemCamera":
         """The native camera; ``disk_mapping`` is unused (the exit-pupil sampler
         maps lens samples itself)."""
         return _native.LensSystemCamera(
@@ -109,7 +108,6 @@ class LensSystemCamera(CameraModel):
             **lens_elements(self.prescription),
             film_z_mm=self.film_z_mm,
             entrance_pupil_z_mm=self.paraxial.entrance_pupil_position_mm,
-            brute_force_pupil=brute_force_pupil,
         )
 
     def to_json(self) -> dict:

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 from .. import _native
 from ..lenses import paraxial_data
-from ..units import m_from_mm
 from .base import require
 from .thin import ThinLensCamera
 
@@ -49,8 +48,8 @@ class ThickLensCamera(ThinLensCamera):
         return super().from_scene(scene, model="thick", principal_plane_gap_mm=principal_plane_gap_mm(scene))
 
     def native(self, *, disk_mapping: str = "concentric") -> "_native.ThickLensCamera":
-        return _native.ThickLensCamera(super().native(disk_mapping=disk_mapping),
-                                       principal_plane_gap_m=m_from_mm(self.principal_plane_gap_mm))
+        # The gap moves the film and the lens body, not a single ray in front of the lens.
+        return _native.ThickLensCamera(super().native(disk_mapping=disk_mapping))
 
     def to_json(self) -> dict:
         return {**super().to_json(), "principal_plane_gap_mm": self.principal_plane_gap_mm}

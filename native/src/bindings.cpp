@@ -1,26 +1,26 @@
 // Python bindings for the private module lenscompare._native. Only hot loops
 // live here; Python validates every argument before it reaches this file.
+// Hooks for tests and benchmarks live in the submodule
+// lenscompare._native.diagnostics (bindings_diagnostics.cpp).
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
-#include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
-#include <nanobind/stl/vector.h>
 
 #include <array>
-#include <cmath>
 #include <algorithm>
 #include <memory>
 #include <type_traits>
 #include <utility>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
+#include "bindings_arrays.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
 #include "cameras/thick_lens.h"
 #include "cameras/thin_lens.h"
-#include "raw_throughput.h"
 #include "render.h"
 #include "samplers.h"
 #include "scene.h"
@@ -30,9 +30,6 @@ using namespace nb::literals;
 using namespace lc;
 
 namespace {
-
-template <class T, nb::ssize_t... Shape>
-using CArray = nb::ndarray<T, nb::shape<Shape...>, nb::c_contig, nb::device::cpu>;
 
 using Triple = std::array<double, 3>;
 
@@ -128,15 +125,6 @@ std::tuple<uint64_t, uint64_t> render_rows_adaptive_py(const Scene& scene, const
     return {stats.samples, stats.rays_passed};
 }
 
-// Row i of the output arrays: the ray, or zeros and weight 0 for a vignetted sample.
-void store_ray(const MaybeRay& ray, size_t i, CArray<double, -1, 3>& origin, CArray<double, -1, 3>& direction,
-               CArray<float, -1>& weight) {
-    Vec3d o = ray ? ray->origin : Vec3d{}, d = ray ? ray->direction : Vec3d{};
-    origin(i, 0) = o.x, origin(i, 1) = o.y, origin(i, 2) = o.z;
-    direction(i, 0) = d.x, direction(i, 1) = d.y, direction(i, 2) = d.z;
-    weight(i) = ray ? ray->weight : 0.0f;
-}
-
 // Rays for explicit samples, for geometric tests of a camera from Python.
 template <class Camera>
 void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens_sample,
@@ -149,12 +137,16 @@ void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px
 template <class Camera>
 void bind_camera_functions(nb::module_& m) {
     m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
-          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>());
+          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows [row_begin, row_end) into out with spp samples per pixel; (samples, rays passed).");
     m.def("render_rows_adaptive", &render_rows_adaptive_py<Camera>, "scene"_a, "camera"_a, "sample_end"_a,
           "first_sample"_a, "sampler"_a, "seed"_a, "threads"_a, "row_begin"_a, "row_end"_a, "out"_a,
-          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>());
+          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows with each pixel's samples [first_sample, sample_end), and its mean's variance; "
+          "(samples, rays passed).");
     m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
-          "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>());
+          "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted).");
 }
 
 }  // namespace
@@ -167,13 +159,12 @@ NB_MODULE(_native, m) {
     m.attr("SAMPLER_REGULAR") = int(SamplerKind::Regular);
     m.attr("SAMPLER_POISSON") = int(SamplerKind::Poisson);
     m.attr("SAMPLER_SOBOL") = int(SamplerKind::Sobol);
-    m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);  // tests only
     m.attr("DISK_POLAR") = int(DiskMapping::Polar);
     m.attr("DISK_CONCENTRIC") = int(DiskMapping::Concentric);
     m.attr("MATERIAL_EMISSIVE") = int(MaterialKind::Emissive);
     m.attr("MATERIAL_DIFFUSE") = int(MaterialKind::Diffuse);
 
-    nb::class_<Scene>(m, "Scene")
+    nb::class_<Scene>(m, "Scene", "The Embree scene with its materials, lights and background.")
         .def("__init__",
              [](Scene* self, CArray<const float, -1, 4> spheres, CArray<const int32_t, -1> sphere_material,
                 CArray<const float, -1, 4, 3> quads, CArray<const int32_t, -1> quad_material,
@@ -185,9 +176,12 @@ NB_MODULE(_native, m) {
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
                                                light_position_m, light_intensity, background));
-             });
+             },
+             "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
+             "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
+             "background"_a);
 
-    nb::class_<PinholeCamera>(m, "PinholeCamera")
+    nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",
              [](PinholeCamera* self, const Triple& origin, const Triple& right, const Triple& up, const Triple& forward,
                 int width_px, int height_px, double screen_half_width, double screen_half_height) {
@@ -197,7 +191,7 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a);
 
-    nb::class_<ThinLensCamera>(m, "ThinLensCamera")
+    nb::class_<ThinLensCamera>(m, "ThinLensCamera", "Thin lens: a disk of lens_radius_m focused at focus_distance_m.")
         .def("__init__",
              [](ThinLensCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double screen_half_width,
@@ -209,21 +203,23 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
 
-    nb::class_<ThickLensCamera>(m, "ThickLensCamera")
+    nb::class_<ThickLensCamera>(m, "ThickLensCamera",
+                                "Thick lens: in object space the thin lens at its front principal plane H.")
         .def("__init__",
-             [](ThickLensCamera* self, const ThinLensCamera& at_front_principal_plane, double principal_plane_gap_m) {
-                 new (self) ThickLensCamera{at_front_principal_plane, principal_plane_gap_m};
+             [](ThickLensCamera* self, const ThinLensCamera& at_front_principal_plane) {
+                 new (self) ThickLensCamera{at_front_principal_plane};
              },
-             "at_front_principal_plane"_a, "principal_plane_gap_m"_a);
+             "at_front_principal_plane"_a);
 
-    nb::class_<LensSystemCamera>(m, "LensSystemCamera")
+    nb::class_<LensSystemCamera>(m, "LensSystemCamera",
+                                 "Full lens system: film samples traced through every surface (lens frame in mm).")
         .def("__init__",
              [](LensSystemCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double film_width_mm, double film_height_mm,
                 CArray<const double, -1> curvature_per_mm, CArray<const double, -1> vertex_z_mm,
                 CArray<const double, -1> semi_aperture_mm, CArray<const double, -1> n_scene_side,
                 CArray<const double, -1> n_film_side, CArray<const bool, -1> is_stop, int stop_index,
-                double film_z_mm, double entrance_pupil_z_mm, bool brute_force_pupil) {
+                double film_z_mm, double entrance_pupil_z_mm) {
                  std::vector<LensElement> elements;
                  for (size_t i = 0; i < curvature_per_mm.shape(0); ++i)
                      elements.push_back(LensElement{curvature_per_mm(i), vertex_z_mm(i), semi_aperture_mm(i),
@@ -231,9 +227,8 @@ NB_MODULE(_native, m) {
                  if (elements.empty()) throw std::invalid_argument("a lens system needs surfaces");
                  if (stop_index < 0 || size_t(stop_index) >= elements.size())
                      throw std::invalid_argument("stop_index out of range");
-                 double max_film_radius_mm = 0.5 * std::hypot(film_width_mm, film_height_mm);
-                 auto pupil = std::make_shared<const ExitPupil>(elements, stop_index, film_z_mm, max_film_radius_mm,
-                                                                brute_force_pupil);
+                 auto pupil = std::make_shared<const ExitPupil>(elements, stop_index, film_z_mm,
+                                                                film_corner_radius_mm(film_width_mm, film_height_mm));
                  new (self) LensSystemCamera{make_frame(origin, right, up, forward), std::move(elements), film_z_mm,
                                              entrance_pupil_z_mm, film_width_mm, film_height_mm, width_px,
                                              height_px, std::move(pupil)};
@@ -241,87 +236,16 @@ NB_MODULE(_native, m) {
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
-             "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a, "brute_force_pupil"_a = false,
+             "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a,
              nb::call_guard<nb::gil_scoped_release>())
-        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; })
-        // Which batch lens trace the camera runs (all give the same bits; tests and benchmarks compare them)
-        .def_prop_rw(
-            "trace_kernel", [](const LensSystemCamera& c) { return std::string(lens_trace_kernel_name(c.trace_kernel)); },
-            [](LensSystemCamera& c, const std::string& name) {
-                for (LensTraceKernel kernel : kLensTraceKernels)
-                    if (name == lens_trace_kernel_name(kernel)) {
-                        if (!lens_trace_kernel_available(kernel))
-                            throw std::invalid_argument("trace_kernel: this CPU cannot run " + name);
-                        c.trace_kernel = kernel;
-                        return;
-                    }
-                throw std::invalid_argument("trace_kernel: no kernel named " + name);
-            });
-
-    m.def("count_lens_passes",
-          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
-              LensPassCounts c = count_lens_passes(camera, reinterpret_cast<const Point2f*>(raster_px.data()),
-                                                   reinterpret_cast<const Point2f*>(lens.data()),
-                                                   size_t(raster_px.shape(0)));
-              return std::make_tuple(c.samples, c.traced, c.passed);
-          },
-          "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>());
-
-    m.def("generate_lens_rays_batched",
-          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
-             CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
-              const auto* raster = reinterpret_cast<const Point2f*>(raster_px.data());
-              const auto* u = reinterpret_cast<const Point2f*>(lens.data());
-              for (size_t first = 0; first < raster_px.shape(0); first += kLensBatch) {
-                  int n = int(std::min<size_t>(kLensBatch, raster_px.shape(0) - first));
-                  MaybeRay rays[kLensBatch];
-                  camera.generate_rays(raster + first, u + first, n, rays);
-                  for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
-              }
-          },
-          "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
-          nb::call_guard<nb::gil_scoped_release>());
-
-    m.def("lens_trace_kernels", [] {
-        std::vector<std::string> names;
-        for (LensTraceKernel kernel : kLensTraceKernels)
-            if (lens_trace_kernel_available(kernel)) names.push_back(lens_trace_kernel_name(kernel));
-        return names;
-    }, "The batch lens-trace kernels this CPU runs, slowest first.");
-
-    m.def("measure_lens_throughput",
-          [](const LensSystemCamera& camera, uint64_t n, int threads) {
-              LensPassCounts c;
-              double seconds = measure_lens_throughput(camera, n, threads, &c);
-              return std::make_tuple(seconds, c.samples, c.traced, c.passed);
-          },
-          "camera"_a, "n"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>());
+        .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
+                     "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
     bind_camera_functions<ThickLensCamera>(m);
     bind_camera_functions<LensSystemCamera>(m);
 
-    m.def("pixel_samples",
-          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens) {
-              fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
-                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()));
-          },
-          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a);
-
-    m.def("map_to_disk",
-          [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {
-              for (size_t i = 0; i < u.shape(0); ++i) {
-                  Point2f p = map_to_disk({u(i, 0), u(i, 1)}, DiskMapping(mapping));
-                  out(i, 0) = p.x, out(i, 1) = p.y;
-              }
-          },
-          "u"_a, "mapping"_a, "out"_a);
-
-    m.def("raw_primary_throughput",
-          [](const Scene& scene, const PinholeCamera& camera, int spp, int threads) {
-              RawThroughput r = measure_raw_primary_throughput(scene, camera, spp, threads);
-              return std::make_tuple(r.seconds, r.rays, r.hits);
-          },
-          "scene"_a, "camera"_a, "spp"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>());
+    nb::module_ diagnostics = m.def_submodule("diagnostics", "Hooks for lenscompare's tests and benchmarks only.");
+    bind_diagnostics(diagnostics);
 }

@@ -19,6 +19,11 @@
 
 namespace lc {
 
+// The largest film radius the exit pupil's rings cover: the film corner's.
+inline double film_corner_radius_mm(double film_width_mm, double film_height_mm) {
+    return 0.5 * std::hypot(film_width_mm, film_height_mm);
+}
+
 static_assert(kLensBatch == kCameraBatch, "generate_rays takes the render loop's whole camera batch");
 
 struct LensSystemCamera {
@@ -30,7 +35,7 @@ struct LensSystemCamera {
     int width_px, height_px;
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
-    LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits
+    LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits; diagnostics may pick another
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -139,16 +144,5 @@ struct LensSystemCamera {
 // Sets inverse_centre_irradiance so that a uniform scene of radiance 1 reads 1
 // at the film centre: a stratified estimate over the centre ring's polygon.
 void calibrate_centre_irradiance(LensSystemCamera* camera);
-
-// Traced and passed counts for given samples (pass-rate statistics).
-struct LensPassCounts {
-    uint64_t samples = 0, traced = 0, passed = 0;
-};
-LensPassCounts count_lens_passes(const LensSystemCamera& camera, const Point2f* raster_px, const Point2f* lens,
-                                 size_t n);
-
-// Lens-only throughput: n random (film, pupil) samples traced through the
-// lens on `threads` threads, no scene. Returns the seconds taken.
-double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int threads, LensPassCounts* counts);
 
 }  // namespace lc

@@ -6,7 +6,8 @@
 // the translation changes neither the ray's height nor its direction in front
 // of H: in object space the thick lens is the thin lens at H. The gap moves
 // the film and the lens body (film to object = d + gap + d'), which is what
-// lens layouts and the lens-system comparison see.
+// lens layouts and the lens-system comparison see; no ray does, so the gap
+// stays on the Python side (lenscompare/cameras/thick.py).
 #pragma once
 
 #include "cameras/thin_lens.h"
@@ -15,7 +16,6 @@ namespace lc {
 
 struct ThickLensCamera {
     ThinLensCamera at_front_principal_plane;  // origin at H
-    double principal_plane_gap_m;             // signed H -> H', toward the film
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
         // Point on H' and its translation to H share (x, y): the ray leaving H

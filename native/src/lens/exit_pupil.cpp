@@ -167,14 +167,19 @@ PupilPolygon bounding_disk(double radius_mm) {
     return poly;
 }
 
-ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
-                     double max_film_radius_mm, bool brute_force)
+ExitPupil::ExitPupil(const std::vector<LensElement>& elements, double max_film_radius_mm)
     : segments_(size_t(kPupilSegments)), plane_z_mm_(elements.back().vertex_z_mm),
-      max_film_radius_mm_(max_film_radius_mm), segments_per_mm_(kPupilSegments / max_film_radius_mm) {
-    if (brute_force) {
-        std::fill(segments_.begin(), segments_.end(), bounding_disk(1.5 * elements.back().semi_aperture_mm));
-        return;
-    }
+      max_film_radius_mm_(max_film_radius_mm), segments_per_mm_(kPupilSegments / max_film_radius_mm) {}
+
+ExitPupil ExitPupil::brute_force(const std::vector<LensElement>& elements, double max_film_radius_mm) {
+    ExitPupil pupil(elements, max_film_radius_mm);
+    std::fill(pupil.segments_.begin(), pupil.segments_.end(), bounding_disk(1.5 * elements.back().semi_aperture_mm));
+    return pupil;
+}
+
+ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
+                     double max_film_radius_mm)
+    : ExitPupil(elements, max_film_radius_mm) {
     PupilGeometry g{&elements, stop_index, film_z_mm, plane_z_mm_};
     // Light reaching the rear vertex plane lies within about the rear clear
     // aperture; the scan covers twice that to be safe.

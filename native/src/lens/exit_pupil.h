@@ -40,11 +40,12 @@ struct PupilPolygon {
 class ExitPupil {
   public:
     ExitPupil() = default;
-    // brute_force: a disk of 1.5 rear semi-apertures for every ring instead of
-    // the traced polygons, the reference the tight sampler is tested against.
     // stop_index: the aperture stop (its centre anchors each polygon).
     ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
-              double max_film_radius_mm, bool brute_force = false);
+              double max_film_radius_mm);
+    // A disk of 1.5 rear semi-apertures for every ring instead of the traced
+    // polygons, the reference the tight sampler is tested against (diagnostics).
+    static ExitPupil brute_force(const std::vector<LensElement>& elements, double max_film_radius_mm);
 
     // The fan triangle of the polygon for a film point at radius r that u_y
     // falls in, by area, and where across it (u_y reused: u.x alone then sets
@@ -77,6 +78,9 @@ class ExitPupil {
     const PupilPolygon& segment(int i) const { return segments_[size_t(i)]; }
 
   private:
+    // The rings' common set-up: the plane at the rear vertex and the radius lookup.
+    ExitPupil(const std::vector<LensElement>& elements, double max_film_radius_mm);
+
     std::vector<PupilPolygon> segments_;
     double plane_z_mm_ = 0.0;
     double max_film_radius_mm_ = 1.0;

@@ -1,4 +1,4 @@
-#include "cameras/lens_system.h"
+#include "diagnostics/lens_passes.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,27 +7,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 
 #include "rng.h"
 
 namespace lc {
-
-void calibrate_centre_irradiance(LensSystemCamera* camera) {
-    camera->inverse_centre_irradiance = 1.0;
-    // Midpoint rule: 128 steps from the pupil centre outward (u.x) times 1024
-    // steps round it (u.y: 16 across each of the 64 fan triangles).
-    constexpr int kRadial = 128, kAround = 1024;
-    Point2f centre{float(camera->width_px) * 0.5f, float(camera->height_px) * 0.5f};
-    double sum = 0.0;
-    for (int j = 0; j < kAround; ++j)
-        for (int i = 0; i < kRadial; ++i) {
-            Point2f u{(i + 0.5f) / kRadial, (j + 0.5f) / kAround};
-            MaybeRay ray = camera->generate_ray(centre, u);
-            if (ray) sum += ray->weight;
-        }
-    double irradiance = sum / (double(kRadial) * kAround);
-    camera->inverse_centre_irradiance = irradiance > 0.0 ? 1.0 / irradiance : 0.0;
-}
 
 LensPassCounts count_lens_passes(const LensSystemCamera& camera, const Point2f* raster_px, const Point2f* lens,
                                  size_t n) {
@@ -79,6 +63,18 @@ double measure_lens_throughput(const LensSystemCamera& camera, uint64_t n, int t
     counts->traced = traced.load();
     counts->passed = passed.load();
     return seconds;
+}
+
+LensSystemCamera with_brute_force_pupil(const LensSystemCamera& camera) {
+    auto pupil = std::make_shared<const ExitPupil>(
+        ExitPupil::brute_force(camera.elements, film_corner_radius_mm(camera.film_width_mm, camera.film_height_mm)));
+    // Built afresh, not copied, so that the members derived from the pupil follow it.
+    LensSystemCamera brute{camera.world_from_camera, camera.elements,       camera.film_z_mm,
+                           camera.entrance_pupil_z_mm, camera.film_width_mm, camera.film_height_mm,
+                           camera.width_px,          camera.height_px,      std::move(pupil)};
+    brute.trace_kernel = camera.trace_kernel;
+    calibrate_centre_irradiance(&brute);
+    return brute;
 }
 
 }  // namespace lc

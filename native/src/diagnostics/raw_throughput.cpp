@@ -1,4 +1,4 @@
-#include "raw_throughput.h"
+#include "diagnostics/raw_throughput.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>

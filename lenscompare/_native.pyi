@@ -1,0 +1,229 @@
+"""lenscompare's native tracer (private: use the lenscompare package).
+
+Type stub for the nanobind module built from native/src/bindings.cpp; the test
+and benchmark hooks (native/src/bindings_diagnostics.cpp) are its submodule
+``diagnostics``. Every array is a ``numpy.ndarray``, C-contiguous, of the dtype
+and shape its comment gives (n: any length); the native code reads it or writes
+it in place, never copies it. Python validates every argument before the call.
+Lengths are metres unless a name says ``_mm`` or ``_px``.
+"""
+
+import types
+from collections.abc import Sequence
+from typing import TypeAlias
+
+import numpy
+
+Vec3: TypeAlias = Sequence[float]  # three numbers (x, y, z), world space
+
+SAMPLER_RANDOM: int = 0
+SAMPLER_JITTERED: int = 1
+SAMPLER_REGULAR: int = 2
+SAMPLER_POISSON: int = 3
+SAMPLER_SOBOL: int = 4
+DISK_POLAR: int = 0
+DISK_CONCENTRIC: int = 1
+MATERIAL_EMISSIVE: int = 0
+MATERIAL_DIFFUSE: int = 1
+
+class Scene:
+    """The Embree scene with its materials, lights and background."""
+
+    def __init__(
+        self,
+        spheres: numpy.ndarray,  # float32 (n, 4): centre x, y, z and radius
+        sphere_material: numpy.ndarray,  # int32 (n,): material index of each sphere
+        quads: numpy.ndarray,  # float32 (q, 4, 3): corners in order round each quad
+        quad_material: numpy.ndarray,  # int32 (q,)
+        material_kind: numpy.ndarray,  # int32 (m,): MATERIAL_EMISSIVE or MATERIAL_DIFFUSE
+        material_color: numpy.ndarray,  # float32 (m, 3): emissive radiance or diffuse albedo
+        material_emission: numpy.ndarray,  # float32 (m, 3): added to the lit diffuse result
+        checker_color: numpy.ndarray,  # float32 (m, 3): albedo of the odd checker cubes
+        checker_size_m: numpy.ndarray,  # float32 (m,): checker cube size, 0 for none
+        light_position_m: numpy.ndarray,  # float32 (k, 3): point lights
+        light_intensity: numpy.ndarray,  # float32 (k, 3): radiant intensity, no falloff
+        background: Vec3,  # linear RGB radiance of rays that hit nothing
+    ) -> None:
+        """Builds the BVH; the arrays are copied and may go once this returns."""
+
+class PinholeCamera:
+    """Pinhole camera: every ray through the origin."""
+
+    def __init__(
+        self,
+        origin: Vec3,  # the camera position
+        right: Vec3,  # unit vectors of the camera frame
+        up: Vec3,
+        forward: Vec3,
+        width_px: int,
+        height_px: int,
+        screen_half_width: float,  # (film width / 2) / film distance
+        screen_half_height: float,  # (film height / 2) / film distance
+    ) -> None: ...
+
+class ThinLensCamera:
+    """Thin lens: a disk of lens_radius_m focused at focus_distance_m."""
+
+    def __init__(
+        self,
+        origin: Vec3,  # the lens centre
+        right: Vec3,
+        up: Vec3,
+        forward: Vec3,
+        width_px: int,
+        height_px: int,
+        screen_half_width: float,  # (film width / 2) / film distance d'
+        screen_half_height: float,
+        lens_radius_m: float,  # f / (2 N)
+        focus_distance_m: float,  # along the view axis
+        disk_mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+    ) -> None: ...
+
+class ThickLensCamera:
+    """Thick lens: in object space the thin lens at its front principal plane H."""
+
+    def __init__(self, at_front_principal_plane: ThinLensCamera) -> None:
+        """The thin lens with its origin at H (the gap H -> H' moves no ray)."""
+
+class LensSystemCamera:
+    """Full lens system: film samples traced through every surface (lens frame in mm)."""
+
+    def __init__(
+        self,
+        origin: Vec3,  # the entrance-pupil centre
+        right: Vec3,
+        up: Vec3,
+        forward: Vec3,
+        width_px: int,
+        height_px: int,
+        film_width_mm: float,
+        film_height_mm: float,
+        # One entry per surface, scene side first, in the lens frame (z = 0 at
+        # the first vertex, +z toward the film):
+        curvature_per_mm: numpy.ndarray,  # float64 (s,): 1/R; 0 for planes and the stop
+        vertex_z_mm: numpy.ndarray,  # float64 (s,)
+        semi_aperture_mm: numpy.ndarray,  # float64 (s,)
+        n_scene_side: numpy.ndarray,  # float64 (s,): index in front of each surface
+        n_film_side: numpy.ndarray,  # float64 (s,): index behind each surface
+        is_stop: numpy.ndarray,  # bool (s,)
+        stop_index: int,  # the aperture stop's surface
+        film_z_mm: float,  # film plane, lens frame
+        entrance_pupil_z_mm: float,  # lens-frame z of origin
+    ) -> None:
+        """Builds the exit-pupil tables and calibrates the centre irradiance (GIL released)."""
+
+    @property
+    def inverse_centre_irradiance(self) -> float:
+        """The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre."""
+
+Camera: TypeAlias = PinholeCamera | ThinLensCamera | ThickLensCamera | LensSystemCamera
+
+def render_rows(
+    scene: Scene,
+    camera: Camera,
+    spp: int,
+    sampler: int,  # a SAMPLER_* code
+    seed: int,
+    threads: int,  # 0: all cores
+    row_begin: int,
+    row_end: int,
+    out: numpy.ndarray,  # float32 (height, width, 3), written: linear RGB, row 0 at the top
+) -> tuple[int, int]:
+    """Renders rows [row_begin, row_end) into out with spp samples per pixel; (samples, rays passed)."""
+
+def render_rows_adaptive(
+    scene: Scene,
+    camera: Camera,
+    sample_end: numpy.ndarray,  # uint32 (height, width): each pixel's sample count, at most 2**20
+    first_sample: int,  # each pixel takes samples [min(first_sample, end), end)
+    sampler: int,
+    seed: int,
+    threads: int,
+    row_begin: int,
+    row_end: int,
+    out: numpy.ndarray,  # float32 (height, width, 3), written: the mean of each pixel's samples
+    variance_of_mean: numpy.ndarray,  # float32 (height, width), written: summed over R, G and B
+) -> tuple[int, int]:
+    """Renders rows with each pixel's own sample range, and its mean's variance; (samples, rays passed)."""
+
+def generate_rays(
+    camera: Camera,
+    raster_px: numpy.ndarray,  # float32 (n, 2): film positions in pixels, y down
+    lens_sample: numpy.ndarray,  # float32 (n, 2): points in [0, 1)^2
+    origin: numpy.ndarray,  # float64 (n, 3), written
+    direction: numpy.ndarray,  # float64 (n, 3), written: unit
+    weight: numpy.ndarray,  # float32 (n,), written: 0 (and zero vectors) for a vignetted sample
+) -> None:
+    """The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted)."""
+
+class _Diagnostics(types.ModuleType):
+    """Hooks for lenscompare's tests and benchmarks only.
+
+    The submodule ``lenscompare._native.diagnostics`` (declared as a class so
+    that this one stub holds both modules); import it with
+    ``from lenscompare._native import diagnostics``.
+    """
+
+    SAMPLER_SOBOL_UNSCRAMBLED: int = 5  # the bare Sobol' points, same in every pixel: tests only
+    @staticmethod
+    def pixel_samples(
+        sampler: int,  # a SAMPLER_* code, or SAMPLER_SOBOL_UNSCRAMBLED
+        seed: int,
+        pixel_index: int,  # row-major over the image
+        film: numpy.ndarray,  # float32 (spp, 2), written
+        lens: numpy.ndarray,  # float32 (spp, 2), written
+    ) -> None:
+        """Fills film and lens (spp x 2) with one pixel's samples, as the render draws them."""
+
+    @staticmethod
+    def map_to_disk(
+        u: numpy.ndarray,  # float32 (n, 2): points in [0, 1)^2
+        mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+        out: numpy.ndarray,  # float32 (n, 2), written
+    ) -> None:
+        """Maps unit-square points u to the unit disk into out."""
+
+    @staticmethod
+    def count_lens_passes(
+        camera: LensSystemCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+    ) -> tuple[int, int, int]:
+        """(samples, traced, passed) for the given film and lens samples, traced one at a time."""
+
+    @staticmethod
+    def measure_lens_throughput(camera: LensSystemCamera, n: int, threads: int) -> tuple[float, int, int, int]:
+        """(seconds, samples, traced, passed) for n random samples through the lens alone, no scene."""
+
+    @staticmethod
+    def generate_lens_rays_batched(
+        camera: LensSystemCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+        origin: numpy.ndarray,  # float64 (n, 3), written
+        direction: numpy.ndarray,  # float64 (n, 3), written
+        weight: numpy.ndarray,  # float32 (n,), written
+    ) -> None:
+        """generate_rays through the render loop's lockstep batch trace (same bits as generate_rays)."""
+
+    @staticmethod
+    def with_brute_force_pupil(camera: LensSystemCamera) -> LensSystemCamera:
+        """A copy of camera that aims at a disk 1.5x the rear element: the pupil sampler's reference."""
+
+    @staticmethod
+    def lens_trace_kernels() -> list[str]:
+        """The batch lens-trace kernels this CPU runs, slowest first."""
+
+    @staticmethod
+    def lens_trace_kernel(camera: LensSystemCamera) -> str:
+        """The batch lens-trace kernel camera runs (the fastest this CPU runs unless set)."""
+
+    @staticmethod
+    def set_lens_trace_kernel(camera: LensSystemCamera, kernel: str) -> None:
+        """Makes camera run the named batch lens-trace kernel."""
+
+    @staticmethod
+    def raw_primary_throughput(scene: Scene, camera: PinholeCamera, spp: int, threads: int) -> tuple[float, int, int]:
+        """(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render."""
+
+diagnostics: _Diagnostics

@@ -1,0 +1,142 @@
+// lenscompare._native.diagnostics: hooks for tests and benchmarks only (sample
+// sets, disk mapping, lens pass rates and throughput, the trace-kernel choice,
+// the brute-force pupil, raw Embree throughput). The render never needs them,
+// so they stay out of the main module beside the cameras.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "bindings_arrays.h"
+#include "cameras/lens_system.h"
+#include "cameras/pinhole.h"
+#include "diagnostics/lens_passes.h"
+#include "diagnostics/raw_throughput.h"
+#include "samplers.h"
+#include "scene.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace lc {
+
+namespace {
+
+const Point2f* points(const CArray<const float, -1, 2>& a) { return reinterpret_cast<const Point2f*>(a.data()); }
+
+void bind_samplers(nb::module_& m) {
+    m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);
+
+    m.def("pixel_samples",
+          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens) {
+              fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
+                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()));
+          },
+          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a,
+          "Fills film and lens (spp x 2) with one pixel's samples, as the render draws them.");
+
+    m.def("map_to_disk",
+          [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {
+              for (size_t i = 0; i < u.shape(0); ++i) {
+                  Point2f p = map_to_disk({u(i, 0), u(i, 1)}, DiskMapping(mapping));
+                  out(i, 0) = p.x, out(i, 1) = p.y;
+              }
+          },
+          "u"_a, "mapping"_a, "out"_a, "Maps unit-square points u to the unit disk into out.");
+}
+
+void bind_lens(nb::module_& m) {
+    m.def("count_lens_passes",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
+              LensPassCounts c = count_lens_passes(camera, points(raster_px), points(lens), size_t(raster_px.shape(0)));
+              return std::make_tuple(c.samples, c.traced, c.passed);
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "(samples, traced, passed) for the given film and lens samples, traced one at a time.");
+
+    m.def("measure_lens_throughput",
+          [](const LensSystemCamera& camera, uint64_t n, int threads) {
+              LensPassCounts c;
+              double seconds = measure_lens_throughput(camera, n, threads, &c);
+              return std::make_tuple(seconds, c.samples, c.traced, c.passed);
+          },
+          "camera"_a, "n"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "(seconds, samples, traced, passed) for n random samples through the lens alone, no scene.");
+
+    m.def("generate_lens_rays_batched",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              for (size_t first = 0; first < raster_px.shape(0); first += kLensBatch) {
+                  int n = int(std::min<size_t>(kLensBatch, raster_px.shape(0) - first));
+                  MaybeRay rays[kLensBatch];
+                  camera.generate_rays(raster + first, u + first, n, rays);
+                  for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "generate_rays through the render loop's lockstep batch trace (same bits as generate_rays).");
+
+    m.def("with_brute_force_pupil", &with_brute_force_pupil, "camera"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "A copy of camera that aims at a disk 1.5x the rear element: the pupil sampler's reference.");
+}
+
+// Which batch lens trace a camera runs: all give the same bits; tests and benchmarks compare them.
+void bind_trace_kernels(nb::module_& m) {
+    m.def("lens_trace_kernels",
+          [] {
+              std::vector<std::string> names;
+              for (LensTraceKernel kernel : kLensTraceKernels)
+                  if (lens_trace_kernel_available(kernel)) names.push_back(lens_trace_kernel_name(kernel));
+              return names;
+          },
+          "The batch lens-trace kernels this CPU runs, slowest first.");
+
+    m.def("lens_trace_kernel",
+          [](const LensSystemCamera& camera) { return std::string(lens_trace_kernel_name(camera.trace_kernel)); },
+          "camera"_a, "The batch lens-trace kernel camera runs (the fastest this CPU runs unless set).");
+
+    m.def("set_lens_trace_kernel",
+          [](LensSystemCamera& camera, const std::string& name) {
+              for (LensTraceKernel kernel : kLensTraceKernels)
+                  if (name == lens_trace_kernel_name(kernel)) {
+                      if (!lens_trace_kernel_available(kernel))
+                          throw std::invalid_argument("trace_kernel: this CPU cannot run " + name);
+                      camera.trace_kernel = kernel;
+                      return;
+                  }
+              throw std::invalid_argument("trace_kernel: no kernel named " + name);
+          },
+          "camera"_a, "kernel"_a, "Makes camera run the named batch lens-trace kernel.");
+}
+
+void bind_raw_throughput(nb::module_& m) {
+    m.def("raw_primary_throughput",
+          [](const Scene& scene, const PinholeCamera& camera, int spp, int threads) {
+              RawThroughput r = measure_raw_primary_throughput(scene, camera, spp, threads);
+              return std::make_tuple(r.seconds, r.rays, r.hits);
+          },
+          "scene"_a, "camera"_a, "spp"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render.");
+}
+
+}  // namespace
+
+void bind_diagnostics(nb::module_& m) {
+    bind_samplers(m);
+    bind_lens(m);
+    bind_trace_kernels(m);
+    bind_raw_throughput(m);
+}
+
+}  // namespace lc

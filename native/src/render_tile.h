@@ -1,0 +1,181 @@
+// The stages one tile of the render loop passes its samples through, in order:
+// PixelSamples (the sampler fills a pixel's set), CameraSampleBatcher (the
+// camera turns samples into rays), RayPacket (Embree shades the rays) and
+// TileAccumulator (each pixel's sum, then its mean and variance).
+// Camera samples are gathered across the tile's pixels into batches of
+// kCameraBatch, and the rays packed into 8-wide Embree packets, so that low
+// sample counts still fill both. Each pixel's samples are still summed in
+// sample order.
+#pragma once
+
+#include <tbb/blocked_range2d.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "cameras/camera_ray.h"
+#include "render_settings.h"
+#include "samplers.h"
+#include "scene.h"
+
+namespace lc {
+
+using Tile = tbb::blocked_range2d<int>;  // rows x columns of pixels
+
+// One pixel's film and lens samples: a sampler fills a pixel's whole set at once.
+struct PixelSamples {
+    std::vector<Point2f> film, lens;
+
+    explicit PixelSamples(int spp) : film(size_t(spp)), lens(size_t(spp)) {}
+
+    // Samples [0, end) of the pixel; the buffers grow when an adaptive pass asks for more.
+    void fill(const RenderSettings& s, uint64_t pixel_index, int end) {
+        if (film.size() < size_t(end)) film.resize(size_t(end)), lens.resize(size_t(end));
+        fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data());
+    }
+};
+
+// Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
+class TileAccumulator {
+  public:
+    TileAccumulator(const Tile& tile, bool with_squares)
+        : tile_(tile),
+          width_(size_t(tile.cols().size())),
+          sums_(width_ * size_t(tile.rows().size()) * 3, 0.0),
+          squares_(with_squares ? sums_.size() : 0, 0.0) {}
+
+    // Where pixel (x, y) of the tile keeps its sums.
+    size_t slot(int x, int y) const {
+        return size_t(y - tile_.rows().begin()) * width_ + size_t(x - tile_.cols().begin());
+    }
+
+    // One sample's weighted radiance into its pixel's sums (and squares, for the variance).
+    void add(size_t slot, const Vec3f& radiance, float weight) {
+        double* sum = &sums_[3 * slot];
+        const double r = double(radiance.x) * weight, g = double(radiance.y) * weight,
+                     b = double(radiance.z) * weight;
+        sum[0] += r, sum[1] += g, sum[2] += b;
+        if (!squares_.empty()) {
+            double* square = &squares_[3 * slot];
+            square[0] += r * r, square[1] += g * g, square[2] += b * b;
+        }
+    }
+
+    // Each pixel's mean into rgb, and the variance of that mean when asked for.
+    void finish(const RenderSettings& s, float* rgb) const {
+        for (int y = tile_.rows().begin(); y < tile_.rows().end(); ++y)
+            for (int x = tile_.cols().begin(); x < tile_.cols().end(); ++x) {
+                const size_t local = slot(x, y);
+                const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+                const auto [first, end] = s.samples_of(pixel_index);
+                const int count = end - first;
+                float* out = rgb + 3 * pixel_index;
+                double variance = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    const double mean = count > 0 ? sums_[3 * local + size_t(c)] / count : 0.0;
+                    out[c] = float(mean);
+                    if (!squares_.empty() && count > 1)
+                        variance += std::max(squares_[3 * local + size_t(c)] / count - mean * mean, 0.0) /
+                                    (count - 1);
+                }
+                if (s.variance_of_mean) s.variance_of_mean[pixel_index] = float(variance);
+            }
+    }
+
+  private:
+    Tile tile_;
+    size_t width_;
+    std::vector<double> sums_, squares_;
+};
+
+// Rays waiting for the scene: Embree traces a full 8-wide packet faster than
+// its rays one at a time, camera rays and shadow rays alike.
+class RayPacket {
+  public:
+    RayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
+
+    // Queues a ray for the pixel at slot; a full packet is shaded at once.
+    void add(const CameraRay& ray, size_t slot) {
+        batch_.origin[batch_.count] = Vec3f(ray.origin);
+        batch_.direction[batch_.count] = Vec3f(ray.direction);
+        weight_[batch_.count] = ray.weight;
+        slot_[batch_.count++] = slot;
+        if (batch_.count == kPacketSize) flush();
+    }
+
+    // Shades the queued rays and adds each one's radiance to its pixel, in queue order.
+    void flush() {
+        if (batch_.count == 0) return;
+        Vec3f radiance[kPacketSize];
+        scene_.radiance(batch_, radiance);
+        for (int j = 0; j < batch_.count; ++j) sums_.add(slot_[j], radiance[j], weight_[j]);
+        rays_shaded_ += uint64_t(batch_.count);
+        batch_.count = 0;
+    }
+
+    uint64_t rays_shaded() const { return rays_shaded_; }
+
+  private:
+    const Scene& scene_;
+    TileAccumulator& sums_;
+    RayBatch batch_;
+    float weight_[kPacketSize];
+    size_t slot_[kPacketSize];
+    uint64_t rays_shaded_ = 0;
+};
+
+// Cameras that can turn several samples into rays at once (the lens system
+// traces them in lockstep) say so with generate_rays(raster, lens, n, out).
+template <class Camera, class = void>
+struct GeneratesBatches : std::false_type {};
+template <class Camera>
+struct GeneratesBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays(
+                                    nullptr, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>> : std::true_type {};
+
+// Rays for n <= kCameraBatch samples.
+template <class Camera>
+void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
+    if constexpr (GeneratesBatches<Camera>::value) {
+        camera.generate_rays(raster_px, lens, n, out);
+    } else {
+        for (int i = 0; i < n; ++i) out[i] = camera.generate_ray(raster_px[i], lens[i]);
+    }
+}
+
+// Samples waiting for the camera: the lens system traces kCameraBatch of them
+// in lockstep, and a tile's pixels together fill a batch at any spp.
+template <class Camera>
+class CameraSampleBatcher {
+  public:
+    CameraSampleBatcher(const Camera& camera, RayPacket& packet) : camera_(camera), packet_(packet) {}
+
+    // Queues one sample for the pixel at slot; a full batch goes to the camera at once.
+    void add(Point2f raster_px, Point2f lens, size_t slot) {
+        raster_px_[pending_] = raster_px;
+        lens_[pending_] = lens;
+        slot_[pending_++] = slot;
+        if (pending_ == kCameraBatch) flush();
+    }
+
+    // Turns the queued samples into rays for the packet, in queue order.
+    void flush() {
+        MaybeRay rays[kCameraBatch];
+        camera_rays(camera_, raster_px_, lens_, pending_, rays);
+        for (int i = 0; i < pending_; ++i)
+            if (rays[i]) packet_.add(*rays[i], slot_[i]);  // vignetted: contributes nothing
+        pending_ = 0;
+    }
+
+  private:
+    const Camera& camera_;
+    RayPacket& packet_;
+    Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
+    size_t slot_[kCameraBatch];
+    int pending_ = 0;
+};
+
+}  // namespace lc
