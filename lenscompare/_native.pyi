@@ -128,8 +128,10 @@ def render_rows(
     row_begin: int,
     row_end: int,
     out: numpy.ndarray,  # float32 (height, width, 3), written: linear RGB, row 0 at the top
+    variance_of_mean: numpy.ndarray | None = None,  # float32 (height, width), written: summed over R, G, B
 ) -> tuple[int, int]:
-    """Renders rows [row_begin, row_end) into out with spp samples per pixel; (samples, rays passed)."""
+    """Renders rows [row_begin, row_end) into out with spp samples per pixel, and optionally each pixel
+    mean's variance; (samples, rays passed)."""
 
 def render_rows_adaptive(
     scene: Scene,

@@ -92,13 +92,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
             native_scene, native_camera, settings, threads, width, height, model, progress)
     else:
         pixels = np.zeros((height, width, 3), dtype=np.float32)
+        variance = np.zeros((height, width), dtype=np.float32)
         with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
             samples, rays_passed = _render_bands(
                 lambda row, row_end: _native.render_rows(native_scene, native_camera, settings.spp,
                                                          SAMPLER_CODES[settings.sampler], settings.seed, threads, row,
-                                                         row_end, pixels),
+                                                         row_end, pixels, variance),
                 height, width * settings.spp, bar)
-        variance, adaptive_info = None, None
+        adaptive_info = None
     seconds = time.perf_counter() - start
 
     metadata = {

@@ -5,9 +5,11 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
 
 #include <array>
+#include <optional>
 #include <algorithm>
 #include <memory>
 #include <type_traits>
@@ -96,9 +98,15 @@ RenderSettings checked_settings(const Camera& camera, const CArray<float, -1, -1
 template <class Camera>
 std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
                                               uint64_t seed, int threads, int row_begin, int row_end,
-                                              CArray<float, -1, -1, 3> out) {
+                                              CArray<float, -1, -1, 3> out,
+                                              std::optional<CArray<float, -1, -1>> variance_of_mean) {
     RenderSettings s = checked_settings(camera, out, sampler, seed, threads, row_begin, row_end);
     s.spp = spp;
+    if (variance_of_mean) {
+        if (variance_of_mean->shape(0) != out.shape(0) || variance_of_mean->shape(1) != out.shape(1))
+            throw std::invalid_argument("variances must have the image's shape");
+        s.variance_of_mean = variance_of_mean->data();
+    }
     RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
     return {stats.samples, stats.rays_passed};
 }
@@ -137,8 +145,10 @@ void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px
 template <class Camera>
 void bind_camera_functions(nb::module_& m) {
     m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
-          "row_begin"_a, "row_end"_a, "out"_a, nb::call_guard<nb::gil_scoped_release>(),
-          "Renders rows [row_begin, row_end) into out with spp samples per pixel; (samples, rays passed).");
+          "row_begin"_a, "row_end"_a, "out"_a, "variance_of_mean"_a = nb::none(),
+          nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows [row_begin, row_end) into out with spp samples per pixel, and optionally each pixel "
+          "mean's variance; (samples, rays passed).");
     m.def("render_rows_adaptive", &render_rows_adaptive_py<Camera>, "scene"_a, "camera"_a, "sample_end"_a,
           "first_sample"_a, "sampler"_a, "seed"_a, "threads"_a, "row_begin"_a, "row_end"_a, "out"_a,
           "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>(),
