@@ -34,7 +34,7 @@ def test_lens_system_is_bit_identical_for_one_and_two_threads(sampler, adaptive)
     how tiles fall to threads; nor must the adaptive passes (jittered draws a
     second set, sobol continues its sequences).
 
-    Large enough (150 tiles, about 0.2 s a render) and rendered twice on two
+    Large enough (150 tiles, 0.3-0.7 s a render here) and rendered twice on two
     threads because a busy machine can leave the second thread asleep until a
     small render is done: then both renders ran on one thread and prove
     nothing. (Checked by making the lens weight depend on the thread index, on
