@@ -25,7 +25,6 @@ from lenscompare.lenses import film_distance_mm, load_prescription, stopped_down
 
 from helpers import REPO
 
-NATIVE = _native.diagnostics  # test-only bindings
 
 TEST_LENSES = REPO / "tests" / "data" / "lenses"
 LENSES = ["dgauss.50mm", "wide.22mm", "fisheye.10mm", "telephoto.250mm",
@@ -102,7 +101,7 @@ def test_native_and_python_traces_agree_ray_for_ray(lens, f_number):
     raster, u = _samples(200000 if f_number == 64.0 else 20000, seed=17)
     n = len(raster)
     origin_w, direction_w, weight = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.float32)
-    NATIVE.generate_rays(camera, raster, u, origin_w, direction_w, weight)
+    _native.generate_rays(camera, raster, u, origin_w, direction_w, weight)
     # A blocked sample comes back as zeros (a ray that passed has a unit
     # direction); not as weight 0, which the brute-force camera at f/64 gives
     # every ray (its centre calibration grid misses the tiny pupil).
