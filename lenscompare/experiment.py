@@ -91,7 +91,7 @@ def prepare_scene(scene: Scene, settings: ExperimentSettings) -> tuple[Scene, li
     lens = prepared.camera.lens
     own_f_number = paraxial_data(lens).f_number
     if camera.f_number is None or camera.f_number < own_f_number:
-        f_number = math.ceil(own_f_number * 1000) / 1000
+        f_number = math.ceil(own_f_number * 1000) / 1000  # rounded up to three decimals
         notes.append(f"f-number set to f/{f_number:g}, the widest {lens.name} allows"
                      + (f" (the scene asks for f/{camera.f_number:g})" if camera.f_number else ""))
         prepared = prepared.with_camera(f_number=f_number)
