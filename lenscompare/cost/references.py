@@ -13,6 +13,7 @@ import json
 import os
 from pathlib import Path
 
+from .. import _native
 from ..image import Image, read_exr, write_exr
 from ..render import render
 from ..scene import Scene
@@ -52,8 +53,6 @@ def tracer_fingerprint() -> str:
     """Fingerprint of the tracer in this process (computed once): the compiled
     ``lenscompare._native`` and the Python that builds cameras and renders.
     ``__version__`` is no fingerprint: it stays put across tracer changes."""
-    from .. import _native
-
     return fingerprint_files(Path(_native.__file__), Path(__file__).resolve().parent.parent)
 
 
