@@ -78,4 +78,6 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
         f32(checker_sizes, (-1,)),
         f32([l.position for l in scene.lights], (-1, 3)), f32([l.color for l in scene.lights], (-1, 3)),
         tuple(float(c) for c in scene.background),
+        i32([l.falloff == "inverse_square" for l in scene.lights]),
+        f32([], (-1, 3)), np.zeros((0, 3), dtype=np.int32), i32([]),
     )

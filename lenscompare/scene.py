@@ -27,7 +27,7 @@ from .lenses import Prescription, resolve_lens
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
+    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
     "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "PointLight", "Scene",
     "load_scene", "parse_scene",
 ]
@@ -35,6 +35,7 @@ __all__ = [
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
@@ -131,7 +132,8 @@ SceneObject = Union[Sphere, Box, Rectangle]
 @dataclass(frozen=True)
 class PointLight:
     position: Vec3
-    color: Vec3  # radiant intensity, no distance falloff
+    color: Vec3  # radiant intensity
+    falloff: str = "none"  # or "inverse_square": lit radiance albedo * color * cos / distance^2 (m^2)
 
 
 @dataclass(frozen=True)
@@ -346,6 +348,7 @@ def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
 
 
 def _read_light(t: Table) -> PointLight:
-    t.check_keys(["type", "position", "color"])
+    t.check_keys(["type", "position", "color", "falloff"])
     t.string("type", choices=("point",))
-    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True))
+    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True),
+                      falloff=t.string("falloff", default="none", choices=FALLOFFS))

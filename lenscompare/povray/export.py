@@ -31,6 +31,10 @@ diffuse + emission E          POV-Ray multiplies ``emission`` by the pigment, so
                               (2 A lit + 2 E) / 2 = A lit + E, also for A = 0
 point light, intensity I      ``light_source { <p> rgb I }``: no ``fade_*``, so
                               no distance falloff; not an area light
+point light, ``falloff =      POV-Ray attenuates by 2 / (1 + (d / D)^P); with
+"inverse_square"``            ``fade_power 2`` and ``fade_distance D`` = 1e-4 m
+                              that is 2 D² / (D² + d²), so the colour is written
+                              as I / (2 D²): I / d² within D² / d² (1e-6 at 1 cm)
 background                    ``background { rgb <...> }``
 global                        ``assumed_gamma 1.0`` (linear colours),
                               ``ambient_light 0``, no radiosity, no photons
@@ -81,7 +85,7 @@ from ..errors import InputError
 from ..units import m_from_mm
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
 
-__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
+__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
 
 POVRAY_MODELS = ("pinhole", "thin")
 """Camera models POV-Ray can render (it has no thick-lens or lens-system camera)."""
@@ -92,6 +96,10 @@ CHECKER_TOLERANCE = 0.001
 
 FOCAL_BLUR_FILM_BIAS_PX = 1.0 / 32.0
 """Mean offset of POV-Ray 3.7's focal-blur film samples, up and left, in pixels."""
+
+INVERSE_SQUARE_FADE_DISTANCE_M = 1e-4
+"""``fade_distance`` written for an inverse-square light: POV-Ray's 2 / (1 + (d/D)²)
+is 2 D² / d² to a relative 1e-6 beyond 1 cm (module notes)."""
 
 
 @dataclass(frozen=True)
@@ -242,7 +250,7 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         "",
     ]
     for light in scene.lights:
-        lines.append(f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}")
+        lines.append(_light(light))
     lines.append("")
     # Material names are any TOML key: number them into POV-Ray identifiers.
     names = {name: f"LC_Material{i}" for i, name in enumerate(scene.materials)}
@@ -252,6 +260,16 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
     for obj in scene.objects:
         lines.append(_object(obj, names[obj.material]))
     return "\n".join(lines) + "\n"
+
+
+def _light(light) -> str:
+    if light.falloff == "none":
+        return f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}"
+    fade_m = INVERSE_SQUARE_FADE_DISTANCE_M
+    # 2 / (1 + (d / D)^2) = 2 D^2 / (D^2 + d^2): the colour I / (2 D^2) makes it I / d^2.
+    color = np.asarray(light.color, dtype=float) / (2.0 * fade_m * fade_m)
+    return (f"light_source {{ {_vec(light.position)} rgb {_vec(color)}  // intensity {_vec(light.color)} / d^2\n"
+            f"  fade_distance {format_number(fade_m)} fade_power 2 }}")
 
 
 def _camera_block(scene: Scene, camera: PovCamera, spp: int, blur_adaptive: tuple[int, float] | None) -> str:
