@@ -133,4 +133,4 @@ def test_installed_report_and_check_run_outside_the_source_tree(installed):
     check = _run([bin_dir / "lenscompare", "check"], cwd=work, timeout=900)
     timings["check"] = time.perf_counter() - start
     assert check.returncode == 0, check.stdout + check.stderr
-    assert "4 passed, 0 failed" in check.stdout
+    assert "5 passed, 0 failed" in check.stdout

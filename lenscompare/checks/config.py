@@ -45,6 +45,9 @@ DEFAULT_CONFIG = Path(str(resources.files(__package__) / "default.toml"))
 CHECK_TYPES = {
     "blur_equation5": ({"scene"}, {"model": "thin", "tolerance_percent": 2.0, "spp": 256, "min_expected_px": 4.0}),
     "povray_ssim": ({"scene"}, {"model": "thin", "min_ssim": 0.97, "spp": 64, "povray_spp": 256}),
+    # Mitsuba 3 against native: SSIM, and (for thin-lens scenes with emissive spheres) blur disks against eq. 5.
+    "mitsuba_agreement": ({"scene"}, {"model": "thin", "min_ssim": 0.97, "spp": 64, "mitsuba_spp": 128,
+                                      "tolerance_percent": 2.0, "min_expected_px": 4.0}),
     "lens_paraxial": ({"lens", "quantity", "expected"}, {"relative_tolerance": 1e-6}),
     "image_matches": ({"image", "scene"}, {"model": None, "spp": 256, "min_ssim": 0.97, "max_delta_e": 2.0}),
 }

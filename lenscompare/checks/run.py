@@ -11,6 +11,7 @@ from ..image import read_exr
 from ..lenses import load_prescription
 from ..lenses.info import lens_info
 from ..measure import measure_blur_disks
+from ..mitsuba import render_mitsuba
 from ..metrics import ciede2000, luminance, relative_rmse, ssim
 from ..povray import render_povray
 from ..render import render
@@ -65,6 +66,27 @@ def _povray_ssim(check: Check, threads):
         "ssim": value, "relative_rmse": rel}
 
 
+def _mitsuba_agreement(check: Check, threads):
+    """Mitsuba's render against the native one (SSIM) and, where the scene has
+    emissive spheres blurred beyond ``min_expected_px``, Mitsuba's blur disks
+    against equation 5."""
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    native = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False).pixels
+    image = render_mitsuba(scene, model=o["model"], spp=int(o["mitsuba_spp"]))
+    value = ssim(image.pixels, native, data_range=float(image.pixels.max() - image.pixels.min()) or 1.0)
+    ok, message, measured = value >= o["min_ssim"], f"SSIM {value:.4f} (min {o['min_ssim']:g})", {"ssim": value}
+    rows = measure_blur_disks(scene, [Run(scene, o["model"], "mitsuba", image)])["renders"].get(
+        f"{o['model']} (Mitsuba)", [])
+    errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
+    if errors:
+        worst = max(errors, key=abs)
+        ok = ok and abs(worst) <= o["tolerance_percent"]
+        message += f"; Mitsuba blur disks: largest error {worst:+.2f} % of eq. 5 (limit {o['tolerance_percent']:g} %)"
+        measured["blur_errors_percent"] = errors
+    return ok, message, measured
+
+
 def _lens_paraxial(check: Check, threads):
     o = check.options
     lens = str(check.path("lens")) if ("/" in str(o["lens"]) or str(o["lens"]).endswith(".dat")) else o["lens"]
@@ -94,5 +116,6 @@ def _image_matches(check: Check, threads):
         "ssim": s, "ciede2000_mean": de}
 
 
-_RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "lens_paraxial": _lens_paraxial,
+_RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "mitsuba_agreement": _mitsuba_agreement,
+            "lens_paraxial": _lens_paraxial,
             "image_matches": _image_matches}
