@@ -23,7 +23,7 @@ LAYERS = [
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
     {"image", "flat_geometry"},
-    {"render", "povray", "mitsuba"},
+    {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},
     {"cost", "checks"},
