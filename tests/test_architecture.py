@@ -26,6 +26,7 @@ LAYERS = [
     {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},
+    {"verdict"},
     {"cost", "checks"},
     {"report"},
     {"commands"},

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 from ..errors import InputError, LensCompareError
 from ..experiment import Run
-from ..image import read_exr
+from ..cameras import camera_for
+from ..image import Image, read_exr
 from ..lenses import load_prescription
 from ..lenses.info import lens_info
 from ..measure import measure_blur_disks
@@ -16,6 +17,7 @@ from ..metrics import ciede2000, luminance, relative_rmse, ssim
 from ..povray import render_povray
 from ..render import render
 from ..scene import load_scene
+from ..verdict import Tolerances, judge_image
 from .config import Check
 
 __all__ = ["CheckResult", "run_check"]
@@ -42,7 +44,10 @@ def run_check(check: Check, *, threads: int | None = None) -> CheckResult:
 def _blur_equation5(check: Check, threads):
     o = check.options
     scene = load_scene(check.path("scene"))
-    image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
+    if o["image"] is not None:  # a renderer's own image of the scene, measured as ours would be
+        image = _outside_image(check, scene, o["model"])
+    else:
+        image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
     # The report's measurement, on one render.
     rows = measure_blur_disks(scene, [Run(scene, o["model"], "native", image)])["renders"][o["model"]]
     errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
@@ -52,6 +57,26 @@ def _blur_equation5(check: Check, threads):
     ok = abs(worst) <= o["tolerance_percent"]
     return ok, f"largest blur-disk error {worst:+.2f} % (limit {o['tolerance_percent']:g} %)", {
         "errors_percent": errors}
+
+
+def _outside_image(check: Check, scene, model):
+    pixels = read_exr(check.path("image")).pixels
+    w, h = scene.camera.resolution
+    if pixels.shape[:2] != (h, w):
+        raise InputError(str(check.path("image")), f"image is {pixels.shape[1]}x{pixels.shape[0]}, the scene "
+                         f"renders {w}x{h}")
+    return Image(pixels, {"model": model}, camera=camera_for(scene, model))
+
+
+def _measure(check: Check, threads):
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    tolerances = Tolerances(**{k: float(o[k]) for k in Tolerances.__dataclass_fields__})
+    verdicts = judge_image(scene, read_exr(check.path("image")), model=o["model"], tolerances=tolerances,
+                           source=str(check.path("image")), threads=threads)
+    failed = [v for v in verdicts if not v.passed]
+    message = "; ".join(f"{v.measurement}: {v.message}" for v in (failed or verdicts))
+    return not failed, message, {v.measurement: v.passed for v in verdicts}
 
 
 def _povray_ssim(check: Check, threads):
@@ -117,5 +142,6 @@ def _image_matches(check: Check, threads):
 
 
 _RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "mitsuba_agreement": _mitsuba_agreement,
+            "measure": _measure,
             "lens_paraxial": _lens_paraxial,
             "image_matches": _image_matches}
