@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .native_scene import box_quads, rectangle_quad
-from .scene import Box, Checker, Rectangle, Scene
+from .scene import Box, Checker, Mesh, Rectangle, Scene
 
 __all__ = ["CHECKER_TOLERANCE", "TrianglePiece", "flat_pieces", "checker_parity", "split_by_checker"]
 
@@ -99,24 +99,24 @@ def _fan(polygon: np.ndarray) -> np.ndarray:
     return np.concatenate([[polygon[0], polygon[i], polygon[i + 1]] for i in range(1, len(polygon) - 1)])
 
 
-def flat_pieces(scene: Scene, *, polygons_of=None) -> list[TrianglePiece]:
-    """Every box and rectangle of ``scene`` as triangles, grouped per object,
-    material and checker parity. Spheres are left out (renderers draw them
-    exactly); ``polygons_of(obj)`` may supply polygons for other object types
-    (meshes), or None to leave the object out."""
+def flat_pieces(scene: Scene) -> list[TrianglePiece]:
+    """Every box, rectangle and mesh of ``scene`` as triangles, grouped per
+    object, material and checker parity. Spheres are left out (renderers draw
+    them exactly)."""
     pieces = []
     for index, obj in enumerate(scene.objects):
+        checker = getattr(scene.materials[obj.material], "checker", None)
+        if isinstance(obj, Mesh) and checker is None:  # as it is, without a loop over 100k triangles
+            pieces.append(TrianglePiece(index, obj.material, None, obj.polygons.reshape(-1, 3)))
+            continue
         if isinstance(obj, Box):
             polygons = list(box_quads(obj.min, obj.max))
         elif isinstance(obj, Rectangle):
             polygons = [rectangle_quad(obj.corner, obj.edge1, obj.edge2)]
-        elif polygons_of is not None:
-            polygons = polygons_of(obj)
-            if polygons is None:
-                continue
+        elif isinstance(obj, Mesh):
+            polygons = list(obj.polygons)
         else:
             continue
-        checker = getattr(scene.materials[obj.material], "checker", None)
         if checker is None:
             pieces.append(TrianglePiece(index, obj.material, None, np.concatenate([_fan(p) for p in polygons])))
             continue

@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "lenscompare"
 LAYERS = [
     {"__init__", "errors", "units", "progress", "_native", "reference_scenes"},
     {"atomic", "_schema"},
-    {"optics", "metrics", "lenses"},
+    {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
     {"image", "flat_geometry"},

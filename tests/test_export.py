@@ -153,7 +153,8 @@ def check_pbrt(text, files):
 
 
 @pytest.mark.parametrize("name, model", [("lit_showcase", "thin"), ("blur_disks", "pinhole"),
-                                         ("flat_field", "thin"), ("lit_showcase", "lens")])
+                                         ("flat_field", "thin"), ("lit_showcase", "lens"),
+                                         ("mesh_bunny", "thin")])
 def test_pbrt_text_follows_pbrt_v4_syntax(name, model):
     scene = load_scene(REFERENCE_SCENES / f"{name}.toml")
     if model == "lens":

@@ -20,7 +20,7 @@ pixel sampling                 ``hdrfilm`` with a ``box`` filter (each sample
                                counts in the pixel it falls in, as ours),
                                ``independent`` sampler, ``sample_count`` = spp
 sphere                         ``sphere`` (exact)
-box, rectangle                 triangles in a PLY file (``face_normals``: flat)
+box, rectangle, mesh           triangles in a PLY file (``face_normals``: flat)
 emissive, radiance L           an ``area`` emitter of radiance L on a black
                                ``diffuse`` BSDF; ``sampling_weight`` 0, so it is
                                seen but lights nothing (our emissive surfaces
@@ -199,7 +199,7 @@ def write_ply(path, triangles: np.ndarray) -> None:
 
 
 def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = None, seed: int | None = None,
-                     mesh_prefix: str = "meshes/", polygons_of=None) -> MitsubaScene:
+                     mesh_prefix: str = "meshes/") -> MitsubaScene:
     """A Mitsuba 3 scene for ``scene`` through the pinhole or the thin lens.
 
     Parameters
@@ -212,8 +212,6 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
         Samples per pixel and sampler seed (default the scene's ``[render]``).
     mesh_prefix : str
         Folder (relative to the XML) the PLY meshes are named in.
-    polygons_of : callable, optional
-        Polygons for object types beyond boxes and rectangles (meshes).
 
     Returns
     -------
@@ -270,7 +268,7 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
             _emitter(shape, material)
 
     meshes = {}
-    for piece in flat_pieces(scene, polygons_of=polygons_of):
+    for piece in flat_pieces(scene):
         material = scene.materials[piece.material]
         triangles = piece.vertices
         emits = isinstance(material, EmissiveMaterial) or any(c > 0 for c in material.emission)

@@ -82,7 +82,7 @@ def write_mitsuba(exported: MitsubaScene, path: str | os.PathLike) -> list[Path]
 
 
 def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = None, seed: int | None = None,
-                   variant: str = "scalar_rgb", polygons_of=None) -> Image:
+                   variant: str = "scalar_rgb") -> Image:
     """Render ``scene`` with Mitsuba 3 through the pinhole or the thin lens.
 
     Parameters
@@ -95,8 +95,6 @@ def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = 
         Samples per pixel and sampler seed (default the scene's ``[render]``).
     variant : {'scalar_rgb', 'llvm_ad_rgb'}
         Mitsuba variant.
-    polygons_of : callable, optional
-        Passed to the export (triangles of mesh objects).
 
     Returns
     -------
@@ -117,7 +115,7 @@ def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = 
         render the scene.
     """
     start = time.perf_counter()
-    exported = scene_to_mitsuba(scene, model=model, spp=spp, seed=seed, polygons_of=polygons_of)
+    exported = scene_to_mitsuba(scene, model=model, spp=spp, seed=seed)
     mi = load_mitsuba(variant)
     camera = exported.camera
     width, height = camera.film.resolution

@@ -54,7 +54,7 @@ from ..cameras import LensSystemCamera, camera_for
 from ..errors import InputError
 from ..flat_geometry import CHECKER_TOLERANCE
 from ..native_scene import box_quads, rectangle_quad
-from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 from ..units import m_from_mm
 
 __all__ = ["PBRT_MODELS", "PbrtScene", "scene_to_pbrt", "lens_file_text"]
@@ -162,7 +162,7 @@ def _triangle_mesh(polygons) -> str:
 
 
 def scene_to_pbrt(scene: Scene, *, model: str | None = None, spp: int | None = None, seed: int | None = None,
-                  lens_file: str = "lens.dat", polygons_of=None) -> PbrtScene:
+                  lens_file: str = "lens.dat") -> PbrtScene:
     """pbrt-v4 scene text for ``scene`` through the pinhole, the thin lens or the lens system.
 
     Parameters
@@ -174,8 +174,6 @@ def scene_to_pbrt(scene: Scene, *, model: str | None = None, spp: int | None = N
         ``pixelsamples`` and ``seed`` (default the scene's ``[render]``).
     lens_file : str
         Name (relative to the scene text) of the lens file for model ``lens``.
-    polygons_of : callable, optional
-        Polygons of object types beyond spheres, boxes and rectangles (meshes).
 
     Raises
     ------
@@ -234,7 +232,8 @@ def scene_to_pbrt(scene: Scene, *, model: str | None = None, spp: int | None = N
             lines.append("  " + _triangle_mesh(box_quads(obj.min, obj.max)))
         elif isinstance(obj, Rectangle):
             lines.append("  " + _triangle_mesh([rectangle_quad(obj.corner, obj.edge1, obj.edge2)]))
-        elif polygons_of is not None and polygons_of(obj) is not None:
-            lines.append("  " + _triangle_mesh(polygons_of(obj)))
+        elif isinstance(obj, Mesh):
+            lines.append(f'  Shape "trianglemesh" "integer indices" [ {" ".join(map(str, obj.triangles.reshape(-1)))} ] '
+                         f'"point3 P" [ {_nums(obj.vertices_m)} ]')
         lines.append("AttributeEnd")
     return PbrtScene(text="\n".join(lines) + "\n", files=files)

@@ -8,6 +8,8 @@ lenscompare                   POV-Ray 3.7
 ============================  ==================================================
 sphere                        ``sphere { <c>, r }`` (exact, as Embree's)
 box (axis-aligned)            ``box { <min>, <max> }``
+mesh (OBJ / PLY)              ``mesh2`` with ``vertex_vectors`` and
+                              ``face_indices`` (flat triangles, as Embree's)
 rectangle (parallelogram)     ``mesh`` of two triangles (p0 p1 p3, p2 p3 p1:
                               Embree's split of the same quad); exact, and no
                               coplanarity test to trip over as ``polygon`` has
@@ -83,7 +85,7 @@ import numpy as np
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
 from ..units import m_from_mm
-from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
 __all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
 
@@ -338,4 +340,9 @@ def _object(obj, texture: str) -> str:
         p0, p1, p2, p3 = c, c + e1, c + e1 + e2, c + e2
         return (f"mesh {{ triangle {{ {_vec(p0)}, {_vec(p1)}, {_vec(p3)} }} "
                 f"triangle {{ {_vec(p2)}, {_vec(p3)}, {_vec(p1)} }} texture {{ {texture} }} }}")
+    if isinstance(obj, Mesh):
+        vertices = ",\n    ".join(_vec(v) for v in obj.vertices_m)
+        faces = ",\n    ".join(f"<{a}, {b}, {c}>" for a, b, c in obj.triangles.tolist())
+        return (f"mesh2 {{  // {obj.file.name}\n  vertex_vectors {{ {len(obj.vertices_m)},\n    {vertices} }}\n"
+                f"  face_indices {{ {len(obj.triangles)},\n    {faces} }}\n  texture {{ {texture} }}\n}}")
     raise TypeError(f"unknown object {obj!r}")  # pragma: no cover
