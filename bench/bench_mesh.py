@@ -1,16 +1,13 @@
-"""Mesh scenes: a ~100k-triangle mesh loaded (OBJ and PLY, text and binary), built into
-Embree, rendered; load time and memory printed as JSON.
+"""Mesh scenes: a mesh of more than 100,000 triangles loaded (binary PLY, ASCII PLY, OBJ),
+built into Embree and rendered; load time and memory printed as JSON.
 
 The mesh is the shipped Stanford Bunny (reference_scenes/bunny.ply, 3,000
-triangles) subdivided by trimesh into 192,000 triangles... no: into 4 x 4 x
-3,000 / 2 would not be round, so it is subdivided twice (48,000) and its
-48,000-triangle copy placed twice side by side... Kept simple: the bunny is
-subdivided until it has at least 100,000 triangles (3,000 -> 12,000 -> 48,000
--> 192,000), each format written to a temporary folder, and each file loaded
-through a scene file in a fresh subprocess, which reports the scene load time
-(trimesh read + line check + transform), the Embree build time, a 360 x 240
-thin-lens render at 16 spp, and the process's peak resident memory before and
-after (``ru_maxrss``).
+triangles) subdivided by trimesh until it has at least 100,000 triangles
+(3,000 -> 12,000 -> 48,000 -> 192,000). Each format is written to a temporary
+folder and loaded through a scene file in a fresh subprocess, which reports
+the scene load time (trimesh read, the count check, the transform), the
+Embree build time, a 360 x 240 thin-lens render at 16 spp, and the process's
+peak resident memory (``ru_maxrss``) after the imports and after the load.
 
 Usage: python bench/bench_mesh.py
 """

@@ -127,3 +127,31 @@ def test_command_writes_the_exr_and_json(tmp_path, minimal_scene_text):
     assert {"model", "spp", "seconds", "samples_per_second", "output"} <= set(info)
     assert info["model"] == "pinhole" and info["spp"] == 4 and info["renderer"].startswith("Mitsuba 3")
     assert read_exr(out).pixels.shape == (24, 36, 3)
+
+
+LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"  # Debian 12's libllvm19
+
+
+@pytest.mark.skipif(not __import__("os").path.exists(LIBLLVM), reason="Debian's libllvm19 is not installed")
+def test_llvm_variant_renders_the_same_scene(tmp_path):
+    """``--variant llvm_ad_rgb`` with DRJIT_LIBLLVM_PATH naming libLLVM 19: the same picture as scalar_rgb
+    (another sampler stream, so compared by SSIM against native, like scalar_rgb)."""
+    import os
+    import subprocess
+    import sys
+
+    scene = REFERENCE_SCENES / "flat_field.toml"
+    out = tmp_path / "llvm.exr"
+    result = subprocess.run([sys.executable, "-m", "lenscompare", "mitsuba", scene, "-o", out, "--spp", "4",
+                             "--model", "pinhole", "--variant", "llvm_ad_rgb", "--json"], capture_output=True,
+                            text=True, timeout=600, env={**os.environ, "DRJIT_LIBLLVM_PATH": LIBLLVM})
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["renderer"].endswith("llvm_ad_rgb")
+    assert np.allclose(read_exr(out).pixels, 1.0, atol=1e-5)  # the flat field's radiance everywhere
+
+
+def test_unknown_variant_is_exit_2(tmp_path, minimal_scene_text):
+    path = tmp_path / "s.toml"
+    path.write_text(minimal_scene_text + 'falloff = "inverse_square"\n')
+    result = run_cli("mitsuba", path, "-o", tmp_path / "o.exr", "--variant", "cuda_ad_rgb")
+    assert result.returncode == 2 and "--variant" in result.stderr
