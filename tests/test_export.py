@@ -5,7 +5,6 @@ written from pbrt-v4's documented file format: pbrt itself is not installable he
 
 import json
 import re
-import shlex
 
 import numpy as np
 import pytest

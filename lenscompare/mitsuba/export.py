@@ -67,7 +67,7 @@ import numpy as np
 
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
-from ..flat_geometry import TrianglePiece, flat_pieces
+from ..flat_geometry import flat_pieces
 from ..scene import DiffuseMaterial, EmissiveMaterial, Scene, Sphere
 from ..units import m_from_mm
 
