@@ -74,6 +74,8 @@ def test_malformed_mesh_is_exit_2_naming_file_and_line(tmp_path, name, text, lin
     with pytest.raises(InputError) as error:
         read_mesh(tmp_path / name)
     assert error.value.key == line and words in error.value.problem, str(error.value)
+    if name != "bad.obj" or "zero" not in text:
+        return  # the command line once (a subprocess costs seconds): the same error, one line, exit 2
     scene = tmp_path / "s.toml"
     scene.write_text(MINIMAL_SCENE + f'\n[[objects]]\ntype = "mesh"\nfile = "{name}"\nmaterial = "grey"\n')
     result = run_cli("render", scene, "-o", tmp_path / "out.exr")
