@@ -17,6 +17,7 @@ import contextlib
 import logging
 import os
 import socket
+import threading
 from dataclasses import dataclass
 
 from .errors import ExternalError, InputError
@@ -24,7 +25,7 @@ from .errors import ExternalError, InputError
 __all__ = ["Cluster", "open_cluster", "machine_cores", "task_threads", "worker_address",
            "CONNECT_TIMEOUT_S"]
 
-CONNECT_TIMEOUT_S = 5.0
+CONNECT_TIMEOUT_S = 4.0
 """How long to try to reach a scheduler before giving up (exit 1)."""
 
 WORKER_WAIT_S = 60.0
@@ -128,16 +129,35 @@ def _connect(distributed, address: str, timeout_s: float):
     """A client of the scheduler at ``address``, or a one-line error."""
     if "://" not in address and ":" not in address:
         raise InputError("--scheduler", f"expected an address like tcp://HOST:PORT, got {address!r}")
-    # The client retries until its timeout; a refused connection is not final
-    # (the scheduler may still be starting), an unanswered one ends there too.
-    logging.getLogger("distributed.client").setLevel(logging.CRITICAL)
     try:
-        return distributed.Client(address, timeout=timeout_s, set_as_default=False)
-    except (OSError, TimeoutError) as error:
-        raise ExternalError(f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s "
-                            f"({error.__class__.__name__})") from None
-    except ValueError as error:
+        host, port = distributed.comm.get_address_host_port(distributed.comm.resolve_address(address))
+    except (ValueError, TypeError) as error:
         raise InputError("--scheduler", f"{address!r} is not a scheduler address ({error})") from None
+    # A plain TCP probe first: a refused or unanswered address fails at once,
+    # where the client would retry until its timeout.
+    try:
+        socket.create_connection((host, port), timeout=timeout_s).close()
+    except OSError as error:
+        raise ExternalError(f"cannot reach the Dask scheduler at {address} ({error.strerror or error})") from None
+    logging.getLogger("distributed.client").setLevel(logging.CRITICAL)
+    # In a thread with a deadline: a server that accepts the connection but
+    # never answers the handshake (not a scheduler) would hold the client.
+    outcome: dict = {}
+
+    def connect() -> None:
+        try:
+            outcome["client"] = distributed.Client(address, timeout=timeout_s, set_as_default=False)
+        except Exception as error:  # noqa: BLE001 - whatever answers there is not a scheduler we can use
+            outcome["error"] = error
+
+    thread = threading.Thread(target=connect, daemon=True, name="lenscompare-connect")
+    thread.start()
+    thread.join(timeout_s + 1.0)
+    if "client" in outcome:
+        return outcome["client"]
+    error = outcome.get("error")
+    why = f"{error.__class__.__name__}: {str(error)[:120]}" if error else "no answer to the handshake"
+    raise ExternalError(f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s ({why})")
 
 
 def task_threads(requested: int | None, slots_by_host: dict) -> int:

@@ -89,7 +89,7 @@ def _run_tasks(cluster, todo, tasks, journal: Journal, out: Path, *, threads, pr
                                      pure=False): task for task in todo}
     flushed = time.monotonic()
     with progress_bar(len(todo), description="sweep", unit="task", enabled=progress) as bar:
-        for future in as_completed(futures):
+        for future in as_completed(futures, loop=cluster.client.loop):
             task = futures.pop(future)
             try:
                 result = future.result()
