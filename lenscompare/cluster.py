@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 from .errors import ExternalError, InputError
 
-__all__ = ["Cluster", "open_cluster", "machine_cores", "task_threads", "worker_address",
+__all__ = ["Cluster", "open_cluster", "machine_cores", "task_threads", "worker_name", "run_calls",
            "CONNECT_TIMEOUT_S"]
 
 CONNECT_TIMEOUT_S = 4.0
@@ -174,11 +174,48 @@ def task_threads(requested: int | None, slots_by_host: dict) -> int:
     return max(1, machine_cores() // max(1, slots))
 
 
-def worker_address() -> str:
-    """The Dask worker this runs on, or this machine's name outside a worker."""
+def worker_name() -> str:
+    """The Dask worker this runs on (its name, else its address), or this
+    machine's name outside a worker."""
     from distributed import get_worker  # noqa: PLC0415 - imported on use, see open_cluster
 
     try:
-        return get_worker().address
+        worker = get_worker()
     except ValueError:  # not on a worker
         return socket.gethostname()
+    return str(worker.name if worker.name is not None else worker.address)
+
+
+def run_calls(cluster: Cluster | None, fn, calls, *, threads: int | None, catch: tuple = (), progress=None) -> list:
+    """``fn(*args, threads=T, **kwargs)`` for each ``(args, kwargs)`` in ``calls``.
+
+    Without a cluster, here, one after another, with ``threads`` as given;
+    with one, as tasks on its workers, each with :func:`task_threads`. Results
+    come back in the order of ``calls``; an exception of a type in ``catch``
+    is returned in place of its result, any other is raised. ``progress`` (a
+    progress bar) advances once per call.
+    """
+    results = []
+    if cluster is None:
+        for args, kwargs in calls:
+            try:
+                results.append(fn(*args, threads=threads, **kwargs))
+            except catch as error:
+                results.append(error)
+            if progress:
+                progress.update(1)
+        return results
+    futures = [cluster.client.submit(_call_with_threads, fn, args, kwargs, threads, cluster.slots_by_host,
+                                     pure=False) for args, kwargs in calls]
+    for future in futures:
+        try:
+            results.append(future.result())
+        except catch as error:
+            results.append(error)
+        if progress:
+            progress.update(1)
+    return results
+
+
+def _call_with_threads(fn, args, kwargs, threads, slots_by_host):
+    return fn(*args, threads=task_threads(threads, slots_by_host), **kwargs)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from .cluster import Cluster, run_calls
 from .errors import ExternalError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
@@ -18,7 +19,7 @@ from .povray import POVRAY_MODELS, render_povray
 from .render import render
 from .scene import MODELS, Scene
 
-__all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "POVRAY_MODELS",
+__all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "render_scenes", "POVRAY_MODELS",
            "REFERENCE_POVRAY_SPP"]
 
 REFERENCE_POVRAY_SPP = 256
@@ -107,24 +108,38 @@ def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSett
     return Run(scene, model, renderer, image)
 
 
-def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, progress=None
-                  ) -> tuple[list[Run], list[str]]:
+def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, progress=None,
+                  cluster: Cluster | None = None) -> tuple[list[Run], list[str]]:
     """Every model natively, then POV-Ray for the models it has (when asked).
 
     A POV-Ray failure becomes a note, not an error: the native runs stand.
-    ``progress`` (a progress bar) advances once per render.
+    ``progress`` (a progress bar) advances once per render. With a ``cluster``
+    (:func:`lenscompare.cluster.open_cluster`) the renders run there as tasks,
+    each with its worker's thread count unless ``settings.threads`` is given.
     """
-    runs, notes = [], []
-    for model in models:
-        runs.append(render_run(scene, model, "native", settings))
-        if progress:
-            progress.update(1)
-    for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
-        try:
-            runs.append(render_run(scene, model, "povray", settings))
-        except ExternalError as error:
-            notes.append(f"POV-Ray {model} render of {scene.name} failed: {error}")
-        finally:
-            if progress:
-                progress.update(1)
-    return runs, notes
+    return render_scenes([scene], settings, models=models, progress=progress, cluster=cluster)[0]
+
+
+def render_scenes(scenes: list[Scene], settings: ExperimentSettings, *, models=MODELS, progress=None,
+                  cluster: Cluster | None = None) -> list[tuple[list[Run], list[str]]]:
+    """:func:`render_models` for several scenes at once (on a cluster, every
+    render of every scene is a task from the start)."""
+    jobs = [(i, model, "native") for i in range(len(scenes)) for model in models]
+    jobs += [(i, model, "povray") for i in range(len(scenes)) for model in POVRAY_MODELS
+             if model in models and settings.povray]
+    jobs.sort(key=lambda job: job[0])  # scene by scene, natives first
+    results = run_calls(cluster, _render_run_with_threads, [((scenes[i], model, renderer, settings), {})
+                                                            for i, model, renderer in jobs],
+                        threads=settings.threads, catch=(ExternalError,), progress=progress)
+    out = [([], []) for _ in scenes]
+    for (i, model, renderer), result in zip(jobs, results):
+        if isinstance(result, ExternalError):  # only POV-Ray fails from outside
+            out[i][1].append(f"POV-Ray {model} render of {scenes[i].name} failed: {result}")
+        else:
+            out[i][0].append(result)
+    return out
+
+
+def _render_run_with_threads(scene: Scene, model: str, renderer: str, settings: ExperimentSettings, *,
+                             threads: int | None) -> Run:
+    return render_run(scene, model, renderer, replace(settings, threads=threads))

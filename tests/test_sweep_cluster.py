@@ -113,19 +113,26 @@ def _sweep_process(folder: Path, address: str) -> subprocess.Popen:
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-def _wait_for_rows(journal: Path, n: int, process: subprocess.Popen, timeout_s: float = 120.0) -> int:
+def _journal_workers(path: Path) -> set[str]:
+    try:
+        lines = path.read_text().splitlines()
+    except FileNotFoundError:
+        return set()
+    return {json.loads(line)["worker"] for line in lines if line.endswith("}")}
+
+
+def _wait_for(done, process: subprocess.Popen, timeout_s: float = 120.0) -> None:
     deadline = time.monotonic() + timeout_s
-    while _journal_rows(journal) < n:
+    while not done():
         assert process.poll() is None, process.communicate()
         assert time.monotonic() < deadline, "the sweep wrote no rows"
         time.sleep(0.02)
-    return _journal_rows(journal)
 
 
-def test_an_interrupted_sweep_resumes_with_only_the_missing_tasks(cluster, tmp_path):
+def test_an_interrupted_sweep_resumes_with_only_the_missing_tasks(cluster, tmp_path, main, capsys):
     sweep = _sweep_process(tmp_path, cluster["address"])
     journal = tmp_path / "out" / "rows.jsonl"
-    _wait_for_rows(journal, 3, sweep)
+    _wait_for(lambda: _journal_rows(journal) >= 3, sweep)
     sweep.send_signal(signal.SIGKILL)  # no chance to tidy up
     sweep.wait()
     done = _journal_rows(journal)
@@ -139,19 +146,21 @@ def test_an_interrupted_sweep_resumes_with_only_the_missing_tasks(cluster, tmp_p
     # Each task's row once: nothing that was done ran again.
     keys = [json.loads(line)["task_key"] for line in journal.read_text().splitlines()]
     assert len(keys) == len(set(keys)) == TASKS
-    # A third run renders nothing.
-    third = run_cli("sweep", tmp_path / "sweep.toml", "-o", tmp_path / "out", "--scheduler", cluster["address"],
-                    "--no-plots", "--json")
-    assert json.loads(third.stdout)["run"] == 0
+    # A third run renders nothing (and needs no cluster).
+    assert main(["sweep", str(tmp_path / "sweep.toml"), "-o", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9",
+                 "--no-plots", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["run"] == 0
     assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == TASKS
 
 
 def test_a_sweep_survives_a_worker_killed_mid_sweep_and_matches_the_local_run(cluster, local_table, tmp_path):
     sweep = _sweep_process(tmp_path, cluster["address"])
     journal = tmp_path / "out" / "rows.jsonl"
-    at_kill = _wait_for_rows(journal, 2, sweep)
+    # Kill w1 once both workers have finished a task.
+    _wait_for(lambda: _journal_workers(journal) == {"w0", "w1"}, sweep)
     victim = cluster["workers"][1]
     os.killpg(victim.pid, signal.SIGKILL)
+    at_kill = _journal_rows(journal)
     victim.wait()
     out, err = sweep.communicate(timeout=300)
     assert sweep.returncode == 0, err
@@ -161,7 +170,7 @@ def test_a_sweep_survives_a_worker_killed_mid_sweep_and_matches_the_local_run(cl
 
     table = pd.read_parquet(tmp_path / "out" / "results.parquet")
     assert table["task"].tolist() == list(range(TASKS))
-    assert table["worker"].nunique() == 2  # both workers rendered before one died
+    assert set(table["worker"]) == {"w0", "w1"}
     assert set(table["threads"]) == {max(1, machine_cores() // 2)}  # 2 slots on this machine
     failed = table[table["error"].notna()]
     assert list(zip(failed["lens"], failed["model"], failed["f_number"])) == [("wide.22mm", "lens", 2.4)]
@@ -178,3 +187,54 @@ def test_an_unreachable_scheduler_exits_1_naming_it_within_10_s(tmp_path):
     assert result.returncode == 1, result.stderr
     assert address in result.stderr and result.stderr.count("\n") == 1, result.stderr
     assert elapsed < 10.0, elapsed
+
+
+def test_report_renders_run_as_tasks_and_match_this_process(cluster):
+    """What ``report --scheduler`` does with its renders: every model of every
+    scene a task on the cluster; the images are this process's, bit for bit."""
+    import numpy as np
+
+    from lenscompare.cluster import open_cluster
+    from lenscompare.experiment import ExperimentSettings, prepare_scene, render_scenes
+    from lenscompare.scene import load_scene
+
+    from helpers import REFERENCE_SCENES
+
+    settings = ExperimentSettings(quick=True, povray=False)
+    scenes = [prepare_scene(load_scene(REFERENCE_SCENES / "flat_field.toml"), settings)[0]]
+    scenes = [s.with_render(spp=4) for s in scenes]
+    here = render_scenes(scenes, settings)
+    with open_cluster(cluster["address"]) as dask:
+        there = render_scenes(scenes, settings, cluster=dask)
+    assert [r.label for r in there[0][0]] == [r.label for r in here[0][0]] == ["pinhole", "thin", "thick", "lens"]
+    for a, b in zip(here[0][0], there[0][0]):
+        assert np.array_equal(a.image.pixels, b.image.pixels), a.label
+        assert b.image.metadata["threads"] == max(1, machine_cores() // dask.slots_by_host["127.0.0.1"])
+
+
+def test_cost_study_on_the_cluster_matches_this_process(cluster, tmp_path):
+    from lenscompare.cluster import open_cluster
+    from lenscompare.cost import CostSettings, run_cost_study
+    from lenscompare.scene import load_scene
+
+    from helpers import REFERENCE_SCENES
+
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml")
+    settings = CostSettings(quick=True, samplers=("jittered",), models=("pinhole", "thin"), povray=False,
+                            cache_dir=tmp_path / "cache")
+    here = run_cost_study([scene], tmp_path / "here", settings, progress=False)
+    with open_cluster(cluster["address"]) as dask:
+        there = run_cost_study([scene], tmp_path / "there", settings, progress=False, cluster=dask)
+    assert there["settings"]["scheduler"] == cluster["address"]
+    for model in ("pinhole", "thin"):
+        a, b = (r["scenes"]["showcase"]["models"][model]["jittered"]["points"] for r in (here, there))
+        assert [p["relative_rmse"] for p in a] == [p["relative_rmse"] for p in b]
+
+
+@pytest.mark.parametrize("command", ["report", "cost"])
+def test_report_and_cost_take_a_scheduler_and_name_it_when_unreachable(command, tmp_path):
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    result = run_cli(command, "flat_field" if command == "report" else
+                     Path(__file__).parent.parent / "reference_scenes" / "flat_field.toml",
+                     "-o", tmp_path / "out", "--scheduler", address)
+    assert result.returncode == 1 and address in result.stderr, result.stderr

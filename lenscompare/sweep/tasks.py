@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from ..cluster import task_threads, worker_address
+from ..cluster import task_threads, worker_name
 from ..errors import InputError
 from ..experiment import ExperimentSettings, prepare_scene, render_run
 from ..scene import Scene
@@ -123,7 +123,7 @@ def run_task(task: Task, *, threads: int | None = None, slots_by_host: dict | No
     except Exception as error:  # noqa: BLE001 - a failing task is a row, never a failed sweep
         result["error"] = _describe(error)
     result["task_seconds"] = time.perf_counter() - start
-    result["worker"] = worker_address()
+    result["worker"] = worker_name()
     return result
 
 
