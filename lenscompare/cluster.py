@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 from .errors import ExternalError, InputError
 
-__all__ = ["Cluster", "open_cluster", "machine_cores", "task_threads", "worker_name", "run_calls",
+__all__ = ["Cluster", "open_cluster", "check_cluster_options", "machine_cores", "task_threads", "worker_name", "run_calls",
            "CONNECT_TIMEOUT_S"]
 
 CONNECT_TIMEOUT_S = 4.0
@@ -101,11 +101,7 @@ def open_cluster(scheduler: str | None = None, *, workers: int | None = None,
     # distributed takes over a second to import; only cluster runs need it.
     import distributed  # noqa: PLC0415 - imported on use, see above
 
-    if workers is not None and workers < 1:
-        raise InputError("--workers", f"expected a positive integer, got {workers}")
-    if scheduler is not None and workers is not None:
-        raise InputError("--workers", "applies to the local cluster only; the cluster at --scheduler has its own "
-                                      "workers")
+    check_cluster_options(scheduler, workers)
     with contextlib.ExitStack() as stack:
         if scheduler is None:
             local = stack.enter_context(distributed.LocalCluster(
@@ -123,6 +119,15 @@ def open_cluster(scheduler: str | None = None, *, workers: int | None = None,
         for info in client.scheduler_info()["workers"].values():
             slots[info["host"]] = slots.get(info["host"], 0) + int(info["nthreads"])
         yield Cluster(client=client, address=client.scheduler.address, local=scheduler is None, slots_by_host=slots)
+
+
+def check_cluster_options(scheduler: str | None, workers: int | None) -> None:
+    """The options' own errors (exit 2), before any work starts."""
+    if workers is not None and workers < 1:
+        raise InputError("--workers", f"expected a positive integer, got {workers}")
+    if scheduler is not None and workers is not None:
+        raise InputError("--workers", "applies to the local cluster only; the cluster at --scheduler has its own "
+                                      "workers")
 
 
 def _connect(distributed, address: str, timeout_s: float):

@@ -203,3 +203,13 @@ def test_a_damaged_journal_line_is_named(tmp_path):
 
 def test_results_frame_of_no_rows_has_the_columns():
     assert list(results_frame([]).columns) == list(COLUMNS)
+
+
+@pytest.mark.parametrize("options, option", [(["--workers", "0"], "--workers"), (["--threads", "0"], "--threads"),
+                                              (["--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--workers")])
+def test_bad_cluster_options_exit_2_naming_the_option(tmp_path, main, capsys, options, option):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('scenes = ["flat_field"]\n')
+    assert main(["sweep", str(sweep), "-o", str(tmp_path / "out"), *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"lenscompare: error: {option}: ") and err.count("\n") == 1, err

@@ -41,6 +41,9 @@ def run(args) -> int:
         print(f"{summary['tasks']} tasks: {summary['run']} run, {summary['skipped']} already done, "
               f"{summary['failed']} with an error in their row; {summary['seconds']:.0f} s"
               + (f" on the {summary['cluster']}" if summary["cluster"] else ""))
+        if summary["other_rows"]:
+            print(f"{summary['other_rows']} rows in the journal are of tasks not in this sweep file (left out of "
+                  "the table)")
         print(f"Table: {Path(summary['table']).resolve()}")
     if summary["not_run"]:
         raise ExternalError(f"{len(summary['not_run'])} tasks could not be run ("

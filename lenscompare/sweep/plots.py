@@ -47,8 +47,8 @@ def write_plots(frame, folder: Path) -> list[str]:
 
 def plot_against(frame, *, y: str, x: str, path: Path) -> Path:
     """``y`` against ``x``: a panel per lens (per scene when ``x`` is the lens),
-    a line per model (per lens when ``x`` is the model), median and range over
-    the other axes."""
+    a line per model (per scene when ``x`` is the model), median and range
+    over the other axes; points without lines for a categorical ``x``."""
     import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
@@ -56,12 +56,12 @@ def plot_against(frame, *, y: str, x: str, path: Path) -> Path:
 
     rows = frame[frame[y].notna()]
     panel_by = "scene" if x == "lens" else "lens"
-    line_by = "lens" if x == "model" else "model"
+    line_by = "scene" if x == "model" else "model"
     panels = list(dict.fromkeys(rows[panel_by]))
     columns = min(4, len(panels))
     n_rows = -(-len(panels) // columns)
     plt.rcParams.update({"font.size": 10, "legend.fontsize": 9, "axes.titlesize": 11})
-    fig, grid = plt.subplots(n_rows, columns, figsize=(3.3 * columns, 2.9 * n_rows + 0.7), dpi=100, squeeze=False,
+    fig, grid = plt.subplots(n_rows, columns, figsize=(max(5.0, 3.3 * columns), 2.9 * n_rows + 0.9), dpi=100, squeeze=False,
                              sharey=True)
     axes = list(grid.ravel())
     for extra in axes[len(panels):]:
@@ -73,9 +73,13 @@ def plot_against(frame, *, y: str, x: str, path: Path) -> Path:
             stats = group.groupby(x, sort=True)[y].agg(["median", "min", "max"])
             xs = stats.index.to_numpy() if categories is None else np.array([categories.index(v) for v in stats.index])
             colour = COLOURS.get(line, _CYCLE[i % len(_CYCLE)])
-            ax.plot(xs, stats["median"], "o-", color=colour, label=str(line), lw=1.2, ms=3.5)
-            if (stats["max"] > stats["min"]).any():
-                ax.fill_between(xs, stats["min"], stats["max"], color=colour, alpha=0.15, lw=0)
+            if categories is None:
+                ax.plot(xs, stats["median"], "o-", color=colour, label=str(line), lw=1.2, ms=3.5)
+                if (stats["max"] > stats["min"]).any():
+                    ax.fill_between(xs, stats["min"], stats["max"], color=colour, alpha=0.15, lw=0)
+            else:  # no order between categories: points, and the range as a bar
+                ax.errorbar(xs, stats["median"], yerr=[stats["median"] - stats["min"], stats["max"] - stats["median"]],
+                            fmt="o", color=colour, label=str(line), ms=4, capsize=3, lw=1)
         ax.set_title(str(panel))
         ax.set_xlabel(AXIS_COLUMNS[x])
         ax.grid(True, alpha=0.3)
@@ -92,10 +96,13 @@ def plot_against(frame, *, y: str, x: str, path: Path) -> Path:
     legend = {}
     for ax in axes[:len(panels)]:
         legend.update(zip(*reversed(ax.get_legend_handles_labels())))
-    fig.legend(legend.values(), legend.keys(), loc="upper right", ncols=len(legend), frameon=False)
-    fig.suptitle(f"{_Y_COLUMNS[y][0]} against {AXIS_COLUMNS[x]}", x=0.01, ha="left", fontsize=11)
-    fig.text(0.01, 0.005, "points: median over the other axes; band: their range", fontsize=8, color="#555")
-    fig.tight_layout(rect=(0, 0.03, 1, 0.93))
+    top = 1.0 - 0.62 / fig.get_figheight()  # title and legend rows, in figure fractions
+    fig.suptitle(f"{_Y_COLUMNS[y][0]} against {AXIS_COLUMNS[x]}", x=0.01, y=0.995, ha="left", va="top", fontsize=11)
+    fig.legend(legend.values(), legend.keys(), loc="upper left", bbox_to_anchor=(0.0, 1.0 - 0.3 / fig.get_figheight()),
+               ncols=min(6, len(legend)), frameon=False)
+    spread = "band" if categories is None else "bar"
+    fig.text(0.01, 0.005, f"points: median over the other axes; {spread}: their range", fontsize=8, color="#555")
+    fig.tight_layout(rect=(0, 0.03, 1, top))
     with atomic_output(path) as tmp:
         fig.savefig(tmp, format="png")
     plt.close(fig)

@@ -15,7 +15,7 @@ import asyncio
 import time
 from pathlib import Path
 
-from ..cluster import open_cluster
+from ..cluster import check_cluster_options, open_cluster
 from ..errors import InputError
 from ..progress import progress_bar
 from .plots import write_plots
@@ -54,8 +54,10 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None, workers
     dict
         ``tasks`` (in the sweep), ``run`` (this time), ``skipped`` (found in
         the journal), ``failed`` (rows with an error), ``not_run`` (tasks Dask
-        gave up on, with why), ``seconds``, ``cluster``, ``table``, ``plots``.
+        gave up on, with why), ``other_rows`` (journal rows of tasks not in
+        this sweep), ``seconds``, ``cluster``, ``table``, ``plots``.
     """
+    check_cluster_options(scheduler, workers)
     if threads is not None and threads < 1:
         raise InputError("--threads", f"expected a positive integer, got {threads}")
     out = Path(out_dir)
@@ -73,6 +75,9 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None, workers
                 summary["cluster"] = cluster.describe()
                 _run_tasks(cluster, todo, tasks, journal, out, threads=threads, progress=progress, summary=summary)
         rows = _current_rows(tasks, journal)
+        # Rows of tasks this sweep no longer has (its file changed): kept in
+        # the journal, left out of the table.
+        summary["other_rows"] = len(set(journal.rows) - {t.key for t in tasks})
     frame = write_results(rows, out / "results.parquet")
     summary["failed"] = int(frame["error"].notna().sum())
     summary["table"] = str(out / "results.parquet")
