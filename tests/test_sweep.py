@@ -213,3 +213,14 @@ def test_bad_cluster_options_exit_2_naming_the_option(tmp_path, main, capsys, op
     assert main(["sweep", str(sweep), "-o", str(tmp_path / "out"), *options]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"lenscompare: error: {option}: ") and err.count("\n") == 1, err
+
+
+def test_the_shipped_example_is_found_by_name_and_is_the_issue_grid():
+    from lenscompare.lenses import shipped_lens_names
+    from lenscompare.sweep import load_sweep
+
+    spec = load_sweep("example")
+    assert [s.name for s in spec.scenes] == ["dot_grid", "flat_field"]
+    assert sorted(lens.name for lens in spec.axes["lens"]) == sorted(shipped_lens_names())
+    assert (len(spec.axes["f_number"]), len(spec.axes["focus_distance"]), len(spec.axes["model"])) == (5, 3, 3)
+    assert len(task_grid(spec)) == 2 * len(shipped_lens_names()) * 5 * 3 * 3

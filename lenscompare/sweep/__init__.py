@@ -10,9 +10,9 @@ where the tasks run and with how many threads.
 from __future__ import annotations
 
 from .runner import run_sweep
-from .spec import AXES, SWEEP_MEASUREMENTS, SweepSpec, load_sweep, parse_sweep
+from .spec import AXES, SWEEP_MEASUREMENTS, SweepSpec, find_sweep, load_sweep, parse_sweep
 from .table import COLUMNS, Journal, results_frame
 from .tasks import PARAMETER_COLUMNS, RUN_COLUMNS, Task, run_task, task_grid
 
-__all__ = ["run_sweep", "load_sweep", "parse_sweep", "SweepSpec", "AXES", "SWEEP_MEASUREMENTS", "COLUMNS",
+__all__ = ["run_sweep", "find_sweep", "load_sweep", "parse_sweep", "SweepSpec", "AXES", "SWEEP_MEASUREMENTS", "COLUMNS",
            "Journal", "results_frame", "PARAMETER_COLUMNS", "RUN_COLUMNS", "Task", "run_task", "task_grid"]

@@ -39,7 +39,7 @@ from ..lenses import Prescription, resolve_lens
 from ..reference_scenes import find_scene, shipped_scene_names
 from ..scene import MODELS, SAMPLERS, Scene, load_scene
 
-__all__ = ["SweepSpec", "load_sweep", "parse_sweep", "AXES", "SWEEP_MEASUREMENTS"]
+__all__ = ["SweepSpec", "find_sweep", "load_sweep", "parse_sweep", "AXES", "SWEEP_MEASUREMENTS"]
 
 AXES = ("lens", "f_number", "focus_distance", "model", "sampler", "spp", "seed")
 
@@ -76,8 +76,19 @@ class SweepSpec:
         return tuple(m for m in wanted if m in SWEEP_MEASUREMENTS)
 
 
+def find_sweep(value: str | os.PathLike) -> Path:
+    """The sweep file ``value`` means: that file when it exists, else the
+    shipped sweep of that bare name (``example``: ``lenscompare/sweep/example.toml``)."""
+    path = Path(value)
+    shipped = Path(__file__).resolve().parent / f"{path.name}.toml"
+    if not path.exists() and path.name == os.fspath(value) and shipped.is_file():
+        return shipped
+    return path
+
+
 def load_sweep(path: str | os.PathLike) -> SweepSpec:
-    """Read and check a sweep file.
+    """Read and check a sweep file (a path, or a shipped sweep's name, see
+    :func:`find_sweep`).
 
     Raises
     ------
@@ -85,7 +96,7 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
         The file is unreadable or breaks the format; the message names the file
         and the key.
     """
-    source = os.fspath(path)
+    source = os.fspath(find_sweep(path))
     try:
         text = Path(source).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
