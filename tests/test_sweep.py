@@ -14,6 +14,7 @@ import pytest
 from lenscompare.errors import InputError
 from lenscompare.scene import load_scene
 from lenscompare.sweep import COLUMNS, Journal, parse_sweep, results_frame, run_task, task_grid
+from lenscompare.sweep.columns import MEASUREMENT_COLUMNS
 from lenscompare.sweep.table import write_results
 
 from helpers import REFERENCE_SCENES
@@ -168,6 +169,10 @@ def test_the_table_has_every_column_typed_and_survives_parquet(small_rows, tmp_p
     back = pd.read_parquet(tmp_path / "results.parquet")
     assert list(back.columns) == list(COLUMNS)
     assert back["task"].tolist() == [0, 1]  # grid order, whatever the order of arrival
+    for name, (_, kind) in MEASUREMENT_COLUMNS.items():
+        dtype = str(back[name].dtype)
+        assert dtype == ("object" if kind == "list" else "Int64" if name.endswith(("_matched", "_found"))
+                         else "float64"), (name, dtype)
     assert str(back["spp"].dtype) == "Int64" and back["f_number"].dtype == "float64"
     assert pd.isna(back["error"][1]) and back["error"][0].startswith("InputError")
     assert list(back["relative_illumination"][1]) == rows[1]["relative_illumination"]

@@ -92,10 +92,10 @@ def results_frame(rows) -> pd.DataFrame:
     for name in _INTEGER_COLUMNS:
         frame[name] = frame[name].astype("Int64")
     for name, (_, kind) in MEASUREMENT_COLUMNS.items():
-        if kind == "scalar" and name not in _INTEGER_COLUMNS:
-            frame[name] = frame[name].astype("float64")
-        else:  # a list per row, empty where the task has none
+        if kind == "list":  # a list per row, empty where the task has none
             frame[name] = [list(v) if isinstance(v, list) else [] for v in frame[name]]
+        elif name not in _INTEGER_COLUMNS:
+            frame[name] = frame[name].astype("float64")
     for name in ("f_number", "focus_distance_m", "seconds", "samples_per_second", "task_seconds",
                  "ray_pass_fraction"):
         frame[name] = frame[name].astype("float64")
