@@ -99,7 +99,8 @@ def _run_tasks(cluster, todo, tasks, journal: Journal, out: Path, *, threads, pr
             try:
                 result = future.result()
             except (Exception, asyncio.CancelledError) as error:  # Dask gave up on it; the next run retries
-                summary["not_run"].append({"task": task.index, "why": f"{error.__class__.__name__}: {error}"})
+                why = f"{error.__class__.__name__}: {error}".splitlines()[0]
+                summary["not_run"].append({"task": task.index, "why": why})
             else:
                 journal.append({**task.parameters(), **result})
                 summary["run"] += 1
