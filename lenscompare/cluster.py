@@ -63,7 +63,7 @@ class Cluster:
 
     @property
     def workers(self) -> int:
-        return len(self.client.scheduler_info()["workers"])
+        return len(self.client.nthreads())
 
     def describe(self) -> str:
         where = "local cluster" if self.local else "Dask cluster"
@@ -104,10 +104,12 @@ def open_cluster(scheduler: str | None = None, *, workers: int | None = None,
     check_cluster_options(scheduler, workers)
     with contextlib.ExitStack() as stack:
         if scheduler is None:
+            # Its HTTP endpoints on a free loopback port: the usual 8787 clashes
+            # with any other cluster on the machine.
             local = stack.enter_context(distributed.LocalCluster(
                 n_workers=workers or machine_cores(), threads_per_worker=1, processes=True, host="127.0.0.1",
-                dashboard_address=None, silence_logs=logging.ERROR))
-            client = stack.enter_context(distributed.Client(local))
+                dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR))
+            client = stack.enter_context(distributed.Client(local, set_as_default=False))
         else:
             client = stack.enter_context(_connect(distributed, scheduler, connect_timeout_s))
             try:
@@ -116,8 +118,9 @@ def open_cluster(scheduler: str | None = None, *, workers: int | None = None,
                 raise ExternalError(f"the Dask scheduler at {scheduler} has no workers (waited "
                                     f"{worker_wait_s:g} s)") from None
         slots: dict[str, int] = {}
-        for info in client.scheduler_info()["workers"].values():
-            slots[info["host"]] = slots.get(info["host"], 0) + int(info["nthreads"])
+        for address, nthreads in client.nthreads().items():  # every worker (scheduler_info may list a few)
+            host = distributed.comm.get_address_host(address)
+            slots[host] = slots.get(host, 0) + int(nthreads)
         yield Cluster(client=client, address=client.scheduler.address, local=scheduler is None, slots_by_host=slots)
 
 
