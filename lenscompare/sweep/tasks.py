@@ -9,8 +9,8 @@ reads no file.
 Deterministic per task: a task's image depends only on its own parameters,
 the seed among them (the ``seed`` axis or the scene's own), never on the
 worker, its thread count or the order tasks finish in; so each row but its
-timing (:data:`RUN_COLUMNS`) is the same on every run, and ``lenscompare render
-SCENE --model M --lens L --spp N --sampler S --seed K`` reproduces its image.
+timing (:data:`RUN_COLUMNS`) is the same on every run, and
+``render(task.scene, model=task.model)`` makes its image again.
 """
 
 from __future__ import annotations
