@@ -27,6 +27,7 @@ bench: install
 	$(PY) bench/bench_povray.py
 	$(PY) bench/bench_cost.py
 	$(PY) bench/bench_mesh.py
+	$(PY) bench/bench_sweep.py
 
 install: system-deps $(VENV)/.installed
 

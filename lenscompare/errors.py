@@ -43,6 +43,14 @@ class InputError(LensCompareError):
         where = f"{self.source}: {key}" if key else self.source
         super().__init__(f"{where}: {problem}")
 
+    def __reduce__(self):
+        # Pickled whole, so an error raised in a Dask task arrives as it was.
+        return _input_error, (type(self), self.source, self.problem, self.key)
+
+
+def _input_error(cls, source, problem, key):
+    return cls(source, problem, key=key)
+
 
 class ExternalError(LensCompareError):
     """An outside tool (POV-Ray, a browser) is missing or failed."""

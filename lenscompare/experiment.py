@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from .cluster import Cluster, run_calls
 from .errors import ExternalError, InputError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
@@ -19,8 +20,8 @@ from .povray import POVRAY_MODELS, render_povray
 from .render import render
 from .scene import MODELS, Scene
 
-__all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "POVRAY_MODELS",
-           "MITSUBA_MODELS", "REFERENCE_POVRAY_SPP", "REFERENCE_MITSUBA_SPP", "RENDERER_NAMES"]
+__all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "render_scenes",
+           "POVRAY_MODELS", "MITSUBA_MODELS", "REFERENCE_POVRAY_SPP", "REFERENCE_MITSUBA_SPP", "RENDERER_NAMES"]
 
 RENDERER_NAMES = {"povray": "POV-Ray", "mitsuba": "Mitsuba"}
 """The reference renderers, as render labels name them ("thin (Mitsuba)")."""
@@ -126,34 +127,46 @@ def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSett
     return Run(scene, model, renderer, image)
 
 
-def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, progress=None
-                  ) -> tuple[list[Run], list[str]]:
+def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, progress=None,
+                  cluster: Cluster | None = None) -> tuple[list[Run], list[str]]:
     """Every model natively, then POV-Ray and Mitsuba for the models they have (when asked).
 
     A POV-Ray or Mitsuba failure (or a scene Mitsuba cannot render, such as
     lights without inverse-square falloff) becomes a note, not an error: the
-    native runs stand.
-    ``progress`` (a progress bar) advances once per render.
+    native runs stand. ``progress`` (a progress bar) advances once per render.
+    With a ``cluster`` (:func:`lenscompare.cluster.open_cluster`) the renders
+    run there as tasks, each with its worker's thread count unless
+    ``settings.threads`` is given.
     """
-    runs, notes = [], []
-    for model in models:
-        runs.append(render_run(scene, model, "native", settings))
-        if progress:
-            progress.update(1)
-    for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
-        try:
-            runs.append(render_run(scene, model, "povray", settings))
-        except ExternalError as error:
-            notes.append(f"POV-Ray {model} render of {scene.name} failed: {error}")
-        finally:
-            if progress:
-                progress.update(1)
-    for model in (m for m in MITSUBA_MODELS if m in models and settings.mitsuba):
-        try:
-            runs.append(render_run(scene, model, "mitsuba", settings))
-        except (ExternalError, InputError) as error:
-            notes.append(f"Mitsuba {model} render of {scene.name}: not rendered ({error})")
-        finally:
-            if progress:
-                progress.update(1)
-    return runs, notes
+    return render_scenes([scene], settings, models=models, progress=progress, cluster=cluster)[0]
+
+
+def render_scenes(scenes: list[Scene], settings: ExperimentSettings, *, models=MODELS, progress=None,
+                  cluster: Cluster | None = None) -> list[tuple[list[Run], list[str]]]:
+    """:func:`render_models` for several scenes at once (on a cluster, every
+    render of every scene is a task from the start)."""
+    jobs = [(i, model, "native") for i in range(len(scenes)) for model in models]
+    jobs += [(i, model, "povray") for i in range(len(scenes)) for model in POVRAY_MODELS
+             if model in models and settings.povray]
+    jobs += [(i, model, "mitsuba") for i in range(len(scenes)) for model in MITSUBA_MODELS
+             if model in models and settings.mitsuba]
+    jobs.sort(key=lambda job: job[0])  # scene by scene, natives first (a stable sort)
+    results = run_calls(cluster, _render_run_with_threads, [((scenes[i], model, renderer, settings), {})
+                                                            for i, model, renderer in jobs],
+                        threads=settings.threads, catch=(ExternalError, InputError), progress=progress)
+    out = [([], []) for _ in scenes]
+    for (i, model, renderer), result in zip(jobs, results):
+        if isinstance(result, ExternalError) and renderer == "povray":
+            out[i][1].append(f"POV-Ray {model} render of {scenes[i].name} failed: {result}")
+        elif isinstance(result, (ExternalError, InputError)) and renderer == "mitsuba":
+            out[i][1].append(f"Mitsuba {model} render of {scenes[i].name}: not rendered ({result})")
+        elif isinstance(result, Exception):  # a native or POV-Ray input error is the caller's
+            raise result
+        else:
+            out[i][0].append(result)
+    return out
+
+
+def _render_run_with_threads(scene: Scene, model: str, renderer: str, settings: ExperimentSettings, *,
+                             threads: int | None) -> Run:
+    return render_run(scene, model, renderer, replace(settings, threads=threads))

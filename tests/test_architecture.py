@@ -18,7 +18,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "lenscompare"
 # Lowest first. Units on one layer do not import each other.
 LAYERS = [
     {"__init__", "errors", "units", "progress", "_native", "reference_scenes"},
-    {"atomic", "_schema"},
+    {"atomic", "_schema", "cluster"},
     {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
@@ -27,7 +27,7 @@ LAYERS = [
     {"plan", "measure", "figures"},
     {"experiment"},
     {"verdict"},
-    {"cost", "checks"},
+    {"cost", "checks", "sweep"},
     {"report"},
     {"commands"},
     {"cli"},

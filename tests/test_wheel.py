@@ -94,6 +94,7 @@ def test_wheel_ships_the_runtime_files(installed):
     for lens in ("dgauss.50mm", "wide.22mm", "fisheye.10mm", "telephoto.250mm"):
         assert f"lenscompare/lenses/data/{lens}.dat" in names
     assert "lenscompare/checks/default.toml" in names
+    assert "lenscompare/sweep/example.toml" in names
     assert "lenscompare/report/results.schema.json" in names
     assert any(n.startswith("lenscompare/_native.") for n in names)
 

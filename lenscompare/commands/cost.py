@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 from ..cost import CostSettings, run_cost_study
+from ..cluster import open_cluster
 from ..errors import InputError
 from ..scene import load_scene
 
@@ -22,7 +24,11 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens", default="dgauss.50mm")
     p.add_argument("--no-povray", action="store_true")
     p.add_argument("--cache", metavar="DIR", help="reference cache (default ~/.cache/lenscompare)")
-    p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--threads", type=int, default=None,
+                   help="threads per render (default: every core; on a cluster, its machine's cores over its Dask "
+                        "slots)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the renders as tasks on the Dask cluster of this scheduler (tcp://HOST:PORT)")
     p.set_defaults(run=run)
 
 
@@ -32,7 +38,8 @@ def run(args) -> int:
     scenes = [load_scene(p) for p in args.scenes]
     settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
                             cache_dir=Path(args.cache) if args.cache else None)
-    results = run_cost_study(scenes, args.output, settings)
+    with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:
+        results = run_cost_study(scenes, args.output, settings, cluster=cluster)
     for line in results["findings"]:
         print(line)
     print(f"Cost study written in {results['total_seconds']:.0f} s: open {Path(args.output).resolve() / 'index.html'}")

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
+from ..cluster import open_cluster
 from ..errors import InputError
 from ..experiment import ExperimentSettings
 from ..reference_scenes import find_scene, scenes_dir, shipped_scene_names
@@ -30,7 +32,11 @@ def add_parser(subparsers) -> None:
     p.add_argument("--quick", action="store_true", help="half resolution, a quarter of the samples (CI)")
     p.add_argument("--no-povray", action="store_true", help="skip the POV-Ray reference renders")
     p.add_argument("--no-mitsuba", action="store_true", help="skip the Mitsuba 3 reference renders")
-    p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--threads", type=int, default=None,
+                   help="threads per render (default: every core; on a cluster, its machine's cores over its Dask "
+                        "slots)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the renders as tasks on the Dask cluster of this scheduler (tcp://HOST:PORT)")
     p.set_defaults(run=run)
 
 
@@ -50,7 +56,8 @@ def run(args) -> int:
         raise InputError("SCENE", f"two scenes share a name ({', '.join(names)}); names become file names")
     settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray,
                                   mitsuba=not args.no_mitsuba)
-    results = build_report(scenes, args.output, settings)
+    with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:
+        results = build_report(scenes, args.output, settings, cluster=cluster)
     index = Path(args.output).resolve() / "index.html"
     print(f"Report written in {results['total_seconds']:.0f} s: open {index}")
     return 0

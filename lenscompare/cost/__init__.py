@@ -12,6 +12,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..atomic import atomic_output
+from ..cluster import Cluster
 from ..progress import progress_bar
 from ..scene import Scene
 from .findings import findings
@@ -22,8 +23,9 @@ __all__ = ["CostSettings", "run_cost_study", "time_table_rows"]
 
 
 def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None = None, *,
-                   progress: bool | None = None) -> dict:
-    """Run the study and write ``results.json``, ``index.html`` and plots into ``out_dir``."""
+                   progress: bool | None = None, cluster: Cluster | None = None) -> dict:
+    """Run the study and write ``results.json``, ``index.html`` and plots into
+    ``out_dir``; with a ``cluster``, every render is a task there."""
     settings = settings or CostSettings()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -32,12 +34,13 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
         len(settings.povray_spp_values) if settings.povray else 0)
     results = {"settings": {"quick": settings.quick, "lens": settings.lens, "samplers": list(settings.samplers),
                             "spp_values": list(settings.spp_values), "reference_spp": settings.reference_spp,
-                            "threads": settings.threads or os.cpu_count(), "target_relative_rmse": 0.01},
+                            "threads": settings.threads or os.cpu_count(), "target_relative_rmse": 0.01,
+                            "scheduler": cluster.address if cluster else None},
                "scenes": {}, "findings": []}
     with progress_bar(per_scene * len(scenes), description="cost study", unit="render", enabled=progress) as bar:
         for scene in scenes:
             prepared = prepared_for_cost(scene, settings)
-            study = study_scene(prepared, settings, progress=bar)
+            study = study_scene(prepared, settings, progress=bar, cluster=cluster)
             study["plot"] = plot_error_vs_time(prepared.name, study, out / f"{prepared.name}.cost.png")
             results["scenes"][prepared.name] = study
             results["findings"] += findings(prepared.name, study)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..cluster import Cluster, run_calls
 from ..errors import ExternalError
 from ..experiment import ExperimentSettings, prepare_scene
 from ..metrics import relative_rmse, rmse, ssim
@@ -55,28 +56,35 @@ def _error(reference: np.ndarray, image: np.ndarray) -> dict:
     return {"rmse": rmse(reference, image), "relative_rmse": relative_rmse(reference, image)}
 
 
-def study_scene(scene: Scene, settings: CostSettings, *, progress=None) -> dict:
-    """Every (model, sampler, spp) render of one scene, with its cost and error."""
+def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster: Cluster | None = None) -> dict:
+    """Every (model, sampler, spp) render of one scene, with its cost and error.
+
+    With a ``cluster`` the references and renders run there as tasks (each
+    timed on its worker); the errors are computed here.
+    """
     result = {"resolution": list(scene.camera.resolution), "models": {}, "model_error_vs_lens": {}, "povray": None,
               "references": {}}
-    references = {}
-    for model in settings.models:
-        ref, cached = converged_reference(scene, model, spp=settings.reference_spp, cache_dir=settings.cache_dir,
-                                          threads=settings.threads)
-        references[model] = ref.pixels
+    converged = run_calls(cluster, converged_reference,
+                          [((scene, model), {"spp": settings.reference_spp, "cache_dir": settings.cache_dir})
+                           for model in settings.models], threads=settings.threads)
+    references = {model: ref.pixels for model, (ref, _) in zip(settings.models, converged)}
+    for model, (ref, cached) in zip(settings.models, converged):
         result["references"][model] = {"spp": settings.reference_spp, "cached": cached,
                                        "seconds": ref.metadata.get("seconds")}
+    grid = [(model, sampler, spp) for model in settings.models for sampler in settings.samplers
+            for spp in settings.spp_values]
+    images = dict(zip(grid, run_calls(
+        cluster, render, [((scene,), {"model": model, "spp": spp, "sampler": sampler, "seed": 0, "progress": False})
+                          for model, sampler, spp in grid], threads=settings.threads, progress=progress)))
+    for model in settings.models:
         series = {}
         for sampler in settings.samplers:
             points = []
             for spp in settings.spp_values:
-                image = render(scene, model=model, spp=spp, sampler=sampler, seed=0, threads=settings.threads,
-                               progress=False)
+                image = images[model, sampler, spp]
                 points.append({"spp": spp, "seconds": image.metadata["seconds"],
                                "samples_per_second": image.metadata["samples_per_second"],
-                               **_error(ref.pixels, image.pixels)})
-                if progress:
-                    progress.update(1)
+                               **_error(references[model], image.pixels)})
             series[sampler] = {"points": points, "slope": fitted_slope(points),
                                "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}
         result["models"][model] = series
@@ -93,7 +101,7 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None) -> dict:
                 # the corner, corner falloff %), as the planner computes them.
                 "omitted_effects": omitted.get(model, {})}
     if settings.povray and "thin" in references:
-        result["povray"] = _povray_series(scene, references["thin"], settings, progress)
+        result["povray"] = _povray_series(scene, references["thin"], settings, progress, cluster)
     return result
 
 
@@ -105,18 +113,17 @@ def _omitted_effects(scene: Scene) -> dict[str, dict]:
             for model in MODEL_ORDER}
 
 
-def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress) -> dict | None:
-    points = []
-    for spp in settings.povray_spp_values:
-        try:
-            image = render_povray(scene, model="thin", spp=spp, threads=settings.threads)
-        except ExternalError as error:
-            return {"error": str(error)}
-        points.append({"spp": spp, "seconds": image.metadata["seconds"],
-                       "samples_per_second": image.metadata.get("samples_per_second"),
-                       **_error(reference, image.pixels)})
-        if progress:
-            progress.update(1)
+def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress,
+                   cluster: Cluster | None) -> dict | None:
+    images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp})
+                                                for spp in settings.povray_spp_values],
+                       threads=settings.threads, catch=(ExternalError,), progress=progress)
+    failed = next((image for image in images if isinstance(image, ExternalError)), None)
+    if failed is not None:
+        return {"error": str(failed)}
+    points = [{"spp": spp, "seconds": image.metadata["seconds"],
+               "samples_per_second": image.metadata.get("samples_per_second"), **_error(reference, image.pixels)}
+              for spp, image in zip(settings.povray_spp_values, images)]
     return {"points": points, "slope": fitted_slope(points),
             "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}
 

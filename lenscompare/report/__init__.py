@@ -15,9 +15,10 @@ import skimage
 
 from .. import __version__, measure
 from ..atomic import atomic_output
+from ..cluster import Cluster
 from ..cost import CostSettings, run_cost_study, time_table_rows
 from ..errors import InputError
-from ..experiment import MITSUBA_MODELS, POVRAY_MODELS, ExperimentSettings, prepare_scene, render_models
+from ..experiment import MITSUBA_MODELS, POVRAY_MODELS, ExperimentSettings, prepare_scene, render_scenes
 from ..figures import write_teaching_figures
 from ..lenses import load_prescription
 from ..mitsuba import mitsuba_version
@@ -37,7 +38,7 @@ DGAUSS_RELATIVE_ILLUMINATION = [(10.0, 0.70), (20.0, 0.29)]
 
 
 def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: ExperimentSettings | None = None, *,
-                 progress: bool | None = None) -> dict:
+                 progress: bool | None = None, cluster: Cluster | None = None) -> dict:
     """Render, measure and write the report; return the results dictionary.
 
     Parameters
@@ -48,6 +49,9 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
         ``plots/`` are written into it (each file atomically).
     settings : ExperimentSettings, optional
         Lens, quick mode, threads, whether to run POV-Ray.
+    cluster : Cluster, optional
+        Run every render as a task there (:func:`lenscompare.cluster.open_cluster`);
+        measurements, plots and pages are made here.
     """
     settings = settings or ExperimentSettings()
     out = Path(out_dir)
@@ -61,19 +65,20 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     renders_per_scene = (len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
                          + (len(MITSUBA_MODELS) if settings.mitsuba else 0))
     results = {"settings": {"lens": settings.lens, "quick": settings.quick, "threads": settings.threads,
-                            "povray": settings.povray, "mitsuba": settings.mitsuba},
+                            "povray": settings.povray, "mitsuba": settings.mitsuba,
+                            "scheduler": cluster.address if cluster else None},
                "scenes": {}, "renders": [], "notes": []}
     with progress_bar(renders_per_scene * len(scenes), description="report", unit="render",
                       enabled=progress) as bar:
-        for scene, notes in prepared:
-            runs, render_notes = render_models(scene, settings, progress=bar)
+        rendered = render_scenes([scene for scene, _ in prepared], settings, progress=bar, cluster=cluster)
+        for (scene, notes), (runs, render_notes) in zip(prepared, rendered):
             summaries = save_runs(runs, out)
             results["scenes"][scene.name] = _measure_scene(scene, runs, summaries, out, notes + render_notes,
                                                            settings)
             results["renders"].extend(summaries)
 
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
-    results["cost"] = _cost_section(scenes, out, settings)
+    results["cost"] = _cost_section(scenes, out, settings, cluster)
     results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
@@ -134,14 +139,14 @@ def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
     return plan
 
 
-def _cost_section(scenes, out: Path, settings: ExperimentSettings) -> dict | None:
+def _cost_section(scenes, out: Path, settings: ExperimentSettings, cluster: Cluster | None) -> dict | None:
     """A small cost study on the showcase scene (or the first scene)."""
     scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
     if scene is None:
         return None
     cost = CostSettings(quick=True, lens=settings.lens, threads=settings.threads, povray=settings.povray,
                         samplers=("random", "jittered", "sobol"))
-    results = run_cost_study([scene], out / "cost", cost, progress=False)
+    results = run_cost_study([scene], out / "cost", cost, progress=False, cluster=cluster)
     return {"index": "cost/index.html", "findings": results["findings"],
             "plot": f"cost/{results['scenes'][scene.name]['plot']}",
             "time_to_1_percent": [list(row) for row in time_table_rows(results)]}
