@@ -17,7 +17,8 @@ PACKAGE = Path(__file__).resolve().parent.parent / "lenscompare"
 
 # Lowest first. Units on one layer do not import each other.
 LAYERS = [
-    {"__init__", "errors", "units", "progress", "_native", "reference_scenes"},
+    {"__init__", "errors", "units", "progress", "_native", "reference_scenes", "interrupts"},
+    {"limits"},
     {"atomic", "_schema"},
     {"optics", "metrics", "lenses"},
     {"scene", "adaptive"},
