@@ -36,8 +36,9 @@ def integer_option(*, minimum: int, maximum: int):
     return parse
 
 
-def number_option(*, positive: bool = True):
-    """An argparse type: a finite number, positive (or >= 0)."""
+def number_option(*, positive: bool = True, minimum: float | None = None, maximum: float | None = None):
+    """An argparse type: a finite number, positive (or >= 0), optionally in
+    ``[minimum, maximum]``."""
 
     def parse(text: str) -> float:
         try:
@@ -47,6 +48,11 @@ def number_option(*, positive: bool = True):
         if not (math.isfinite(value) and (value > 0 if positive else value >= 0)):
             raise argparse.ArgumentTypeError(
                 f"expected a finite number {'> 0' if positive else '>= 0'}, got {_shown(text)}")
+        if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
+            low = "" if minimum is None else f"from {minimum:g} "
+            raise argparse.ArgumentTypeError(f"expected a number {low}to {maximum:g}, got {_shown(text)}"
+                                             if maximum is not None else
+                                             f"expected a number >= {minimum:g}, got {_shown(text)}")
         return value
 
     return parse

@@ -5,8 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..cost import CostSettings, run_cost_study
-from ..errors import InputError
+from ..lenses import resolve_lens
 from ..scene import load_scene
+from ._options import THREADS
 
 __all__ = ["add_parser", "run"]
 
@@ -22,17 +23,16 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens", default="dgauss.50mm")
     p.add_argument("--no-povray", action="store_true")
     p.add_argument("--cache", metavar="DIR", help="reference cache (default ~/.cache/lenscompare)")
-    p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--threads", type=THREADS, default=None, help="worker threads (default and at most: all cores)")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    if args.threads is not None and args.threads < 1:
-        raise InputError("--threads", f"expected a positive integer, got {args.threads}")
+    resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
     scenes = [load_scene(p) for p in args.scenes]
     settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
                             cache_dir=Path(args.cache) if args.cache else None)
-    results = run_cost_study(scenes, args.output, settings)
+    results = run_cost_study(scenes, args.output, settings, final=True)
     for line in results["findings"]:
         print(line)
     print(f"Cost study written in {results['total_seconds']:.0f} s: open {Path(args.output).resolve() / 'index.html'}")
