@@ -15,6 +15,13 @@ SAMPLER_STYLE = {"random": ("#7f7f7f", "o"), "jittered": ("#1f77b4", "s"), "regu
 
 
 def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
+    """Write the plot to ``path``; return its file name."""
+    with warnings.catch_warnings():  # an image with no error left (a uniform scene) has nothing to log-scale
+        warnings.filterwarnings("ignore", message="Data has no positive values")
+        return _plot_error_vs_time(scene_name, study, path)
+
+
+def _plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
     import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")

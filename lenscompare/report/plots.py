@@ -93,6 +93,8 @@ def plot_distortion(distortion: dict, path: Path, *, title: str, published=None)
 def plot_vignetting(vignetting: dict, path: Path, *, title: str, published=None) -> str:
     plt, fig, ax = _figure()
     for label, data in vignetting["renders"].items():
+        if not data:  # the image held no flat field to measure
+            continue
         aperture = f" (f/{data['f_number']:g})" if data.get("f_number") else ""
         ax.plot(data["field_deg"], data["relative_illumination"], "-", color=COLOURS.get(label),
                 label=f"{label}{aperture}, rendered")
