@@ -62,7 +62,7 @@ def parse_toml(text: str, *, source: str) -> dict:
         raise InputError(source, f"not valid TOML ({error})") from None
     depth = _depth(data)
     if depth > MAX_TOML_DEPTH:
-        raise InputError(source, f"arrays or tables nested {depth} deep (at most {MAX_TOML_DEPTH} levels)")
+        raise InputError(source, f"arrays or tables nested more than {MAX_TOML_DEPTH} levels deep")
     return data
 
 
