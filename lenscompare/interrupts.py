@@ -14,10 +14,13 @@ returns (well under a second).
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import sys
 import threading
 
-__all__ = ["Interrupted", "handling_signals", "deferred", "mark_finished", "finished_output", "late_signal"]
+__all__ = ["Interrupted", "exit_quietly_on_signals", "hold_signals_until_exit", "handling_signals", "deferred",
+           "mark_finished", "finished_output", "late_signal"]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -49,6 +52,30 @@ def _handler(signum, frame):  # noqa: ARG001 - the signal module's signature
         _state.pending = signum
     else:
         raise Interrupted(signum)
+
+
+def _exit_quietly(signum, frame):  # noqa: ARG001 - the signal module's signature
+    print(f"lenscompare: interrupted ({signal.Signals(signum).name}) while starting; nothing was written",
+          file=sys.stderr)
+    os._exit(128 + signum)
+
+
+def exit_quietly_on_signals() -> None:
+    """For the program's first second (importing numpy, Embree...): nothing
+    is written yet, so SIGINT/SIGTERM end it with one line and 128 + N,
+    not an import traceback. The entry points call this before importing
+    the command line; :func:`handling_signals` takes over in ``main``."""
+    for s in _SIGNALS:
+        signal.signal(s, _exit_quietly)
+
+
+def hold_signals_until_exit() -> None:
+    """After the command is done: Python's shutdown resets Python-level
+    handlers to the default (death by the signal, status -N; any thread
+    may receive it), so SIGINT/SIGTERM are ignored instead, which shutdown
+    keeps: the command's own exit status stands."""
+    for s in _SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
 
 
 @contextlib.contextmanager

@@ -31,7 +31,7 @@ LAYERS = [
     {"report"},
     {"commands"},
     {"cli"},
-    {"__main__"},
+    {"__main__", "console"},
 ]
 LAYER_OF = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}
 
