@@ -56,7 +56,8 @@ def main(argv: list[str] | None = None) -> int:
         except LensCompareError as error:
             return _fail(str(error), error.exit_status)
         except interrupts.Interrupted as interrupt:
-            return _fail(f"interrupted ({interrupt}); no output was written", interrupt.exit_status)
+            return _fail(f"interrupted ({interrupt}) before the work was done; no partial file is left",
+                         interrupt.exit_status)
         except KeyboardInterrupt:  # outside main's signal handling (e.g. another thread)
             return _fail("interrupted", 130)
         except BrokenPipeError:

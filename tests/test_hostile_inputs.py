@@ -107,14 +107,16 @@ def test_every_numeric_option_takes_a_value_inside_its_limit_or_exits_2_naming_i
         assert f"argument {option}" in one_error_line(err)
 
 
-def test_the_largest_values_inside_the_limits_render(tmp_path, main):
-    """The limits themselves are accepted and give a finite image (1 pixel, 2^20 spp)."""
+@pytest.mark.parametrize("adaptive", [False, True])
+def test_the_largest_values_inside_the_limits_render(tmp_path, main, adaptive):
+    """The limits themselves are accepted and give a finite image (6 pixels,
+    2^20 spp: adaptive passes must not ask the tracer for more per pixel)."""
     scene = tmp_path / "one.toml"
     scene.write_text(MINIMAL_SCENE.replace("resolution = [36, 24]", "resolution = [3, 2]")
                      .replace("film_mm = [36.0, 24.0]", "film_mm = [3.0, 2.0]"))
     out = tmp_path / "one.exr"
-    assert main(["render", str(scene), "-o", str(out), "--spp", str(MAX_SPP // 8), "--seed", str(MAX_SEED),
-                 "--threads", str(MAX_THREADS)]) == 0
+    assert main(["render", str(scene), "-o", str(out), "--spp", str(MAX_SPP), "--seed", str(MAX_SEED),
+                 "--threads", str(MAX_THREADS), *(["--adaptive"] if adaptive else [])]) == 0
     from lenscompare.image import read_exr
 
     image = read_exr(out)

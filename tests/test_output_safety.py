@@ -168,7 +168,7 @@ def test_a_signal_around_the_final_write(tmp_path, main, capsys, monkeypatch, si
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.exr", "s.toml"]  # never a temporary left
     if where == "writing":  # before the commit: the command fails, the old file stays
         assert status == 128 + signum
-        assert "no output was written" in one_error_line(captured.err)
+        assert "before the work was done; no partial file is left" in one_error_line(captured.err)
         assert out.read_bytes() == b"a good old render" and captured.out == ""
     else:  # the output is written: success, and the whole command's output
         assert status == 0
