@@ -12,11 +12,11 @@ import math
 from dataclasses import dataclass, replace
 
 from .cameras import camera_for
-from .errors import ExternalError
+from .errors import ExternalError, InputError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
 from .limits import check_render_budget
-from .povray import POVRAY_MODELS, pov_camera, render_povray
+from .povray import MAX_POVRAY_SPP, POVRAY_MODELS, pov_camera, render_povray
 from .render import render
 from .scene import MODELS, Scene
 
@@ -117,6 +117,9 @@ def check_renderable(scene: Scene, settings: ExperimentSettings, *, models=MODEL
         camera_for(scene, model)
     for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
         pov_camera(scene, model)
+        if settings.povray_spp(scene) > MAX_POVRAY_SPP:
+            raise InputError(scene.source, f"POV-Ray's reference would take {settings.povray_spp(scene):,} samples, "
+                             f"more than its limit {MAX_POVRAY_SPP:,} (or leave POV-Ray out)", key="render.spp")
 
 
 def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSettings) -> Run:

@@ -39,7 +39,7 @@ from ..errors import InputError
 from ..lenses import load_prescription
 from ..lenses.info import LENS_INFO_FIELDS
 from ..limits import MAX_NAME_CHARS, MAX_SPP, check_render_budget
-from ..povray import POVRAY_MODELS, pov_camera
+from ..povray import MAX_POVRAY_SPP, POVRAY_MODELS, pov_camera
 from ..reference_scenes import find_scene
 from ..scene import MODELS, load_scene
 
@@ -71,7 +71,7 @@ def _read_key(table: Table, key: str, kind: str):
     if key == "quantity":
         return table.string(key, choices=_QUANTITIES)
     if key in ("spp", "povray_spp"):
-        return table.integer(key, minimum=1, maximum=MAX_SPP)
+        return table.integer(key, minimum=1, maximum=MAX_POVRAY_SPP if key == "povray_spp" else MAX_SPP)
     if key == "min_ssim":
         return table.number(key, minimum=-1.0, maximum=1.0)
     if key in ("tolerance_percent",):

@@ -99,8 +99,8 @@ def confined_writes(folder: str | os.PathLike, *, max_file_bytes: int):
     if abi:
         rights = _write_rights(abi)
         attr = _RulesetAttr(rights)
-        ruleset_fd = libc.syscall(_SYS_LANDLOCK_CREATE_RULESET, ctypes.byref(attr), ctypes.c_size_t(ctypes.sizeof(attr)),
-                                  ctypes.c_uint32(0))
+        ruleset_fd = libc.syscall(_SYS_LANDLOCK_CREATE_RULESET, ctypes.byref(attr),
+                                  ctypes.c_size_t(ctypes.sizeof(attr)), ctypes.c_uint32(0))
         if ruleset_fd >= 0:
             folder_fd = os.open(folder, os.O_PATH | os.O_DIRECTORY | os.O_CLOEXEC)
             try:
