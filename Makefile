@@ -28,6 +28,7 @@ bench: install
 	$(PY) bench/bench_cost.py
 	$(PY) bench/bench_mesh.py
 	$(PY) bench/bench_sweep.py
+	$(PY) bench/bench_memory.py
 
 install: system-deps $(VENV)/.installed
 

@@ -11,17 +11,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from .cameras import camera_for
 from .cluster import Cluster, run_calls
 from .errors import ExternalError, InputError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
+from .limits import check_render_budget
 from .mitsuba import MITSUBA_MODELS, render_mitsuba
-from .povray import POVRAY_MODELS, render_povray
+from .povray import MAX_POVRAY_SPP, POVRAY_MODELS, pov_camera, render_povray
 from .render import render
 from .scene import MODELS, Scene
 
-__all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "render_scenes",
-           "POVRAY_MODELS", "MITSUBA_MODELS", "REFERENCE_POVRAY_SPP", "REFERENCE_MITSUBA_SPP", "RENDERER_NAMES"]
+__all__ = ["ExperimentSettings", "Run", "prepare_scene", "check_renderable", "render_run", "render_models",
+           "render_scenes", "POVRAY_MODELS", "MITSUBA_MODELS", "REFERENCE_POVRAY_SPP", "REFERENCE_MITSUBA_SPP",
+           "RENDERER_NAMES"]
 
 RENDERER_NAMES = {"povray": "POV-Ray", "mitsuba": "Mitsuba"}
 """The reference renderers, as render labels name them ("thin (Mitsuba)")."""
@@ -114,6 +117,28 @@ def prepare_scene(scene: Scene, settings: ExperimentSettings) -> tuple[Scene, li
                      + (f" (the scene asks for f/{camera.f_number:g})" if camera.f_number else ""))
         prepared = prepared.with_camera(f_number=f_number)
     return replace(prepared, render=replace(prepared.render, spp=settings.spp(scene))), notes
+
+
+def check_renderable(scene: Scene, settings: ExperimentSettings, *, models=MODELS) -> None:
+    """Refuse, before any render or file, a prepared scene that one of the
+    models (or POV-Ray, when asked) cannot render, or that is too large:
+    a long run must not stop with exit 2 halfway, its outputs half written.
+
+    Raises
+    ------
+    InputError
+        As the render would (a lens that cannot focus there, too many samples...).
+    """
+    width, height = scene.camera.resolution
+    check_render_budget(width, height, max(scene.render.spp, settings.povray_spp(scene) if settings.povray else 1),
+                        adaptive=scene.render.adaptive, source=scene.source)
+    for model in models:
+        camera_for(scene, model)
+    for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
+        pov_camera(scene, model)
+        if settings.povray_spp(scene) > MAX_POVRAY_SPP:
+            raise InputError(scene.source, f"POV-Ray's reference would take {settings.povray_spp(scene):,} samples, "
+                             f"more than its limit {MAX_POVRAY_SPP:,} (or leave POV-Ray out)", key="render.spp")
 
 
 def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSettings) -> Run:

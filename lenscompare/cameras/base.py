@@ -19,7 +19,7 @@ from ..lenses import paraxial_data
 from ..units import mm_from_m
 from .frame import CameraFrame, Film
 
-__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable"]
+__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable", "check_camera_numbers"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -121,3 +121,34 @@ def check_focus_reachable(scene, focal_length_mm: float) -> None:
     if not mm_from_m(scene.camera.focus_distance_m) > focal_length_mm:
         raise InputError(scene.source, f"{scene.camera.focus_distance_m:g} m is not beyond the focal length "
                          f"{focal_length_mm:g} mm", key="camera.focus_distance")
+
+
+def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
+    """``camera``, after checking that every number the native tracer and
+    POV-Ray will read from it is finite (and positive where it must be).
+
+    The scene's keys are bounded one by one (:mod:`lenscompare.limits`); this
+    checks what they combine into, so that nothing non-finite reaches Embree
+    whatever the combination.
+
+    Raises
+    ------
+    InputError
+        Naming the scene file, ``camera`` and the quantity that came out
+        unusable.
+    """
+    half_width, half_height = camera.screen_half_extent
+    values = {"focal length (mm)": (camera.focal_length_mm, True),
+              "film distance (mm)": (camera.film_distance_mm, True),
+              "image scale (mm)": (camera.image_scale_mm, True),
+              "aperture diameter (mm)": (camera.aperture_diameter_mm, False),
+              "tangent of the half field (width)": (half_width, True),
+              "tangent of the half field (height)": (half_height, True)}
+    for name, extra in getattr(camera, "native_numbers", dict)().items():
+        values[name] = (extra, False)
+    for name, (value, positive) in values.items():
+        if not (math.isfinite(value) and (value > 0 if positive else True)):
+            raise InputError(scene.source, f"the {camera.model} camera's {name} comes out as {value:g} from these "
+                             f"camera values (expected a finite{' positive' if positive else ''} number)",
+                             key="camera")
+    return camera

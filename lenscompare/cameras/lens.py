@@ -96,6 +96,11 @@ class LensSystemCamera(CameraModel):
     def image_scale_mm(self) -> float:
         return self.paraxial_scale_mm
 
+    def native_numbers(self) -> dict[str, float]:
+        """Numbers beyond :class:`CameraModel`'s that the native camera reads (checked finite)."""
+        return {"film position (mm)": self.film_z_mm,
+                "entrance pupil position (mm)": self.paraxial.entrance_pupil_position_mm}
+
     @property
     def film_distance_from_last_vertex_mm(self) -> float:
         return self.film_z_mm - self.paraxial.total_track_mm

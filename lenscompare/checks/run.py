@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..errors import InputError, LensCompareError
+from ..errors import LensCompareError
 from ..experiment import Run
 from ..cameras import camera_for
 from ..image import Image, read_exr
@@ -18,7 +18,7 @@ from ..povray import render_povray
 from ..render import render
 from ..scene import load_scene
 from ..verdict import Tolerances, judge_image
-from .config import Check
+from .config import Check, lens_argument
 
 __all__ = ["CheckResult", "run_check"]
 
@@ -114,10 +114,7 @@ def _mitsuba_agreement(check: Check, threads):
 
 def _lens_paraxial(check: Check, threads):
     o = check.options
-    lens = str(check.path("lens")) if ("/" in str(o["lens"]) or str(o["lens"]).endswith(".dat")) else o["lens"]
-    info = lens_info(load_prescription(lens))
-    if o["quantity"] not in info:
-        raise InputError(str(check.base_dir), f"unknown quantity {o['quantity']!r}", key=f"check {check.name}")
+    info = lens_info(load_prescription(lens_argument(check)))  # the quantity was checked when the config loaded
     value = float(info[o["quantity"]])
     expected = float(o["expected"])
     rel = abs(value - expected) / abs(expected) if expected else abs(value)

@@ -18,7 +18,7 @@ import contextlib
 import os
 from pathlib import Path
 
-from ..atomic import atomic_output
+from ..atomic import atomic_output, prepare_output_dir
 from ..errors import InputError
 from ..lenses import load_prescription
 from ._style import figure_bytes
@@ -100,7 +100,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
     rendered = {(name, fmt): figure_bytes(figure, fmt)
                 for name, figure in figures.items() for fmt in formats}
 
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_output_dir(out)  # a read-only place: exit 2 naming -o, not a traceback
     # Every file goes to a temporary first; all are renamed into place only
     # once all of them are written.
     with contextlib.ExitStack() as stack:

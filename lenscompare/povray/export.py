@@ -87,7 +87,9 @@ from ..errors import InputError
 from ..units import m_from_mm
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
-__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
+__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "FOCUS_AT_INFINITY_M",
+           "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number",
+           "radiance_bound"]
 
 POVRAY_MODELS = ("pinhole", "thin")
 """Camera models POV-Ray can render (it has no thick-lens or lens-system camera)."""
@@ -102,6 +104,11 @@ FOCAL_BLUR_FILM_BIAS_PX = 1.0 / 32.0
 INVERSE_SQUARE_FADE_DISTANCE_M = 1e-4
 """``fade_distance`` written for an inverse-square light: POV-Ray's 2 / (1 + (d/D)²)
 is 2 D² / d² to a relative 1e-6 beyond 1 cm (module notes)."""
+
+FOCUS_AT_INFINITY_M = 1e9
+"""POV-Ray's focal point goes no further (its focal blur turns black near
+1e200 m). Scene coordinates stop at 1e9 m (limits.MAX_LENGTH_M), and a focus
+moved from there to infinity changes a 50 mm f/2.8 blur disk by 1e-9 px."""
 
 
 @dataclass(frozen=True)
@@ -200,14 +207,30 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
     bias = FOCAL_BLUR_FILM_BIAS_PX
     direction = forward + right_v * (bias / film.width_px) - up_v * (bias / film.height_px)
     # POV-Ray's focal plane lies at |focal_point - location| / |direction| along the axis.
-    focal_point = origin + forward * (value.focus_distance_m * float(np.linalg.norm(direction)))
+    focus_m = min(value.focus_distance_m, FOCUS_AT_INFINITY_M)
+    focal_point = origin + forward * (focus_m * float(np.linalg.norm(direction)))
     return PovCamera(model, _tuple(origin), _tuple(direction), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
                      angle_deg, aperture_diameter_mm=aperture_mm, pov_aperture_m=2.0 * m_from_mm(aperture_mm),
                      focal_point=_tuple(focal_point), camera=value)
 
 
+def radiance_bound(scene: Scene) -> float:
+    """Largest value any pixel of a render of ``scene`` can take: the brightest
+    emitter or background, or the brightest albedo lit by every light at once
+    at normal incidence (no distance falloff), plus its emission."""
+    intensity = np.sum([light.color for light in scene.lights], axis=0) if scene.lights else np.zeros(3)
+    bound = max(scene.background)
+    for m in scene.materials.values():
+        if isinstance(m, EmissiveMaterial):
+            bound = max(bound, max(m.color))
+        elif isinstance(m, DiffuseMaterial):
+            albedo = np.maximum(m.color, m.checker.color if m.checker else 0.0)
+            bound = max(bound, float(np.max(albedo * intensity + np.asarray(m.emission))))
+    return float(bound)
+
+
 def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None,
-                 blur_adaptive: tuple[int, float] | None = None) -> str:
+                 blur_adaptive: tuple[int, float] | None = None, radiance_scale: float = 1.0) -> str:
     """POV-Ray 3.7 scene text for ``scene`` through the pinhole or thin lens.
 
     Parameters
@@ -225,6 +248,11 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         ``(min_samples, variance)``: ``blur_samples min_samples, spp`` and
         ``variance``, so that a pixel stops once its samples vary less than
         that (with POV-Ray's default ``confidence 0.9``).
+    radiance_scale : float, optional
+        Every emitted radiance and light intensity (background, emissive
+        colours, emission, lights) times this: the image scales by it, the
+        albedos stay. The runner uses a power of two to keep bright scenes
+        inside POV-Ray's half-float EXR (at most 65504).
 
     Returns
     -------
@@ -246,30 +274,31 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         f"// lenscompare scene {scene.name!r} ({scene.source!r}), {camera.model} camera",
         "// Linear colours, no ambient, no radiosity: the only light is the point lights and emission.",
         "global_settings { assumed_gamma 1.0 ambient_light 0 }",
-        f"background {{ rgb {_vec(scene.background)} }}",
+        f"background {{ rgb {_vec(np.asarray(scene.background) * radiance_scale)} }}",
         "",
         _camera_block(scene, camera, spp, blur_adaptive),
         "",
     ]
     for light in scene.lights:
-        lines.append(_light(light))
+        lines.append(_light(light, radiance_scale))
     lines.append("")
     # Material names are any TOML key: number them into POV-Ray identifiers.
     names = {name: f"LC_Material{i}" for i, name in enumerate(scene.materials)}
     for name, material in scene.materials.items():
-        lines.append(f"#declare {names[name]} = {_texture(material)};  // {name!r}")
+        lines.append(f"#declare {names[name]} = {_texture(material, radiance_scale)};  // {name!r}")
     lines.append("")
     for obj in scene.objects:
         lines.append(_object(obj, names[obj.material]))
     return "\n".join(lines) + "\n"
 
 
-def _light(light) -> str:
+def _light(light, radiance_scale: float = 1.0) -> str:
+    intensity = np.asarray(light.color, dtype=float) * radiance_scale
     if light.falloff == "none":
-        return f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}"
+        return f"light_source {{ {_vec(light.position)} rgb {_vec(intensity)} }}"
     fade_m = INVERSE_SQUARE_FADE_DISTANCE_M
     # 2 / (1 + (d / D)^2) = 2 D^2 / (D^2 + d^2): the colour I / (2 D^2) makes it I / d^2.
-    color = np.asarray(light.color, dtype=float) / (2.0 * fade_m * fade_m)
+    color = intensity / (2.0 * fade_m * fade_m)
     return (f"light_source {{ {_vec(light.position)} rgb {_vec(color)}  // intensity {_vec(light.color)} / d^2\n"
             f"  fade_distance {format_number(fade_m)} fade_power 2 }}")
 
@@ -314,15 +343,15 @@ def _diffuse_pigment(m: DiffuseMaterial, scale: float = 1.0) -> str:
             f"translate {_vec((shift, shift, shift))} }}")
 
 
-def _texture(m) -> str:
+def _texture(m, radiance_scale: float = 1.0) -> str:
     if isinstance(m, EmissiveMaterial):
-        return f"texture {{ pigment {{ rgb {_vec(m.color)} }} {_EMISSIVE_FINISH} }}"
+        return f"texture {{ pigment {{ rgb {_vec(np.asarray(m.color) * radiance_scale)} }} {_EMISSIVE_FINISH} }}"
     if isinstance(m, DiffuseMaterial):
         if not any(e > 0 for e in m.emission):
             return f"texture {{ {_diffuse_pigment(m)} {_LAMBERT_FINISH} }}"
         # POV-Ray scales emission by the pigment; average a lit texture and an
         # emissive one, each at twice its colour, to get albedo * lit + emission.
-        emitted = 2.0 * np.asarray(m.emission, dtype=float)
+        emitted = 2.0 * np.asarray(m.emission, dtype=float) * radiance_scale
         return ("texture { average texture_map {\n"
                 f"    [1 {_diffuse_pigment(m, 2.0)} {_LAMBERT_FINISH}]\n"
                 f"    [1 pigment {{ rgb {_vec(emitted)} }} {_EMISSIVE_FINISH}]\n"

@@ -161,7 +161,7 @@ def render_page(results: dict) -> str:
             continue
         body.append(f"<img class='plot' src='{html.escape(v['plot'])}' alt='relative illumination'>")
         rows = [[label, data["f_number"], data["at"].get("10_deg"), data["at"].get("20_deg"),
-                 _traced_at(data, 10.0), _traced_at(data, 20.0)] for label, data in v["renders"].items()]
+                 _traced_at(data, 10.0), _traced_at(data, 20.0)] for label, data in v["renders"].items() if data]
         body.append(_table(["render", "f-number", "RI at 10°", "RI at 20°", "real-ray trace at 10°",
                             "real-ray trace at 20°"], rows))
     parts.append(_section("vignetting", "".join(body) or "<p>No flat-field scene in this report.</p>"))

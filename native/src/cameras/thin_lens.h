@@ -18,10 +18,11 @@ struct ThinLensCamera {
         // Sample point on lens
         Point2f disk = map_to_disk(lens_sample, disk_mapping);
         Vec3d p_lens{lens_radius_m * disk.x, lens_radius_m * disk.y, 0.0};
-        // Compute point on plane of focus (the chief ray's hit, z = focus distance)
-        Vec3d p_focus = film.direction(raster_px) * focus_distance_m;
-        // Ray from the lens point through the focus point
-        Vec3d dir_camera = normalize(p_focus - p_lens);
+        // Ray from the lens point through the film point's image on the plane of
+        // focus, film.direction * focus_distance; written divided by the focus
+        // distance (normalize does not mind the scale), so that any finite focus
+        // distance, 1e300 m too, stays finite.
+        Vec3d dir_camera = normalize(film.direction(raster_px) - p_lens * (1.0 / focus_distance_m));
         return CameraRay{world_from_camera.world_from_camera_point(p_lens),
                          world_from_camera.world_from_camera_vector(dir_camera), 1.0f};
     }
