@@ -21,7 +21,7 @@ from ..mitsuba import scene_to_mitsuba, write_mitsuba
 from ..pbrt import scene_to_pbrt
 from ..povray import scene_to_pov
 from ..scene import MODELS, load_scene
-from .render import positive_int
+from ._options import SEED, SPP
 
 __all__ = ["add_parser", "run", "FORMATS"]
 
@@ -38,8 +38,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="FILE")
     p.add_argument("--model", choices=MODELS, help="camera model (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription to use")
-    p.add_argument("--spp", type=positive_int, help="samples per pixel (default: the scene's render.spp)")
-    p.add_argument("--seed", type=int, help="sampler seed, Mitsuba and pbrt (default: the scene's render.seed)")
+    p.add_argument("--spp", type=SPP, help="samples per pixel (default: the scene's render.spp)")
+    p.add_argument("--seed", type=SEED, help="sampler seed, Mitsuba and pbrt (default: the scene's render.seed)")
     p.add_argument("--json", action="store_true", help="print the files written as JSON")
     p.set_defaults(run=run)
 

@@ -16,7 +16,7 @@ import json
 from ..image import read_exr
 from ..scene import MODELS, load_scene
 from ..verdict import Tolerances, judge_image
-from .povray import positive_float
+from ._options import POSITIVE, THREADS
 
 __all__ = ["add_parser", "run"]
 
@@ -38,9 +38,9 @@ def add_parser(subparsers) -> None:
                             ("distortion_tolerance_percent", "radial distortion against the expectation"),
                             ("vignetting_tolerance", "relative illumination at 10 and 20 degrees"),
                             ("min_ssim", "SSIM against a native render")):
-        p.add_argument("--" + name.replace("_", "-"), dest=name, type=positive_float, default=getattr(defaults, name),
+        p.add_argument("--" + name.replace("_", "-"), dest=name, type=POSITIVE, default=getattr(defaults, name),
                        help=f"{help_text} (default {getattr(defaults, name):g})")
-    p.add_argument("--threads", type=int, default=None, help="threads for the native render of 'similarity'")
+    p.add_argument("--threads", type=THREADS, default=None, help="threads for the native render of 'similarity'")
     p.add_argument("--json", action="store_true", help="print one JSON object with every verdict")
     p.set_defaults(run=run)
 

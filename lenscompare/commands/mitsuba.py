@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..image import write_exr
 from ..mitsuba import MITSUBA_VARIANTS, render_mitsuba
 from ..scene import MODELS, load_scene
-from .render import positive_int
+from ._options import SEED, SPP
 
 __all__ = ["add_parser", "run"]
 
@@ -31,8 +31,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
-    p.add_argument("--spp", type=positive_int, help="samples per pixel (default: the scene's render.spp)")
-    p.add_argument("--seed", type=int, help="sampler seed (default: the scene's render.seed)")
+    p.add_argument("--spp", type=SPP, help="samples per pixel (default: the scene's render.spp)")
+    p.add_argument("--seed", type=SEED, help="sampler seed (default: the scene's render.seed)")
     p.add_argument("--variant", choices=MITSUBA_VARIANTS, default="scalar_rgb",
                    help="Mitsuba variant (default scalar_rgb; llvm_ad_rgb needs DRJIT_LIBLLVM_PATH)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
