@@ -39,6 +39,7 @@ from ..errors import InputError
 from ..lenses import load_prescription
 from ..lenses.info import LENS_INFO_FIELDS
 from ..limits import MAX_NAME_CHARS, MAX_SPP, check_render_budget
+from ..mitsuba import MITSUBA_MODELS
 from ..povray import MAX_POVRAY_SPP, POVRAY_MODELS, pov_camera
 from ..reference_scenes import find_scene
 from ..scene import MODELS, load_scene
@@ -67,7 +68,8 @@ CHECK_TYPES = {
 }
 
 # The models each check type can render.
-_MODELS = {"blur_equation5": MODELS, "povray_ssim": POVRAY_MODELS, "image_matches": MODELS}
+_MODELS = {"blur_equation5": MODELS, "povray_ssim": POVRAY_MODELS, "image_matches": MODELS, "measure": MODELS,
+           "mitsuba_agreement": MITSUBA_MODELS}
 _QUANTITIES = tuple(key for key, _, _ in LENS_INFO_FIELDS)
 
 
@@ -79,7 +81,7 @@ def _read_key(table: Table, key: str, kind: str):
         return table.string(key, choices=_MODELS[kind])
     if key == "quantity":
         return table.string(key, choices=_QUANTITIES)
-    if key in ("spp", "povray_spp"):
+    if key in ("spp", "povray_spp", "mitsuba_spp"):
         return table.integer(key, minimum=1, maximum=MAX_POVRAY_SPP if key == "povray_spp" else MAX_SPP)
     if key == "min_ssim":
         return table.number(key, minimum=-1.0, maximum=1.0)
@@ -159,11 +161,12 @@ def _check_inputs(check: Check, table: Table) -> None:
                 pov_camera(scene, model)
             key = "spp"
             width, height = scene.camera.resolution
-            check_render_budget(width, height, max(o["spp"], o.get("povray_spp", 1)), source=scene.source)
+            check_render_budget(width, height, max(o.get("spp", 1), o.get("povray_spp", 1), o.get("mitsuba_spp", 1)),
+                                source=scene.source)
         if "lens" in o:
             key = "lens"
             load_prescription(lens_argument(check))
-        if "image" in o:
+        if o.get("image") is not None:  # optional for some types (None: render natively)
             key = "image"
             image = check.path("image")
             if not image.is_file():
