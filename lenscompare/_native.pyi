@@ -77,6 +77,8 @@ class ThinLensCamera:
         lens_radius_m: float,  # f / (2 N)
         focus_distance_m: float,  # along the view axis
         disk_mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+        aperture_blades: int = 0,  # 0: circular; 3..32: the regular polygon of the circle's area
+        aperture_rotation_deg: float = 0.0,  # counter-clockwise seen from behind; vertex up at 0
     ) -> None: ...
 
 class ThickLensCamera:
@@ -184,6 +186,16 @@ class _Diagnostics(types.ModuleType):
         out: numpy.ndarray,  # float32 (n, 2), written
     ) -> None:
         """Maps unit-square points u to the unit disk into out."""
+
+    @staticmethod
+    def map_to_aperture(
+        u: numpy.ndarray,  # float32 (n, 2): points in [0, 1)^2
+        mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+        blades: int,  # 0: the unit circle; 3..32: the regular polygon of area pi
+        rotation_deg: float,  # counter-clockwise; vertex 0 on +y at 0
+        out: numpy.ndarray,  # float64 (n, 2), written
+    ) -> None:
+        """Maps unit-square points u to the aperture into out, as the thin lens samples it."""
 
     @staticmethod
     def count_lens_passes(

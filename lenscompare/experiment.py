@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 from .errors import ExternalError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
-from .povray import POVRAY_MODELS, render_povray
+from .povray import POVRAY_MODELS, render_povray, unsupported as povray_unsupported
 from .render import render
 from .scene import MODELS, Scene
 
@@ -120,6 +120,12 @@ def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, 
         if progress:
             progress.update(1)
     for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
+        problem = povray_unsupported(scene, model)
+        if problem is not None:  # no reference for what POV-Ray cannot render: say so
+            notes.append(f"no POV-Ray {model} render of {scene.name}: {problem[0]}: {problem[1]}")
+            if progress:
+                progress.update(1)
+            continue
         try:
             runs.append(render_run(scene, model, "povray", settings))
         except ExternalError as error:

@@ -1,4 +1,7 @@
-"""Pure optics functions (no rendering): the thin-lens relations of the paper."""
+"""Pure optics functions (no rendering): the thin-lens relations of the paper,
+the aperture's shape and its diffraction."""
+
+from .aperture import aperture_vertices, inside_aperture, polygon_apothem, polygon_circumradius
 
 from .thin_lens import (
     aperture_diameter_mm,
@@ -12,6 +15,10 @@ from .thin_lens import (
 )
 
 __all__ = [
+    "aperture_vertices",
+    "inside_aperture",
+    "polygon_apothem",
+    "polygon_circumradius",
     "aperture_diameter_mm",
     "blur_angle_rad",
     "circle_of_confusion_mm",

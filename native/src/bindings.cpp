@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "aperture.h"
 #include "bindings_arrays.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
@@ -205,13 +206,16 @@ NB_MODULE(_native, m) {
         .def("__init__",
              [](ThinLensCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double screen_half_width,
-                double screen_half_height, double lens_radius_m, double focus_distance_m, int disk_mapping) {
+                double screen_half_height, double lens_radius_m, double focus_distance_m, int disk_mapping,
+                int aperture_blades, double aperture_rotation_deg) {
                  new (self) ThinLensCamera{make_frame(origin, right, up, forward),
                                            make_film(width_px, height_px, screen_half_width, screen_half_height),
-                                           lens_radius_m, focus_distance_m, DiskMapping(disk_mapping)};
+                                           lens_radius_m, focus_distance_m, DiskMapping(disk_mapping),
+                                           ApertureShape::of(aperture_blades, aperture_rotation_deg)};
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
-             "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
+             "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a,
+             "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0);
 
     nb::class_<ThickLensCamera>(m, "ThickLensCamera",
                                 "Thick lens: in object space the thin lens at its front principal plane H.")
