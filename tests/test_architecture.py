@@ -22,7 +22,7 @@ LAYERS = [
     {"optics", "metrics", "lenses"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
-    {"image"},
+    {"image", "diffraction"},
     {"render", "povray"},
     {"plan", "measure", "figures"},
     {"experiment"},

@@ -48,6 +48,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--seed", type=non_negative_int)
     p.add_argument("--adaptive", action="store_true", default=None,
                    help="spp is the mean: a first pass finds the noisy pixels, the rest of the samples go there")
+    p.add_argument("--diffraction", action="store_true", default=None,
+                   help="apply the aperture's diffraction PSF (400-700 nm) to the image")
     p.add_argument("--threads", type=positive_int, help="worker threads (default: all cores)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
     p.set_defaults(run=run)
@@ -63,7 +65,8 @@ def run(args) -> int:
         if Path(lens).exists():
             lens = str(Path(lens).resolve())
         scene = scene.with_camera(lens=lens)
-    options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive)
+    options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive,
+                   diffraction=args.diffraction)
     if args.model == "auto":  # simulate only what the scene calls for (default tolerances)
         image = render_planned(scene, **options)
     else:
