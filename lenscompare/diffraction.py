@@ -114,7 +114,9 @@ def convolve_image(pixels: np.ndarray, kernel: np.ndarray) -> np.ndarray:
     # No wrap-around reaches the pixels kept: H + pad + R samples suffice.
     shape = [fft.next_fast_len(height + pad + radius, real=True), fft.next_fast_len(width + pad + radius, real=True)]
     spectrum = fft.rfft2(padded, s=shape, axes=(0, 1), workers=-1)
-    spectrum *= fft.rfft2(kernel.astype(np.float32), s=shape, axes=(0, 1), workers=-1)
+    # The kernel's rows first, then its columns: only 2R + 1 of its rows are not zero.
+    rows = fft.rfft(kernel.astype(np.float32), n=shape[1], axis=1, workers=-1)
+    spectrum *= fft.fft(rows, n=shape[0], axis=0, workers=-1)
     out = fft.irfft2(spectrum, s=shape, axes=(0, 1), workers=-1)
     # The kernel's centre sits at (radius, radius): output pixel n is at n + radius of the padded image.
     return np.ascontiguousarray(out[pad + radius:pad + radius + height, pad + radius:pad + radius + width],
@@ -152,7 +154,8 @@ def diffract(pixels: np.ndarray, variance: np.ndarray | None, aperture: Diffract
     # The PSF's energy beyond the kernel (its far tails, smooth and faint)
     # spread evenly: each channel's mean times that fraction. A uniform scene
     # stays uniform; a point keeps its true encircled energy.
-    out += ((1.0 - kernel.sum(axis=(0, 1))) * pixels.mean(axis=(0, 1), dtype=np.float64)).astype(out.dtype)
+    mean = pixels.reshape(-1, pixels.shape[2]).sum(axis=0, dtype=np.float64) / (height * width)
+    out += ((1.0 - kernel.sum(axis=(0, 1))) * mean).astype(out.dtype)
     if variance is not None:
         squared = np.mean(kernel, axis=2, keepdims=True) ** 2
         variance = convolve_image(variance[:, :, None], squared)[:, :, 0]

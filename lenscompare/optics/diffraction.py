@@ -135,6 +135,15 @@ class PupilPSF:
     intensity: np.ndarray
     spacing: float
 
+    @functools.cached_property
+    def summed_area(self) -> np.ndarray:
+        """(P + 1, P + 1): the energy in samples [0, i) × [0, j)."""
+        n = self.intensity.shape[0]
+        table = np.zeros((n + 1, n + 1))
+        np.cumsum(self.intensity, axis=0, out=table[1:, 1:])
+        np.cumsum(table[1:, 1:], axis=1, out=table[1:, 1:])
+        return table
+
     @property
     def half_field(self) -> float:
         """Half the width of the field, in units of λ·N_w."""
@@ -182,8 +191,7 @@ def _box_integrals(psf: PupilPSF, edges: np.ndarray) -> np.ndarray:
     read as constant over each of its own cells, so the integral is exact for
     that reading at any pixel size."""
     n = psf.intensity.shape[0]
-    sat = np.zeros((n + 1, n + 1))
-    sat[1:, 1:] = psf.intensity.cumsum(axis=0).cumsum(axis=1)
+    sat = psf.summed_area
     # Fractional index of each edge in the table: sample k covers (k - n//2 ± 1/2) spacing.
     t = np.clip(edges / psf.spacing + n // 2 + 0.5, 0.0, float(n))
     i0 = np.minimum(t.astype(int), n - 1)
