@@ -111,6 +111,8 @@ class LensSystemCamera:
         stop_index: int,  # the aperture stop's surface
         film_z_mm: float,  # film plane, lens frame
         entrance_pupil_z_mm: float,  # lens-frame z of origin
+        aperture_blades: int = 0,  # 0: round stop; 3..32: the regular polygon of the stop circle's area
+        aperture_rotation_deg: float = 0.0,  # counter-clockwise seen from the film; vertex on +y at 0
     ) -> None:
         """Builds the exit-pupil tables and calibrates the centre irradiance (GIL released)."""
 
