@@ -18,7 +18,7 @@ from lenscompare.cameras import CameraFrame, camera_for
 from lenscompare.errors import InputError
 from lenscompare.experiment import ExperimentSettings, render_models
 from lenscompare.optics import (aperture_vertices, circle_of_confusion_mm, focus_film_distance_mm, inside_aperture,
-                                polygon_apothem, polygon_circumradius)
+                                polygon_apothem, polygon_circumradius, second_moment_diameter_ratio)
 from lenscompare.povray import scene_to_pov
 from lenscompare.render import render
 from lenscompare.scene import parse_scene
@@ -79,6 +79,9 @@ def test_polygon_samples_are_uniform_and_inside(blades, mapping):
     assert np.abs(p.mean(axis=0)).max() < 0.01
     assert np.mean(np.sum(p * p, axis=1)) == pytest.approx(r * r * (2 + math.cos(2 * math.pi / blades)) / 6,
                                                            rel=0.01)
+    # ... so its second-moment diameter (4 sqrt(var_x/2 + var_y/2)) against the circle's 2:
+    assert 4 * math.sqrt(np.mean(np.sum(p * p, axis=1)) / 2) / 2 == pytest.approx(
+        second_moment_diameter_ratio(blades), rel=0.005)
 
 
 @pytest.mark.parametrize("mapping", ["concentric", "polar"])

@@ -1,7 +1,8 @@
 """Pure optics functions (no rendering): the thin-lens relations of the paper,
 the aperture's shape and its diffraction."""
 
-from .aperture import aperture_vertices, inside_aperture, polygon_apothem, polygon_circumradius
+from .aperture import (aperture_vertices, inside_aperture, polygon_apothem, polygon_circumradius,
+                       second_moment_diameter_ratio)
 
 from .thin_lens import (
     aperture_diameter_mm,
@@ -19,6 +20,7 @@ __all__ = [
     "inside_aperture",
     "polygon_apothem",
     "polygon_circumradius",
+    "second_moment_diameter_ratio",
     "aperture_diameter_mm",
     "blur_angle_rad",
     "circle_of_confusion_mm",
