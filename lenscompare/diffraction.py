@@ -38,10 +38,12 @@ from .scene import Scene
 
 __all__ = ["DiffractionAperture", "diffraction_aperture", "diffraction_kernel", "diffract", "convolve_image"]
 
-# The PSF's field spans PUPIL_SAMPLES λ·N_w (energy beyond it, about 0.3 % of
-# an Airy pattern, folds back in); its grid is at most MAX_FFT samples wide,
-# which a PSF many pixels wide buys with a narrower field.
-PUPIL_SAMPLES = 128
+# The PSF's field spans PUPIL_SAMPLES λ·N_w: the kernel reaches ±32 λ·N_w (at
+# the shortest wavelength), which holds all but 0.6 % of an Airy pattern's
+# energy; that rest, the faint far tails, is spread evenly (see diffract).
+# Its grid is at most MAX_FFT samples wide, which a PSF many pixels wide buys
+# with a narrower field.
+PUPIL_SAMPLES = 64
 MIN_PUPIL_SAMPLES = 32
 MAX_FFT = 2048
 
