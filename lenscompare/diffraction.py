@@ -40,11 +40,14 @@ __all__ = ["DiffractionAperture", "diffraction_aperture", "diffraction_kernel", 
 
 # The PSF's field spans PUPIL_SAMPLES λ·N_w: the kernel reaches ±32 λ·N_w (at
 # the shortest wavelength), which holds all but 0.6 % of an Airy pattern's
-# energy; that rest, the faint far tails, is spread evenly (see diffract).
+# energy (under 1 % over the band); that rest, the faint far tails, is spread
+# evenly (see diffract). A PSF much smaller than a pixel gets a field of at
+# least MIN_RADIUS_PX pixels.
 # Its grid is at most MAX_FFT samples wide, which a PSF many pixels wide buys
 # with a narrower field.
 PUPIL_SAMPLES = 64
 MIN_PUPIL_SAMPLES = 32
+MIN_RADIUS_PX = 3
 MAX_FFT = 2048
 
 
@@ -95,7 +98,9 @@ def diffraction_kernel(aperture: DiffractionAperture, *, wavelengths_nm=BAND_NM,
     # cell, which errs by ~(spacing / pixel)² on a peak narrower than a pixel
     # (0.4 % on the centre pixel here), and by ~spacing on a wide one.
     spacing = min(1.0 / 12.0, pitch / (4.0 * max(wavelengths_nm) * 1e-6 * n_w))
-    samples = int(min(PUPIL_SAMPLES, max(MIN_PUPIL_SAMPLES, MAX_FFT * spacing)))
+    # Enough field for MIN_RADIUS_PX pixels round the point however small the PSF, within MAX_FFT.
+    reach = 2.0 * (MIN_RADIUS_PX + 1) * pitch / (min(wavelengths_nm) * 1e-6 * n_w)
+    samples = int(max(MIN_PUPIL_SAMPLES, min(max(PUPIL_SAMPLES, reach), MAX_FFT * spacing)))
     psf = pupil_psf(aperture.blades, float(aperture.rotation_deg), samples_across=samples, spacing=spacing)
     field_px = psf.half_field * min(wavelengths_nm) * 1e-6 * n_w / pitch
     radius = max(1, int(math.floor(field_px - 0.5)))
