@@ -26,6 +26,7 @@ bench: install
 	$(PY) bench/bench_lens.py
 	$(PY) bench/bench_povray.py
 	$(PY) bench/bench_cost.py
+	$(PY) bench/bench_mesh.py
 
 install: system-deps $(VENV)/.installed
 

@@ -41,8 +41,12 @@ class Scene:
         checker_color: numpy.ndarray,  # float32 (m, 3): albedo of the odd checker cubes
         checker_size_m: numpy.ndarray,  # float32 (m,): checker cube size, 0 for none
         light_position_m: numpy.ndarray,  # float32 (k, 3): point lights
-        light_intensity: numpy.ndarray,  # float32 (k, 3): radiant intensity, no falloff
+        light_intensity: numpy.ndarray,  # float32 (k, 3): radiant intensity
         background: Vec3,  # linear RGB radiance of rays that hit nothing
+        light_inverse_square: numpy.ndarray,  # int32 (k,): 1 = intensity / distance^2, 0 = no falloff
+        triangle_vertices: numpy.ndarray,  # float32 (v, 3): every mesh's vertices, m
+        triangles: numpy.ndarray,  # int32 (t, 3): vertex indices of each triangle
+        triangle_material: numpy.ndarray,  # int32 (t,)
     ) -> None:
         """Builds the BVH; the arrays are copied and may go once this returns."""
 

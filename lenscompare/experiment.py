@@ -11,17 +11,27 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from .errors import ExternalError
+from .errors import ExternalError, InputError
 from .image import Image
 from .lenses import paraxial_data, resolve_lens
+from .mitsuba import MITSUBA_MODELS, render_mitsuba
 from .povray import POVRAY_MODELS, render_povray, unsupported as povray_unsupported
 from .render import render
 from .scene import MODELS, Scene
 
 __all__ = ["ExperimentSettings", "Run", "prepare_scene", "render_run", "render_models", "POVRAY_MODELS",
-           "REFERENCE_POVRAY_SPP"]
+           "MITSUBA_MODELS", "REFERENCE_POVRAY_SPP", "REFERENCE_MITSUBA_SPP", "RENDERER_NAMES"]
+
+RENDERER_NAMES = {"povray": "POV-Ray", "mitsuba": "Mitsuba"}
+"""The reference renderers, as render labels name them ("thin (Mitsuba)")."""
+
 
 REFERENCE_POVRAY_SPP = 256
+
+REFERENCE_MITSUBA_SPP = 64
+"""Mitsuba renders with at least this many samples: its ``independent`` sampler
+is noisier than the native jittered one (blur disks at 16 spp: off by up to
+25 %), and its ``scalar_rgb`` variant is slow, so not POV-Ray's 256."""
 """POV-Ray's focal blur at fewer samples comes out measurably small (2-6 % at
 64, DESIGN.md); the POV-Ray reference is rendered with at least this many."""
 
@@ -40,12 +50,16 @@ class ExperimentSettings:
         Worker threads for every render (None: all cores).
     povray : bool
         Also render the POV-Ray reference of the models it has.
+    mitsuba : bool
+        Also render the Mitsuba 3 reference of the models it has (at
+        :data:`REFERENCE_MITSUBA_SPP` samples or more).
     """
 
     lens: str = "dgauss.50mm"
     quick: bool = False
     threads: int | None = None
     povray: bool = True
+    mitsuba: bool = True
 
     def resolution(self, scene: Scene) -> tuple[int, int]:
         w, h = scene.camera.resolution
@@ -57,6 +71,9 @@ class ExperimentSettings:
     def povray_spp(self, scene: Scene) -> int:
         return max(REFERENCE_POVRAY_SPP, self.spp(scene))
 
+    def mitsuba_spp(self, scene: Scene) -> int:
+        return max(REFERENCE_MITSUBA_SPP, self.spp(scene))
+
 
 @dataclass(frozen=True)
 class Run:
@@ -64,12 +81,12 @@ class Run:
 
     scene: Scene
     model: str
-    renderer: str  # "native" or "povray"
+    renderer: str  # "native", "povray" or "mitsuba"
     image: Image
 
     @property
     def label(self) -> str:
-        return f"{self.model} (POV-Ray)" if self.renderer == "povray" else self.model
+        return f"{self.model} ({RENDERER_NAMES[self.renderer]})" if self.renderer in RENDERER_NAMES else self.model
 
     @property
     def seconds(self) -> float:
@@ -102,6 +119,8 @@ def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSett
     """One render of a prepared scene; POV-Ray at reference quality."""
     if renderer == "povray":
         image = render_povray(scene, model=model, spp=settings.povray_spp(scene), threads=settings.threads)
+    elif renderer == "mitsuba":
+        image = render_mitsuba(scene, model=model, spp=settings.mitsuba_spp(scene))
     else:
         image = render(scene, model=model, threads=settings.threads, progress=False)
     return Run(scene, model, renderer, image)
@@ -109,9 +128,11 @@ def render_run(scene: Scene, model: str, renderer: str, settings: ExperimentSett
 
 def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, progress=None
                   ) -> tuple[list[Run], list[str]]:
-    """Every model natively, then POV-Ray for the models it has (when asked).
+    """Every model natively, then POV-Ray and Mitsuba for the models they have (when asked).
 
-    A POV-Ray failure becomes a note, not an error: the native runs stand.
+    A POV-Ray or Mitsuba failure (or a scene Mitsuba cannot render, such as
+    lights without inverse-square falloff) becomes a note, not an error: the
+    native runs stand.
     ``progress`` (a progress bar) advances once per render.
     """
     runs, notes = [], []
@@ -130,6 +151,14 @@ def render_models(scene: Scene, settings: ExperimentSettings, *, models=MODELS, 
             runs.append(render_run(scene, model, "povray", settings))
         except ExternalError as error:
             notes.append(f"POV-Ray {model} render of {scene.name} failed: {error}")
+        finally:
+            if progress:
+                progress.update(1)
+    for model in (m for m in MITSUBA_MODELS if m in models and settings.mitsuba):
+        try:
+            runs.append(render_run(scene, model, "mitsuba", settings))
+        except (ExternalError, InputError) as error:
+            notes.append(f"Mitsuba {model} render of {scene.name}: not rendered ({error})")
         finally:
             if progress:
                 progress.update(1)

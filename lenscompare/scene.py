@@ -16,6 +16,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Union
 
+import numpy as np
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
@@ -24,17 +26,20 @@ else:  # pragma: no cover
 from ._schema import Table
 from .errors import InputError
 from .lenses import Prescription, resolve_lens
+from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera", "RenderSettings", "EmissiveMaterial",
-    "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "PointLight", "Scene",
+    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
+    "PointLight", "Scene",
     "load_scene", "parse_scene",
 ]
 
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
@@ -129,13 +134,35 @@ class Rectangle:
     material: str
 
 
-SceneObject = Union[Sphere, Box, Rectangle]
+@dataclass(frozen=True)
+class Mesh:
+    """A triangle mesh from an OBJ or PLY file, scaled then translated into the scene (m).
+
+    ``vertices_m`` (n, 3) are the file's vertices * ``scale`` + ``translate``;
+    ``triangles`` (t, 3) index them. Both are read once, when the scene loads.
+    """
+
+    file: Path
+    scale: float
+    translate: Vec3
+    material: str
+    vertices_m: np.ndarray = field(compare=False, repr=False)
+    triangles: np.ndarray = field(compare=False, repr=False)
+
+    @property
+    def polygons(self) -> np.ndarray:
+        """The triangles' corners, (t, 3, 3), m."""
+        return self.vertices_m[self.triangles]
+
+
+SceneObject = Union[Sphere, Box, Rectangle, Mesh]
 
 
 @dataclass(frozen=True)
 class PointLight:
     position: Vec3
-    color: Vec3  # radiant intensity, no distance falloff
+    color: Vec3  # radiant intensity
+    falloff: str = "none"  # or "inverse_square": lit radiance albedo * color * cos / distance^2 (m^2)
 
 
 @dataclass(frozen=True)
@@ -208,7 +235,7 @@ def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = N
                      "lights"])
 
     materials = _read_materials(root.table("materials"))
-    objects = tuple(_read_object(t, materials) for t in root.tables("objects"))
+    objects = tuple(_read_object(t, materials, base_dir=base_dir) for t in root.tables("objects"))
     lights = tuple(_read_light(t) for t in root.tables("lights"))
     background = root.table("background")
     background.check_keys(["color"])
@@ -341,8 +368,27 @@ def _material_name(t: Table, materials: dict[str, Material]) -> str:
     return name
 
 
-def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
-    kind = t.string("type", choices=("sphere", "box", "rectangle"))
+def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None) -> Mesh:
+    """A ``type = "mesh"`` object: its file beside the scene (or absolute), read now."""
+    t.check_keys(["type", "file", "scale", "translate", "material"])
+    name = t.string("file")
+    path = Path(name) if Path(name).is_absolute() else (base_dir or Path.cwd()) / name
+    if not path.is_file():
+        raise t.error("file", f"no mesh file {str(path)!r} (a path beside the scene file, or absolute)")
+    scale = t.number("scale", default=1.0, positive=True)
+    translate = t.vector("translate", 3, default=(0.0, 0.0, 0.0))
+    material = _material_name(t, materials)
+    vertices, triangles = read_mesh(path)
+    vertices_m = vertices * scale + np.asarray(translate, dtype=float)
+    vertices_m.flags.writeable = False
+    triangles.flags.writeable = False
+    return Mesh(path, scale, translate, material, vertices_m, triangles)
+
+
+def _read_object(t: Table, materials: dict[str, Material], *, base_dir: Path | None = None) -> SceneObject:
+    kind = t.string("type", choices=("sphere", "box", "rectangle", "mesh"))
+    if kind == "mesh":
+        return _read_mesh(t, materials, base_dir)
     if kind == "sphere":
         t.check_keys(["type", "center", "radius", "material"])
         return Sphere(t.vector("center", 3), t.number("radius", positive=True), _material_name(t, materials))
@@ -361,6 +407,7 @@ def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
 
 
 def _read_light(t: Table) -> PointLight:
-    t.check_keys(["type", "position", "color"])
+    t.check_keys(["type", "position", "color", "falloff"])
     t.string("type", choices=("point",))
-    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True))
+    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True),
+                      falloff=t.string("falloff", default="none", choices=FALLOFFS))

@@ -10,9 +10,9 @@ def test_default_config_passes_and_writes_junit(tmp_path):
     junit = tmp_path / "junit.xml"
     result = run_cli("check", "--junit", junit)
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "4 passed, 0 failed" in result.stdout
+    assert "5 passed, 0 failed" in result.stdout
     suite = ET.parse(junit).getroot()
-    assert suite.tag == "testsuite" and suite.get("tests") == "4" and suite.get("failures") == "0"
+    assert suite.tag == "testsuite" and suite.get("tests") == "5" and suite.get("failures") == "0"
 
 
 def test_a_failing_check_exits_1(tmp_path):

@@ -50,6 +50,15 @@ def test_results_json_holds_every_render_and_measurement(quick_report):
     assert vignetting["thin"]["at"]["10_deg"] == pytest.approx(1.0, abs=0.02)
     assert vignetting["lens"]["at"]["10_deg"] < 0.85  # the Double Gauss vignettes
     assert results["scenes"]["showcase"]["vs_povray"]["thin"]["ssim"] > 0.95
+    # Mitsuba renders blur_disks and flat_field (emissive only); showcase's lights have no inverse-square
+    # falloff, so Mitsuba leaves it out and says why.
+    for scene in ("blur_disks", "flat_field"):
+        assert {(scene, m, "mitsuba") for m in ("pinhole", "thin")} <= labels
+        assert results["scenes"][scene]["vs_mitsuba"]["thin"]["ssim"] > 0.95
+    assert results["scenes"]["showcase"]["vs_mitsuba"] == {}
+    assert any("Mitsuba" in n and "falloff" in n for n in results["scenes"]["showcase"]["notes"])
+    mitsuba_blur = results["scenes"]["blur_disks"]["blur_disks"]["renders"]["thin (Mitsuba)"]
+    assert all(abs(row["error_percent"]) < 10 for row in mitsuba_blur if row and row["expected_px"] >= 4.0)
     for render in results["renders"]:
         assert (quick_report / render["exr"]).is_file() and (quick_report / render["png"]).is_file()
 

@@ -43,8 +43,17 @@ DEFAULT_CONFIG = Path(str(resources.files(__package__) / "default.toml"))
 
 # type -> (required keys, optional keys with defaults)
 CHECK_TYPES = {
-    "blur_equation5": ({"scene"}, {"model": "thin", "tolerance_percent": 2.0, "spp": 256, "min_expected_px": 4.0}),
+    # image = "...": measure that image (any renderer's) instead of a native render.
+    "blur_equation5": ({"scene"}, {"model": "thin", "tolerance_percent": 2.0, "spp": 256, "min_expected_px": 4.0,
+                                   "image": None}),
+    # Every measurement the scene lists, on any renderer's image (lenscompare measure).
+    "measure": ({"scene", "image"}, {"model": None, "blur_tolerance_percent": 2.0, "min_blur_px": 4.0,
+                                     "projection_tolerance_px": 0.25, "distortion_tolerance_percent": 0.2,
+                                     "vignetting_tolerance": 0.02, "min_ssim": 0.97}),
     "povray_ssim": ({"scene"}, {"model": "thin", "min_ssim": 0.97, "spp": 64, "povray_spp": 256}),
+    # Mitsuba 3 against native: SSIM, and (for thin-lens scenes with emissive spheres) blur disks against eq. 5.
+    "mitsuba_agreement": ({"scene"}, {"model": "thin", "min_ssim": 0.97, "spp": 64, "mitsuba_spp": 128,
+                                      "tolerance_percent": 2.0, "min_expected_px": 4.0}),
     "lens_paraxial": ({"lens", "quantity", "expected"}, {"relative_tolerance": 1e-6}),
     "image_matches": ({"image", "scene"}, {"model": None, "spp": 256, "min_ssim": 0.97, "max_delta_e": 2.0}),
 }

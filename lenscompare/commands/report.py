@@ -29,6 +29,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens", default="dgauss.50mm", help="lens for scenes that name none (default dgauss.50mm)")
     p.add_argument("--quick", action="store_true", help="half resolution, a quarter of the samples (CI)")
     p.add_argument("--no-povray", action="store_true", help="skip the POV-Ray reference renders")
+    p.add_argument("--no-mitsuba", action="store_true", help="skip the Mitsuba 3 reference renders")
     p.add_argument("--threads", type=int, default=None)
     p.set_defaults(run=run)
 
@@ -47,7 +48,8 @@ def run(args) -> int:
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
         raise InputError("SCENE", f"two scenes share a name ({', '.join(names)}); names become file names")
-    settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray)
+    settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray,
+                                  mitsuba=not args.no_mitsuba)
     results = build_report(scenes, args.output, settings)
     index = Path(args.output).resolve() / "index.html"
     print(f"Report written in {results['total_seconds']:.0f} s: open {index}")

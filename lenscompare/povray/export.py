@@ -8,6 +8,8 @@ lenscompare                   POV-Ray 3.7
 ============================  ==================================================
 sphere                        ``sphere { <c>, r }`` (exact, as Embree's)
 box (axis-aligned)            ``box { <min>, <max> }``
+mesh (OBJ / PLY)              ``mesh2`` with ``vertex_vectors`` and
+                              ``face_indices`` (flat triangles, as Embree's)
 rectangle (parallelogram)     ``mesh`` of two triangles (p0 p1 p3, p2 p3 p1:
                               Embree's split of the same quad); exact, and no
                               coplanarity test to trip over as ``polygon`` has
@@ -31,6 +33,10 @@ diffuse + emission E          POV-Ray multiplies ``emission`` by the pigment, so
                               (2 A lit + 2 E) / 2 = A lit + E, also for A = 0
 point light, intensity I      ``light_source { <p> rgb I }``: no ``fade_*``, so
                               no distance falloff; not an area light
+point light, ``falloff =      POV-Ray attenuates by 2 / (1 + (d / D)^P); with
+"inverse_square"``            ``fade_power 2`` and ``fade_distance D`` = 1e-4 m
+                              that is 2 D² / (D² + d²), so the colour is written
+                              as I / (2 D²): I / d² within D² / d² (1e-6 at 1 cm)
 background                    ``background { rgb <...> }``
 global                        ``assumed_gamma 1.0`` (linear colours),
                               ``ambient_light 0``, no radiosity, no photons
@@ -79,9 +85,9 @@ import numpy as np
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
 from ..units import m_from_mm
-from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
-__all__ = ["POVRAY_MODELS", "unsupported", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
+__all__ = ["POVRAY_MODELS", "unsupported", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
 
 POVRAY_MODELS = ("pinhole", "thin")
 """Camera models POV-Ray can render (it has no thick-lens or lens-system camera)."""
@@ -92,6 +98,10 @@ CHECKER_TOLERANCE = 0.001
 
 FOCAL_BLUR_FILM_BIAS_PX = 1.0 / 32.0
 """Mean offset of POV-Ray 3.7's focal-blur film samples, up and left, in pixels."""
+
+INVERSE_SQUARE_FADE_DISTANCE_M = 1e-4
+"""``fade_distance`` written for an inverse-square light: POV-Ray's 2 / (1 + (d/D)²)
+is 2 D² / d² to a relative 1e-6 beyond 1 cm (module notes)."""
 
 
 @dataclass(frozen=True)
@@ -261,7 +271,7 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         "",
     ]
     for light in scene.lights:
-        lines.append(f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}")
+        lines.append(_light(light))
     lines.append("")
     # Material names are any TOML key: number them into POV-Ray identifiers.
     names = {name: f"LC_Material{i}" for i, name in enumerate(scene.materials)}
@@ -271,6 +281,16 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
     for obj in scene.objects:
         lines.append(_object(obj, names[obj.material]))
     return "\n".join(lines) + "\n"
+
+
+def _light(light) -> str:
+    if light.falloff == "none":
+        return f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}"
+    fade_m = INVERSE_SQUARE_FADE_DISTANCE_M
+    # 2 / (1 + (d / D)^2) = 2 D^2 / (D^2 + d^2): the colour I / (2 D^2) makes it I / d^2.
+    color = np.asarray(light.color, dtype=float) / (2.0 * fade_m * fade_m)
+    return (f"light_source {{ {_vec(light.position)} rgb {_vec(color)}  // intensity {_vec(light.color)} / d^2\n"
+            f"  fade_distance {format_number(fade_m)} fade_power 2 }}")
 
 
 def _camera_block(scene: Scene, camera: PovCamera, spp: int, blur_adaptive: tuple[int, float] | None) -> str:
@@ -339,4 +359,9 @@ def _object(obj, texture: str) -> str:
         p0, p1, p2, p3 = c, c + e1, c + e1 + e2, c + e2
         return (f"mesh {{ triangle {{ {_vec(p0)}, {_vec(p1)}, {_vec(p3)} }} "
                 f"triangle {{ {_vec(p2)}, {_vec(p3)}, {_vec(p1)} }} texture {{ {texture} }} }}")
+    if isinstance(obj, Mesh):
+        vertices = ",\n    ".join(_vec(v) for v in obj.vertices_m)
+        faces = ",\n    ".join(f"<{a}, {b}, {c}>" for a, b, c in obj.triangles.tolist())
+        return (f"mesh2 {{  // {obj.file.name}\n  vertex_vectors {{ {len(obj.vertices_m)},\n    {vertices} }}\n"
+                f"  face_indices {{ {len(obj.triangles)},\n    {faces} }}\n  texture {{ {texture} }}\n}}")
     raise TypeError(f"unknown object {obj!r}")  # pragma: no cover

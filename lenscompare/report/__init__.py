@@ -17,9 +17,10 @@ from .. import __version__, measure
 from ..atomic import atomic_output
 from ..cost import CostSettings, run_cost_study, time_table_rows
 from ..errors import InputError
-from ..experiment import POVRAY_MODELS, ExperimentSettings, prepare_scene, render_models
+from ..experiment import MITSUBA_MODELS, POVRAY_MODELS, ExperimentSettings, prepare_scene, render_models
 from ..figures import write_teaching_figures
 from ..lenses import load_prescription
+from ..mitsuba import mitsuba_version
 from ..plan import plan_scene
 from ..povray import povray_version
 from ..progress import progress_bar
@@ -57,9 +58,10 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
 
     start = time.perf_counter()
     prepared = [prepare_scene(s, settings) for s in scenes]
-    renders_per_scene = len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
+    renders_per_scene = (len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
+                         + (len(MITSUBA_MODELS) if settings.mitsuba else 0))
     results = {"settings": {"lens": settings.lens, "quick": settings.quick, "threads": settings.threads,
-                            "povray": settings.povray},
+                            "povray": settings.povray, "mitsuba": settings.mitsuba},
                "scenes": {}, "renders": [], "notes": []}
     with progress_bar(renders_per_scene * len(scenes), description="report", unit="render",
                       enabled=progress) as bar:
@@ -91,7 +93,8 @@ def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: 
              "rendered": {"lens": camera.lens.name, "f_number": camera.f_number,
                           "focus_distance_m": camera.focus_distance_m, "resolution": list(camera.resolution),
                           "spp": scene.render.spp,
-                          "povray_spp": settings.povray_spp(scene) if settings.povray else None},
+                          "povray_spp": settings.povray_spp(scene) if settings.povray else None,
+                          "mitsuba_spp": settings.mitsuba_spp(scene) if settings.mitsuba else None},
              "renders": summaries}
     entry["plan"] = _plan_against_measured(scene, by_label)
     lens_is_dgauss = scene.camera.lens.sha256 == load_prescription("dgauss.50mm").sha256
@@ -113,6 +116,9 @@ def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: 
     # Similarity: against POV-Ray, and against the full lens system.
     entry["vs_povray"] = {m: measure.compare_images(by_label[f"{m} (POV-Ray)"].image.pixels, by_label[m].image.pixels)
                           for m in POVRAY_MODELS if f"{m} (POV-Ray)" in by_label}
+    entry["vs_mitsuba"] = {m: measure.compare_images(by_label[f"{m} (Mitsuba)"].image.pixels,
+                                                     by_label[m].image.pixels)
+                           for m in MITSUBA_MODELS if f"{m} (Mitsuba)" in by_label}
     entry["vs_lens"] = {m: measure.compare_images(by_label["lens"].image.pixels, by_label[m].image.pixels)
                         for m in ("pinhole", "thin", "thick")}
     return entry
@@ -169,6 +175,11 @@ def _provenance(scenes, prepared, settings) -> dict:
             info["povray"] = povray_version()
         except Exception as error:  # noqa: BLE001 - recorded, not fatal
             info["povray"] = f"unavailable ({error})"
+    if settings.mitsuba:
+        try:
+            info["mitsuba"] = f"Mitsuba {mitsuba_version()} scalar_rgb"
+        except Exception as error:  # noqa: BLE001 - recorded, not fatal
+            info["mitsuba"] = f"unavailable ({error})"
     return info
 
 

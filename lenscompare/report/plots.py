@@ -12,7 +12,9 @@ from ..atomic import atomic_output
 __all__ = ["plot_blur", "plot_distortion", "plot_vignetting", "plot_times"]
 
 COLOURS = {"pinhole": "#7f7f7f", "thin": "#1f77b4", "thick": "#2ca02c", "lens": "#d62728",
-           "pinhole (POV-Ray)": "#bcbd22", "thin (POV-Ray)": "#17becf"}
+           "pinhole (POV-Ray)": "#bcbd22", "thin (POV-Ray)": "#17becf",
+           "pinhole (Mitsuba)": "#8c564b", "thin (Mitsuba)": "#e377c2"}
+_SUFFIX = {"povray": " (POV-Ray)", "mitsuba": " (Mitsuba)"}
 
 
 # Drawn at the size the page shows them (100 % zoom): 7 x 4.2 in at 100 dpi is
@@ -101,9 +103,9 @@ def plot_vignetting(vignetting: dict, path: Path, *, title: str, published=None)
 
 def plot_times(rows: list[dict], path: Path) -> str:
     plt, fig, ax = _figure(7.0, 0.25 * len(rows) + 1.2)
-    labels = [f"{r['scene']}: {r['model']}" + (" (POV-Ray)" if r["renderer"] == "povray" else "") for r in rows]
+    labels = [f"{r['scene']}: {r['model']}" + _SUFFIX.get(r["renderer"], "") for r in rows]
     ax.barh(labels, [r["seconds"] for r in rows],
-            color=[COLOURS.get(r["model"] + (" (POV-Ray)" if r["renderer"] == "povray" else "")) for r in rows])
+            color=[COLOURS.get(r["model"] + _SUFFIX.get(r["renderer"], "")) for r in rows])
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.set_xlabel("render time (s)")

@@ -13,7 +13,7 @@ __all__ = ["save_runs", "preview_exposure"]
 
 
 def save_runs(runs: list[Run], out_dir: Path) -> list[dict]:
-    """Write ``renders/<scene>.<model>[.povray].exr`` and ``.png`` for every run;
+    """Write ``renders/<scene>.<model>[.povray|.mitsuba].exr`` and ``.png`` for every run;
     return each run's summary (model, renderer, spp, seconds, files, camera).
 
     All runs of a scene share one preview exposure (the native thin lens's, or
@@ -25,7 +25,7 @@ def save_runs(runs: list[Run], out_dir: Path) -> list[dict]:
     exposure = preview_exposure(exposure_from.image)
     summaries = []
     for run in runs:
-        stem = f"{run.scene.name}.{run.model}" + (".povray" if run.renderer == "povray" else "")
+        stem = f"{run.scene.name}.{run.model}" + ("" if run.renderer == "native" else f".{run.renderer}")
         exr, png = out_dir / "renders" / f"{stem}.exr", out_dir / "renders" / f"{stem}.png"
         write_exr(exr, run.image)
         write_png_preview(png, run.image, exposure=exposure)

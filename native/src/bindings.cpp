@@ -52,7 +52,9 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                   CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
                   CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
                   CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
-                  CArray<const float, -1, 3> light_intensity, const Triple& background) {
+                  CArray<const float, -1, 3> light_intensity, const Triple& background,
+                  CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
+                  CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
     SceneArrays a;
     a.spheres = spheres.data();
     a.sphere_material = sphere_material.data();
@@ -65,7 +67,13 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                                        vecf(&material_emission(i, 0)), vecf(&checker_color(i, 0)), checker_size_m(i)});
     }
     for (size_t i = 0; i < light_position_m.shape(0); ++i)
-        a.lights.push_back(PointLight{vecf(&light_position_m(i, 0)), vecf(&light_intensity(i, 0))});
+        a.lights.push_back(PointLight{vecf(&light_position_m(i, 0)), vecf(&light_intensity(i, 0)),
+                                      light_inverse_square(i) != 0});
+    a.triangle_vertices = triangle_vertices.data();
+    a.n_vertices = int(triangle_vertices.shape(0));
+    a.triangles = triangles.data();
+    a.triangle_material = triangle_material.data();
+    a.n_triangles = int(triangles.shape(0));
     a.background = Vec3f(vec(background));
     return a;
 }
@@ -182,15 +190,19 @@ NB_MODULE(_native, m) {
                 CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
                 CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
                 CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
-                CArray<const float, -1, 3> light_intensity, const Triple& background) {
-                 // Scene copies what it needs: the arrays may go once this returns.
+                CArray<const float, -1, 3> light_intensity, const Triple& background,
+                CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
+                CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
+                 // Python has checked the shapes and indices (native_scene.py); the arrays are
+                 // copied, so they may go once this returns.
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
-                                               light_position_m, light_intensity, background));
+                                               light_position_m, light_intensity, background, light_inverse_square,
+                                               triangle_vertices, triangles, triangle_material));
              },
              "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
              "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
-             "background"_a);
+             "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a);
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",
