@@ -19,6 +19,8 @@ from lenscompare.errors import InputError
 from lenscompare.experiment import ExperimentSettings, render_models
 from lenscompare.optics import (aperture_vertices, circle_of_confusion_mm, focus_film_distance_mm, inside_aperture,
                                 polygon_apothem, polygon_circumradius, second_moment_diameter_ratio)
+from lenscompare.mitsuba import scene_to_mitsuba
+from lenscompare.pbrt import scene_to_pbrt
 from lenscompare.povray import scene_to_pov
 from lenscompare.render import render
 from lenscompare.scene import parse_scene
@@ -242,3 +244,12 @@ def test_povray_refuses_a_polygon_and_the_experiment_notes_why():
     runs, notes = render_models(scene, ExperimentSettings(povray=True), models=("thin",))
     assert [r.renderer for r in runs] == ["native"]
     assert any("no POV-Ray thin render" in n and "aperture_blades" in n for n in notes)
+    # The other renderers' round lenses refuse it too; diffraction as well.
+    for export in (scene_to_mitsuba, scene_to_pbrt):
+        with pytest.raises(InputError, match="camera.aperture_blades"):
+            export(scene, model="thin")
+    diffracting = parse_scene(camera_scene_text(resolution=(36, 24), spp=1).replace("[render]\n",
+                                                                                    "[render]\ndiffraction = true\n"))
+    for export in (scene_to_pov, scene_to_mitsuba, scene_to_pbrt):
+        with pytest.raises(InputError, match="render.diffraction"):
+            export(diffracting, model="thin")
