@@ -48,6 +48,7 @@ __all__ = ["DiffractionAperture", "diffraction_aperture", "diffraction_kernel", 
 PUPIL_SAMPLES = 64
 MIN_PUPIL_SAMPLES = 32
 MIN_RADIUS_PX = 3
+MAX_RADIUS_PX = 512  # beyond, the veil takes the energy (an Airy disk hundreds of pixels wide)
 MAX_FFT = 2048
 
 
@@ -98,12 +99,15 @@ def diffraction_kernel(aperture: DiffractionAperture, *, wavelengths_nm=BAND_NM,
     # cell, which errs by ~(spacing / pixel)² on a peak narrower than a pixel
     # (0.4 % on the centre pixel here), and by ~spacing on a wide one.
     spacing = min(1.0 / 12.0, pitch / (4.0 * max(wavelengths_nm) * 1e-6 * n_w))
+    # ... but never so fine that the smallest pupil overflows MAX_FFT (a PSF
+    # hundreds of pixels wide: its cells then span several pixels).
+    spacing = max(spacing, MIN_PUPIL_SAMPLES / MAX_FFT)
     # Enough field for MIN_RADIUS_PX pixels round the point however small the PSF, within MAX_FFT.
     reach = 2.0 * (MIN_RADIUS_PX + 1) * pitch / (min(wavelengths_nm) * 1e-6 * n_w)
     samples = int(max(MIN_PUPIL_SAMPLES, min(max(PUPIL_SAMPLES, reach), MAX_FFT * spacing)))
     psf = pupil_psf(aperture.blades, float(aperture.rotation_deg), samples_across=samples, spacing=spacing)
     field_px = psf.half_field * min(wavelengths_nm) * 1e-6 * n_w / pitch
-    radius = max(1, int(math.floor(field_px - 0.5)))
+    radius = min(max(1, int(math.floor(field_px - 0.5))), MAX_RADIUS_PX)
     if max_radius_px is not None:
         radius = max(1, min(radius, int(max_radius_px)))
     return pixel_kernel(psf, pixel_pitch_mm=pitch, working_f_number=n_w, wavelengths_nm=wavelengths_nm,

@@ -226,3 +226,17 @@ def test_command_line_diffraction_flag_and_a_pinhole_without_aperture(tmp_path):
     assert len(result.stderr.strip().splitlines()) == 1
     with pytest.raises(InputError, match="render.diffraction"):
         render(parse_scene(text), diffraction=True)
+
+
+def test_an_absurdly_large_psf_stays_finite_and_bounded():
+    """f/2000 on 1 µm pixels (an Airy disk 2.7 mm, 2700 px wide): the PSF grid
+    stays within its FFT limit, the kernel within 512 px, the image finite
+    and its flux kept (the veil takes what the kernel cannot hold)."""
+    aperture = DiffractionAperture(working_f_number=2000.0, blades=5, rotation_deg=0.0, pixel_pitch_mm=0.001)
+    kernel = diffraction_kernel(aperture)
+    assert kernel.shape[0] <= 2 * 512 + 1 and np.isfinite(kernel).all()
+    image = np.zeros((48, 64, 3), np.float32)
+    image[20, 30] = 1.0
+    out, _, info = diffract(image, None, aperture)
+    assert np.isfinite(out).all() and out.min() >= -1e-6
+    np.testing.assert_allclose(out.sum(axis=(0, 1)), 1.0, rtol=0.02)
