@@ -19,6 +19,7 @@ from .lenses import paraxial_data, resolve_lens
 from .limits import check_render_budget
 from .mitsuba import MITSUBA_MODELS, render_mitsuba
 from .povray import MAX_POVRAY_SPP, POVRAY_MODELS, pov_camera, render_povray
+from .povray import unsupported as povray_unsupported
 from .render import render
 from .scene import MODELS, Scene
 
@@ -135,6 +136,8 @@ def check_renderable(scene: Scene, settings: ExperimentSettings, *, models=MODEL
     for model in models:
         camera_for(scene, model)
     for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
+        if povray_unsupported(scene, model) is not None:  # left out with a note, not refused
+            continue
         pov_camera(scene, model)
         if settings.povray_spp(scene) > MAX_POVRAY_SPP:
             raise InputError(scene.source, f"POV-Ray's reference would take {settings.povray_spp(scene):,} samples, "
@@ -171,15 +174,20 @@ def render_scenes(scenes: list[Scene], settings: ExperimentSettings, *, models=M
     """:func:`render_models` for several scenes at once (on a cluster, every
     render of every scene is a task from the start)."""
     jobs = [(i, model, "native") for i in range(len(scenes)) for model in models]
-    jobs += [(i, model, "povray") for i in range(len(scenes)) for model in POVRAY_MODELS
-             if model in models and settings.povray]
+    out = [([], []) for _ in scenes]
+    for i, scene in enumerate(scenes):
+        for model in (m for m in POVRAY_MODELS if m in models and settings.povray):
+            problem = povray_unsupported(scene, model)
+            if problem is None:
+                jobs.append((i, model, "povray"))
+            else:  # no reference for what POV-Ray cannot render: say so
+                out[i][1].append(f"no POV-Ray {model} render of {scene.name}: {problem[0]}: {problem[1]}")
     jobs += [(i, model, "mitsuba") for i in range(len(scenes)) for model in MITSUBA_MODELS
              if model in models and settings.mitsuba]
     jobs.sort(key=lambda job: job[0])  # scene by scene, natives first (a stable sort)
     results = run_calls(cluster, _render_run_with_threads, [((scenes[i], model, renderer, settings), {})
                                                             for i, model, renderer in jobs],
                         threads=settings.threads, catch=(ExternalError, InputError), progress=progress)
-    out = [([], []) for _ in scenes]
     for (i, model, renderer), result in zip(jobs, results):
         if isinstance(result, ExternalError) and renderer == "povray":
             out[i][1].append(f"POV-Ray {model} render of {scenes[i].name} failed: {result}")

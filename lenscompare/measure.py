@@ -36,7 +36,7 @@ from .metrics import (
     rmse,
     ssim,
 )
-from .optics import circle_of_confusion_mm
+from .optics import circle_of_confusion_mm, second_moment_diameter_ratio
 from .scene import EmissiveMaterial, Scene, Sphere
 from .units import mm_from_m
 
@@ -98,6 +98,11 @@ def measure_blur_disks(scene: Scene, runs) -> dict:
                     camera.prescription, height_mm=mm_from_m(math.hypot(x, y)), distance_mm=mm_from_m(z),
                     film_z_mm=camera.film_z_mm, window_radius_mm=window_px * pitch) / pitch
                 expected_from = f"real rays through {camera.prescription.name}"
+            if camera.aperture_blades:
+                # The blur takes the aperture's shape: an N-gon's second moment
+                # (for the lens system a first-order scaling of the round stop's spot).
+                expected_px *= second_moment_diameter_ratio(camera.aperture_blades)
+                expected_from += f", {camera.aperture_blades}-blade aperture"
             try:
                 disk = measure_blur_disk(run.image.pixels, center_px=source.centroid_px, window_radius_px=window_px,
                                          source_diameter_px=sphere_px)

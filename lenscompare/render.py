@@ -17,6 +17,7 @@ import numpy as np
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
 from .cameras import CameraModel, camera_for
+from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
 from .limits import MAX_SEED, MAX_SPP, check_render_budget
@@ -37,7 +38,8 @@ _BAND_SAMPLES = 2_000_000
 
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
-           adaptive: bool | None = None, camera: CameraModel | None = None) -> Image:
+           adaptive: bool | None = None, diffraction: bool | None = None,
+           camera: CameraModel | None = None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -52,6 +54,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         is the mean over the image: a first pass measures each pixel's noise
         and the rest of the samples go where it is largest
         (:mod:`lenscompare.adaptive`).
+    diffraction : bool, optional
+        Override ``[render] diffraction``: convolve the image with the
+        aperture's diffraction PSF (:mod:`lenscompare.diffraction`); its cost
+        is in ``metadata["diffraction"]["seconds"]``, not in ``seconds``.
     threads : int, optional
         Worker threads; default all cores, and never more (TBB would only warn).
         The image does not depend on it.
@@ -71,7 +77,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     model = camera.model if camera is not None else (model or scene.camera.model)
     if model not in MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
-    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive)
+    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
         raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
@@ -88,6 +94,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
     camera = camera or camera_for(scene, model)
+    # Before the render: a scene that cannot diffract is refused at once.
+    aperture = diffraction_aperture(scene, camera) if settings.diffraction else None
     native_camera = camera.native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
 
@@ -128,6 +136,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     }
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
+    if aperture is not None:
+        pixels, variance, metadata["diffraction"] = diffract(pixels, variance, aperture)
     return Image(pixels, metadata, camera=camera, variance=variance)
 
 

@@ -40,8 +40,9 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
-    "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh", "PointLight", "Scene",
+    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
+    "PointLight", "Scene",
     "load_scene", "parse_scene",
 ]
 
@@ -52,6 +53,7 @@ FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
+MAX_APERTURE_BLADES = 32  # the native aperture's limit (native/src/aperture.h)
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,8 @@ class Camera:
     f_number: float | None = None
     lens: Prescription | None = None  # resolved once, when the scene is loaded (lenses.resolve_lens)
     principal_plane_gap_mm: float | None = None
+    aperture_blades: int = 0            # 0: circular; N >= 3: regular N-gon of the circle's area
+    aperture_rotation_deg: float = 0.0  # counter-clockwise seen from behind the lens; a vertex up at 0
 
     @property
     def focus_distance_mm(self) -> float:
@@ -92,6 +96,7 @@ class RenderSettings:
     seed: int = 0
     disk_mapping: str = "concentric"
     adaptive: bool = False  # spp is then the image's mean (lenscompare.adaptive)
+    diffraction: bool = False  # the aperture's diffraction PSF applied to the image (lenscompare.diffraction)
 
 
 @dataclass(frozen=True)
@@ -265,7 +270,8 @@ def _read_measure(root: Table) -> tuple[str, ...]:
 
 def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
-                  "film_mm", "resolution", "lens", "principal_plane_gap_mm"])
+                  "film_mm", "resolution", "lens", "principal_plane_gap_mm", "aperture_blades",
+                  "aperture_rotation_deg"])
     position = t.vector("position", 3)
     look_at = t.vector("look_at", 3)
     up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
@@ -307,7 +313,16 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         f_number=t.number("f_number", default=None, minimum=MIN_F_NUMBER),
         lens=_read_lens(t, base_dir),
         principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None, max_abs=MAX_FOCAL_LENGTH_MM),
+        aperture_blades=_read_aperture_blades(t),
+        aperture_rotation_deg=t.number("aperture_rotation_deg", default=0.0, max_abs=1e6),
     )
+
+
+def _read_aperture_blades(t: Table) -> int:
+    blades = t.integer("aperture_blades", default=0, minimum=0)
+    if blades in (1, 2) or blades > MAX_APERTURE_BLADES:
+        raise t.error("aperture_blades", f"expected 0 (circular) or 3 to {MAX_APERTURE_BLADES} blades, got {blades}")
+    return blades
 
 
 def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
@@ -320,7 +335,7 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -328,6 +343,7 @@ def _read_render(t: Table) -> RenderSettings:
         seed=t.integer("seed", default=defaults.seed, minimum=0, maximum=MAX_SEED),
         disk_mapping=t.string("disk_mapping", default=defaults.disk_mapping, choices=DISK_MAPPINGS),
         adaptive=t.boolean("adaptive", default=defaults.adaptive),
+        diffraction=t.boolean("diffraction", default=defaults.diffraction),
     )
 
 

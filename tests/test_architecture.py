@@ -23,7 +23,7 @@ LAYERS = [
     {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
-    {"image", "flat_geometry"},
+    {"image", "flat_geometry", "diffraction"},
     {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},

@@ -43,6 +43,12 @@ class CameraModel:
         Working aperture; None for the pinhole.
     aperture_diameter_mm : float
         Entrance-pupil diameter f / N; 0 for the pinhole.
+    aperture_blades : int
+        0: a circular aperture; N >= 3: a regular N-gon diaphragm of the
+        circle's area.
+    aperture_rotation_deg : float
+        The polygon's turn, counter-clockwise seen from behind the lens
+        (camera x right, y up); a vertex points up at 0.
     """
 
     model: ClassVar[str]
@@ -53,6 +59,17 @@ class CameraModel:
     film_distance_mm: float
     f_number: float | None = None
     aperture_diameter_mm: float = 0.0
+    aperture_blades: int = 0
+    aperture_rotation_deg: float = 0.0
+
+    @property
+    def working_f_number(self) -> float | None:
+        """Film distance over the exit-pupil diameter, which sets the size of
+        the diffraction PSF on the film: N (1 + |m|) for the ideal lenses
+        (pupils at the lens, magnification m); None without an aperture."""
+        if self.f_number is None:
+            return None
+        return self.film_distance_mm / self.aperture_diameter_mm
 
     @property
     def focus_distance_mm(self) -> float:
@@ -95,7 +112,9 @@ class CameraModel:
                 "focus_distance_m": self.focus_distance_m,
                 "pixel_pitch_mm": self.pixel_pitch_mm}
         if self.f_number is not None:
-            info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm)
+            info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm,
+                        aperture_blades=self.aperture_blades, aperture_rotation_deg=self.aperture_rotation_deg,
+                        working_f_number=self.working_f_number)
         return info
 
 

@@ -1,7 +1,7 @@
 """``lenscompare figures -o DIR``: the teaching figures (paper Figs. 1-4) as PNG and SVG.
 
-Writes ``thin_lens``, ``thick_lens`` and ``lens_system`` (``.png`` and
-``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
+Writes ``thin_lens``, ``thick_lens``, ``lens_system`` and ``aperture`` (``.png``
+and ``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
 """
 
 from __future__ import annotations
@@ -24,11 +24,13 @@ _DISTANCE = number_option(maximum=MAX_LENGTH_M)
 def add_parser(subparsers) -> None:
     """Register ``figures``."""
     p = subparsers.add_parser(
-        "figures", help="draw the teaching figures (thin lens, thick lens, lens system)",
+        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture)",
         description="Draw the teaching figures of the paper (Figs. 1-4) from lenscompare's own "
         "optics code: the thin lens with real numbers (eqs. 1-10), the thick-lens model of LENS "
         "(H, H', F, F' against traced rays), and LENS in cross-section with traced bundles, its "
-        "exit pupil and the film. Writes thin_lens, thick_lens and lens_system as .png and .svg "
+        "exit pupil and the film; and the aperture: defocus against diffraction over the f-number (the best "
+        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades. Writes thin_lens, thick_lens, "
+        "lens_system and aperture as .png and .svg "
         "into DIR (created if missing).")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="folder for the figures")
     p.add_argument("--lens", default="dgauss.50mm", metavar="NAME|PATH",

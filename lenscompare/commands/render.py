@@ -26,6 +26,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--seed", type=SEED, help="0 to 2^64 - 1")
     p.add_argument("--adaptive", action="store_true", default=None,
                    help="spp is the mean: a first pass finds the noisy pixels, the rest of the samples go there")
+    p.add_argument("--diffraction", action="store_true", default=None,
+                   help="apply the aperture's diffraction PSF (400-700 nm) to the image")
     p.add_argument("--threads", type=THREADS, help="worker threads (default and at most: all cores)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
     p.set_defaults(run=run)
@@ -34,7 +36,8 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # before the work: a read-only folder fails now
     scene = with_lens_option(load_scene(args.scene), args.lens)
-    options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive)
+    options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive,
+                   diffraction=args.diffraction)
     if args.model == "auto":  # simulate only what the scene calls for (default tolerances)
         image = render_planned(scene, **options)
     else:

@@ -114,6 +114,12 @@ def _check(scene: Scene, model: str) -> None:
     if model not in MITSUBA_MODELS:
         raise InputError("--model", f"Mitsuba renders only {' and '.join(MITSUBA_MODELS)} here, not {model!r} "
                          "(no thick-lens or lens-system sensor)")
+    if model == "thin" and scene.camera.aperture_blades:
+        raise InputError(scene.source, "Mitsuba's thinlens sensor has a round aperture only (render the "
+                         "polygon natively)", key="camera.aperture_blades")
+    if scene.render.diffraction:
+        raise InputError(scene.source, "Mitsuba is rendered here with geometric optics only (render "
+                         "diffraction natively)", key="render.diffraction")
     lit = any(isinstance(scene.materials[o.material], DiffuseMaterial) for o in scene.objects)
     for i, light in enumerate(scene.lights):
         if lit and light.falloff != "inverse_square" and any(c > 0 for c in light.color):
@@ -222,7 +228,8 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
     ------
     InputError
         A model Mitsuba has no sensor for; a light with ``falloff = "none"``
-        in a scene with lit surfaces; a checker on a sphere.
+        in a scene with lit surfaces; a checker on a sphere; a bladed
+        aperture or diffraction (Mitsuba's thin lens is round and geometric).
     """
     model = model or scene.camera.model
     _check(scene, model)

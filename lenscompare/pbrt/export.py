@@ -178,12 +178,19 @@ def scene_to_pbrt(scene: Scene, *, model: str | None = None, spp: int | None = N
     Raises
     ------
     InputError
-        Model ``thick`` (pbrt has no thick-lens camera), or a lit scene whose
-        lights have no inverse-square falloff.
+        Model ``thick`` (pbrt has no thick-lens camera), a lit scene whose
+        lights have no inverse-square falloff, a bladed aperture or diffraction.
     """
     model = model or scene.camera.model
     if model not in PBRT_MODELS:
         raise InputError("--model", f"pbrt renders {', '.join(PBRT_MODELS)} here, not {model!r}")
+    if model != "pinhole" and scene.camera.aperture_blades:
+        # pbrt's thin lens is round, and its realistic camera's built-in shapes are not our polygon.
+        raise InputError(scene.source, "the pbrt export writes round apertures only (render the polygon "
+                         "natively)", key="camera.aperture_blades")
+    if scene.render.diffraction:
+        raise InputError(scene.source, "pbrt renders geometric optics only (render diffraction natively)",
+                         key="render.diffraction")
     lit = any(isinstance(scene.materials[o.material], DiffuseMaterial) for o in scene.objects)
     for i, light in enumerate(scene.lights):
         if lit and light.falloff != "inverse_square" and any(c > 0 for c in light.color):

@@ -87,7 +87,7 @@ from ..errors import InputError
 from ..units import m_from_mm
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
-__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "FOCUS_AT_INFINITY_M",
+__all__ = ["POVRAY_MODELS", "unsupported", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "FOCUS_AT_INFINITY_M",
            "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number",
            "radiance_bound"]
 
@@ -177,6 +177,22 @@ def _tuple(v) -> tuple[float, float, float]:
     return tuple(float(c) for c in v)
 
 
+def unsupported(scene: Scene, model: str) -> tuple[str, str] | None:
+    """(scene key, why) when POV-Ray cannot render what ``scene`` asks of
+    ``model``, else None. Its focal blur samples a circular lens only (with
+    few ``blur_samples`` a hexagonal pattern, which is no diaphragm), and it
+    traces geometric optics only: no polygonal aperture, no diffraction. The
+    POV-Ray reference is therefore the circular, geometric case."""
+    if model == "thin" and scene.camera.aperture_blades:
+        return ("camera.aperture_blades", f"POV-Ray's focal blur has a circular aperture only, not "
+                f"{scene.camera.aperture_blades} blades (render the polygon natively; POV-Ray is the reference "
+                "for the circular aperture)")
+    if scene.render.diffraction:
+        return ("render.diffraction", "POV-Ray traces geometric optics only (render diffraction natively; "
+                "POV-Ray is the reference without it)")
+    return None
+
+
 def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
     """The POV-Ray camera for ``scene`` seen through ``model`` (default: the scene's).
 
@@ -192,6 +208,9 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
             raise InputError("--model", f"POV-Ray has no thick-lens / lens-system camera (model {model!r}); "
                              f"POV-Ray renders only {' and '.join(POVRAY_MODELS)}")
         raise InputError("--model", f"expected one of {', '.join(POVRAY_MODELS)}, got {model!r}")
+    problem = unsupported(scene, model)
+    if problem is not None:
+        raise InputError(scene.source, problem[1], key=problem[0])
     value = camera_for(scene, model)
     f_mm, d_prime_mm = value.focal_length_mm, value.film_distance_mm
     film = value.film
