@@ -63,7 +63,7 @@ def _command_cases(scene: Path, exr: Path, folder: Path):
         "render": (["render", str(scene), "-o", str(folder / "x.exr")], commands.render, "render"),
         "povray": (["povray", str(scene), "-o", str(folder / "x.exr")], commands.povray, "render_povray"),
         "preview": (["preview", str(exr), "-o", str(folder / "x.png")], commands.preview, "read_exr"),
-        "report": (["report", str(scene), "-o", str(folder / "report"), "--quick"], report, "render_models"),
+        "report": (["report", str(scene), "-o", str(folder / "report"), "--quick"], report, "render_scenes"),
         "cost": (["cost", str(scene), "-o", str(folder / "cost"), "--quick"], cost, "study_scene"),
         "check --junit": (["check", str(REPO / "lenscompare" / "checks" / "default.toml"), "--junit",
                            str(folder / "junit.xml")], commands.check, "run_check"),
