@@ -392,6 +392,9 @@ def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None) 
     material = _material_name(t, materials)
     vertices, triangles = read_mesh(path)
     vertices_m = vertices * scale + np.asarray(translate, dtype=float)
+    if not np.all(np.abs(vertices_m) <= MAX_LENGTH_M):  # NaN too: Embree computes in float32
+        raise t.error("scale", f"puts vertices of {str(path)!r} beyond {MAX_LENGTH_M:g} m (or the file holds "
+                      "non-finite coordinates)")
     vertices_m.flags.writeable = False
     triangles.flags.writeable = False
     return Mesh(path, scale, translate, material, vertices_m, triangles)

@@ -66,10 +66,17 @@ NUMERIC_OPTIONS = [
     ("plan", "--tolerance-px", 0.0, math.inf, False), ("plan", "--tolerance-percent", 0.0, math.inf, False),
     ("figures", "--focal-length-mm", 0.01, 1e6, False), ("figures", "--f-number", MIN_F_NUMBER, math.inf, False),
     ("figures", "--focus-distance", 0.0, MAX_LENGTH_M, False),
+    ("mitsuba", "--spp", 1, MAX_SPP, True), ("mitsuba", "--seed", 0, 2**32 - 1, True),
+    ("export", "--spp", 1, MAX_SPP, True), ("export", "--seed", 0, MAX_SEED, True),
+    ("measure", "--threads", 1, MAX_THREADS, True), ("measure", "--blur-tolerance-percent", 0.0, math.inf, False),
+    ("measure", "--min-ssim", 0.0, 1.0, False),
+    ("sweep", "--workers", 1, MAX_THREADS, True), ("sweep", "--threads", 1, MAX_THREADS, True),
 ]
 POSITIONAL = {"render": ["s.toml", "-o", "o.exr"], "povray": ["s.toml", "-o", "o.exr"],
               "preview": ["i.exr", "-o", "o.png"], "report": ["-o", "out"], "cost": ["s.toml", "-o", "out"],
-              "check": [], "plan": ["s.toml"], "figures": ["-o", "out"]}
+              "check": [], "plan": ["s.toml"], "figures": ["-o", "out"],
+              "mitsuba": ["s.toml", "-o", "o.exr"], "export": ["s.toml", "--to", "povray", "-o", "o.pov"],
+              "measure": ["i.exr", "--scene", "s.toml"], "sweep": ["w.toml", "-o", "out"]}
 
 option_text = st.one_of(
     st.sampled_from(["0", "-1", "1", "nan", "inf", "-inf", "1e12", "1e400", "", " ", "1.5", "0.5", "0x10", "1_0",
@@ -81,7 +88,7 @@ option_text = st.one_of(
 )
 
 
-@settings(max_examples=400 * SCALE, **FAST)
+@settings(max_examples=500 * SCALE, **FAST)
 @given(st.sampled_from(NUMERIC_OPTIONS), option_text)
 def test_every_numeric_option_takes_a_value_inside_its_limit_or_exits_2_naming_it(monkeypatch, capsys, spec, text):
     command, option, low, high, integer = spec
@@ -247,6 +254,48 @@ def test_a_lens_that_forms_no_usable_image_is_refused_at_the_edge(tmp_path, main
                  str(tmp_path / "bad.dat"), "--model", model]) == 2
     line = one_error_line(capsys.readouterr().err)
     assert line.startswith("lenscompare: error: --lens: lens bad") and words in line
+
+
+def test_an_inverse_square_light_touching_a_surface_gives_a_finite_image(write_scene):
+    """1 / d^2 as d -> 0 is capped at (0.1 mm)^-2, natively and in POV-Ray's
+    export; POV-Ray's half floats get a scale from the nearest surface."""
+    from lenscompare.povray import render_povray
+    from lenscompare.povray.export import radiance_bound
+
+    text = MINIMAL_SCENE.replace("position = [1.0, 2.0, -1.0]", "position = [0.0, 0.0, 2.999999]").replace(
+        'type = "point"', 'type = "point"\nfalloff = "inverse_square"').replace("radius = 0.1", "radius = 0.001")
+    scene = load_scene(write_scene(text))  # the light 1 micrometre in front of the box's face at z = 3
+    assert radiance_bound(scene) == pytest.approx(max(1.0, 0.5 / 1e-4 ** 2))
+    native = render(scene, spp=4, progress=False).pixels
+    assert np.isfinite(native).all() and native.max() > 0.0  # lit (at grazing incidence), and finite
+    if shutil.which("povray"):
+        pov = render_povray(scene, spp=4)
+        assert np.isfinite(pov.pixels).all() and pov.metadata["radiance_scale"] == 2.0 ** -11  # 5e7 / 2^11 < 32768
+
+
+@pytest.mark.parametrize("axis, value, words", [
+    ("f_number", "[1e-20]", "axes.f_number[0]: expected a number >= 0.5"),
+    ("spp", "[1048577]", "axes.spp[0]: expected an integer <= 1,048,576"),
+    ("seed", f"[{2**64}]", "axes.seed[0]: expected an integer <="),
+])
+def test_sweep_axes_are_bounded_like_the_scene_keys(tmp_path, axis, value, words):
+    from lenscompare.sweep import load_sweep
+
+    sweep = tmp_path / "w.toml"
+    sweep.write_text(f'scenes = ["showcase"]\n[axes]\n{axis} = {value}\n')
+    with pytest.raises(InputError, match=re.escape(words)):
+        load_sweep(sweep)
+    with pytest.raises(InputError, match="is not a regular file"):
+        load_sweep("/dev/zero")
+
+
+def test_mitsuba_seed_past_32_bits_is_refused_as_bad_input(write_scene):
+    from lenscompare.mitsuba import scene_to_mitsuba
+
+    scene = load_scene(write_scene(MINIMAL_SCENE.replace("spp = 4", f"spp = 4\nseed = {2**32}").replace(
+        'type = "point"', 'type = "point"\nfalloff = "inverse_square"')))
+    with pytest.raises(InputError, match=r"render.seed: Mitsuba's seed is at most 4,294,967,295"):
+        scene_to_mitsuba(scene)
 
 
 # ------------------------------------------------------------ class 6: parser edges

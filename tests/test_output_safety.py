@@ -58,8 +58,13 @@ def _forbid(monkeypatch, module, name):
 # ------------------------------------------------------------- class 4
 def _command_cases(scene: Path, exr: Path, folder: Path):
     from lenscompare import cost, report
+    from lenscompare.sweep import runner
 
     return {
+        "mitsuba": (["mitsuba", str(scene), "-o", str(folder / "x.exr")], commands.mitsuba, "render_mitsuba"),
+        "export": (["export", str(scene), "--to", "pbrt", "-o", str(folder / "x.pbrt")], commands.export,
+                   "scene_to_pbrt"),
+        "sweep": (["sweep", "example", "-o", str(folder / "sweep")], runner, "task_grid"),
         "render": (["render", str(scene), "-o", str(folder / "x.exr")], commands.render, "render"),
         "povray": (["povray", str(scene), "-o", str(folder / "x.exr")], commands.povray, "render_povray"),
         "preview": (["preview", str(exr), "-o", str(folder / "x.png")], commands.preview, "read_exr"),
@@ -70,7 +75,8 @@ def _command_cases(scene: Path, exr: Path, folder: Path):
     }
 
 
-@pytest.mark.parametrize("command", ["render", "povray", "preview", "report", "cost", "check --junit"])
+@pytest.mark.parametrize("command", ["render", "povray", "mitsuba", "export", "preview", "report", "cost", "sweep",
+                                     "check --junit"])
 def test_an_unwritable_output_is_exit_2_before_any_work(tmp_path, unwritable, main, capsys, monkeypatch, command):
     scene = tmp_path / "s.toml"
     scene.write_text(MINIMAL_SCENE)

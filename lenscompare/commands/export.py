@@ -15,13 +15,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..atomic import atomic_output
-from ..errors import InputError
+from ..atomic import atomic_output, check_output_file
 from ..mitsuba import scene_to_mitsuba, write_mitsuba
 from ..pbrt import scene_to_pbrt
 from ..povray import scene_to_pov
 from ..scene import MODELS, load_scene
-from ._options import SEED, SPP
+from ._options import SEED, SPP, with_lens_option
 
 __all__ = ["add_parser", "run", "FORMATS"]
 
@@ -39,20 +38,15 @@ def add_parser(subparsers) -> None:
     p.add_argument("--model", choices=MODELS, help="camera model (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription to use")
     p.add_argument("--spp", type=SPP, help="samples per pixel (default: the scene's render.spp)")
-    p.add_argument("--seed", type=SEED, help="sampler seed, Mitsuba and pbrt (default: the scene's render.seed)")
+    p.add_argument("--seed", type=SEED, help="sampler seed, Mitsuba (at most 2^32 - 1) and pbrt (default: the "
+                                             "scene's render.seed)")
     p.add_argument("--json", action="store_true", help="print the files written as JSON")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    output = Path(args.output)
-    if not output.parent.is_dir():
-        raise InputError("-o", f"folder {str(output.parent)!r} for {str(output)!r} does not exist")
-    if args.seed is not None and args.seed < 0:
-        raise InputError("--seed", f"expected a non-negative integer, got {args.seed}")
-    scene = load_scene(args.scene)
-    if args.lens is not None:
-        scene = scene.with_camera(lens=args.lens)
+    output = check_output_file(args.output, option="-o")  # before the export, not after
+    scene = with_lens_option(load_scene(args.scene), args.lens)
     if args.to == "povray":
         text = scene_to_pov(scene, model=args.model, spp=args.spp)
         written = [_write_text(output, text)]

@@ -16,7 +16,7 @@ import json
 from ..image import read_exr
 from ..scene import MODELS, load_scene
 from ..verdict import Tolerances, judge_image
-from ._options import POSITIVE, THREADS
+from ._options import POSITIVE, THREADS, number_option, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -38,7 +38,7 @@ def add_parser(subparsers) -> None:
                             ("distortion_tolerance_percent", "radial distortion against the expectation"),
                             ("vignetting_tolerance", "relative illumination at 10 and 20 degrees"),
                             ("min_ssim", "SSIM against a native render")):
-        p.add_argument("--" + name.replace("_", "-"), dest=name, type=POSITIVE, default=getattr(defaults, name),
+        p.add_argument("--" + name.replace("_", "-"), dest=name, type=number_option(maximum=1.0) if name == "min_ssim" else POSITIVE, default=getattr(defaults, name),
                        help=f"{help_text} (default {getattr(defaults, name):g})")
     p.add_argument("--threads", type=THREADS, default=None, help="threads for the native render of 'similarity'")
     p.add_argument("--json", action="store_true", help="print one JSON object with every verdict")
@@ -46,9 +46,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    scene = load_scene(args.scene)
-    if args.lens is not None:
-        scene = scene.with_camera(lens=args.lens)
+    scene = with_lens_option(load_scene(args.scene), args.lens)
     image = read_exr(args.image)
     tolerances = Tolerances(**{k: getattr(args, k) for k in Tolerances.__dataclass_fields__})
     verdicts = judge_image(scene, image, model=args.model, tolerances=tolerances, source=str(args.image),

@@ -10,13 +10,10 @@ lights have no inverse-square falloff. Mitsuba missing or failing exits 1.
 from __future__ import annotations
 
 import json
-from pathlib import Path
-
-from ..errors import InputError
 from ..image import write_exr
-from ..mitsuba import MITSUBA_VARIANTS, render_mitsuba
+from ..mitsuba import MAX_MITSUBA_SEED, MITSUBA_VARIANTS, render_mitsuba
 from ..scene import MODELS, load_scene
-from ._options import SEED, SPP
+from ._options import SPP, check_output_suffix, integer_option, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -32,7 +29,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
     p.add_argument("--spp", type=SPP, help="samples per pixel (default: the scene's render.spp)")
-    p.add_argument("--seed", type=SEED, help="sampler seed (default: the scene's render.seed)")
+    p.add_argument("--seed", type=integer_option(minimum=0, maximum=MAX_MITSUBA_SEED),
+                   help="sampler seed, 0 to 2^32 - 1 (default: the scene's render.seed)")
     p.add_argument("--variant", choices=MITSUBA_VARIANTS, default="scalar_rgb",
                    help="Mitsuba variant (default scalar_rgb; llvm_ad_rgb needs DRJIT_LIBLLVM_PATH)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
@@ -40,18 +38,10 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    if not str(args.output).lower().endswith(".exr"):
-        raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
-    folder = Path(args.output).parent
-    if not folder.is_dir():  # say so before a long render, not after
-        raise InputError("-o", f"folder {str(folder)!r} for {str(args.output)!r} does not exist")
-    if args.seed is not None and args.seed < 0:
-        raise InputError("--seed", f"expected a non-negative integer, got {args.seed}")
-    scene = load_scene(args.scene)
-    if args.lens is not None:
-        scene = scene.with_camera(lens=args.lens)
+    output = check_output_suffix(args.output, ".exr")  # say so before a long render, not after
+    scene = with_lens_option(load_scene(args.scene), args.lens)
     image = render_mitsuba(scene, model=args.model, spp=args.spp, seed=args.seed, variant=args.variant)
-    write_exr(args.output, image)
+    write_exr(output, image, final=True)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))
     return 0

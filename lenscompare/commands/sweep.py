@@ -6,8 +6,9 @@ import json
 from pathlib import Path
 
 from ..errors import ExternalError
+from ..limits import MAX_THREADS
 from ..sweep import load_sweep, run_sweep
-from ._options import THREADS
+from ._options import THREADS, integer_option
 
 __all__ = ["add_parser", "run"]
 
@@ -23,7 +24,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="DIR")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, tcp://HOST:PORT (default: a "
                                                           "local cluster)")
-    p.add_argument("--workers", type=int, default=None,
+    p.add_argument("--workers", type=integer_option(minimum=1, maximum=MAX_THREADS), default=None,
                    help="workers of the local cluster (default: one per core)")
     p.add_argument("--threads", type=THREADS, default=None,
                    help="native threads per render (default: the worker machine's cores over its Dask slots)")

@@ -71,9 +71,11 @@ from ..flat_geometry import flat_pieces
 from ..scene import DiffuseMaterial, EmissiveMaterial, Scene, Sphere
 from ..units import m_from_mm
 
-__all__ = ["MITSUBA_MODELS", "MitsubaScene", "scene_to_mitsuba", "write_ply"]
+__all__ = ["MITSUBA_MODELS", "MAX_MITSUBA_SEED", "MitsubaScene", "scene_to_mitsuba", "write_ply"]
 
 MITSUBA_MODELS = ("pinhole", "thin")
+MAX_MITSUBA_SEED = 2**32 - 1
+"""Mitsuba's ``independent`` sampler takes a 32-bit seed."""
 """Camera models Mitsuba renders here (``perspective`` and ``thinlens``)."""
 
 NEAR_CLIP_M, FAR_CLIP_M = 1e-5, 1e9  # Mitsuba's defaults (1 cm, 10 km) would clip scenes the native tracer shows
@@ -238,6 +240,9 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
     seed = scene.render.seed if seed is None else int(seed)
     if spp < 1:
         raise InputError("--spp", f"expected a positive integer, got {spp}")
+    if not 0 <= seed <= MAX_MITSUBA_SEED:  # Mitsuba's sampler seed is 32-bit
+        raise InputError(scene.source, f"Mitsuba's seed is at most {MAX_MITSUBA_SEED:,} (2^32 - 1), got {seed:,}",
+                         key="render.seed")
 
     root = ET.Element("scene", version="3.0.0")
     root.append(ET.Comment(f" lenscompare scene {scene.name!r} ({scene.source}), {model} camera; "

@@ -233,11 +233,34 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
                      focal_point=_tuple(focal_point), camera=value)
 
 
+def _nearest_surface_m(point, scene: Scene) -> float:
+    """A lower bound on the distance from ``point`` to any surface of the scene, m."""
+    p = np.asarray(point, dtype=float)
+    nearest = math.inf
+    for obj in scene.objects:
+        if isinstance(obj, Sphere):
+            d = np.linalg.norm(p - obj.center) - obj.radius
+        elif isinstance(obj, Rectangle):  # its plane
+            normal = np.cross(obj.edge1, obj.edge2)
+            d = abs(float(np.dot(p - np.asarray(obj.corner), normal))) / float(np.linalg.norm(normal))
+        else:  # a box, or a mesh's bounding box
+            lo, hi = ((obj.min, obj.max) if isinstance(obj, Box) else
+                      (obj.vertices_m.min(axis=0), obj.vertices_m.max(axis=0)))
+            d = float(np.linalg.norm(np.maximum(np.maximum(np.asarray(lo) - p, p - np.asarray(hi)), 0.0)))
+        nearest = min(nearest, max(float(d), 0.0))
+    return nearest
+
+
 def radiance_bound(scene: Scene) -> float:
     """Largest value any pixel of a render of ``scene`` can take: the brightest
     emitter or background, or the brightest albedo lit by every light at once
-    at normal incidence (no distance falloff), plus its emission."""
-    intensity = np.sum([light.color for light in scene.lights], axis=0) if scene.lights else np.zeros(3)
+    at normal incidence, plus its emission. An inverse-square light counts
+    at the nearest surface (no nearer than its 0.1 mm cap)."""
+    fade = INVERSE_SQUARE_FADE_DISTANCE_M
+    intensity = np.zeros(3)
+    for light in scene.lights:
+        scale = 1.0 if light.falloff == "none" else 1.0 / max(_nearest_surface_m(light.position, scene), fade) ** 2
+        intensity = intensity + np.asarray(light.color, dtype=float) * scale
     bound = max(scene.background)
     for m in scene.materials.values():
         if isinstance(m, EmissiveMaterial):

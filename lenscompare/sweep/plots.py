@@ -29,6 +29,12 @@ _CYCLE = ["#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#ff7f0e"]
 _Y_COLUMNS = {**SCALAR_MEASUREMENTS, "seconds": ("render time", "seconds")}
 
 
+def _plain(value) -> str:
+    """A scene or lens name as matplotlib shows it literally (``$`` would start
+    its mathematics, and a bad formula raises)."""
+    return "".join(c if c.isprintable() else "\ufffd" for c in str(value)).replace("$", r"\$")
+
+
 def write_plots(frame, folder: Path) -> list[str]:
     """One PNG per (measurement, varying axis): ``{measurement}_vs_{axis}.png``
     in ``folder`` (created). Returns the file paths."""
@@ -74,13 +80,13 @@ def plot_against(frame, *, y: str, x: str, path: Path) -> Path:
             xs = stats.index.to_numpy() if categories is None else np.array([categories.index(v) for v in stats.index])
             colour = COLOURS.get(line, _CYCLE[i % len(_CYCLE)])
             if categories is None:
-                ax.plot(xs, stats["median"], "o-", color=colour, label=str(line), lw=1.2, ms=3.5)
+                ax.plot(xs, stats["median"], "o-", color=colour, label=_plain(line), lw=1.2, ms=3.5)
                 if (stats["max"] > stats["min"]).any():
                     ax.fill_between(xs, stats["min"], stats["max"], color=colour, alpha=0.15, lw=0)
             else:  # no order between categories: points, and the range as a bar
                 ax.errorbar(xs, stats["median"], yerr=[stats["median"] - stats["min"], stats["max"] - stats["median"]],
-                            fmt="o", color=colour, label=str(line), ms=4, capsize=3, lw=1)
-        ax.set_title(str(panel))
+                            fmt="o", color=colour, label=_plain(line), ms=4, capsize=3, lw=1)
+        ax.set_title(_plain(panel))
         ax.set_xlabel(AXIS_COLUMNS[x])
         ax.grid(True, alpha=0.3)
         if categories is not None:

@@ -15,6 +15,7 @@ import asyncio
 import time
 from pathlib import Path
 
+from ..atomic import prepare_output_dir
 from ..cluster import check_cluster_options, open_cluster
 from ..errors import InputError
 from ..progress import progress_bar
@@ -60,10 +61,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None, workers
     check_cluster_options(scheduler, workers)
     if threads is not None and threads < 1:
         raise InputError("--threads", f"expected a positive integer, got {threads}")
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise InputError("-o", f"{str(out)!r} exists and is not a folder")
-    out.mkdir(parents=True, exist_ok=True)
+    out = prepare_output_dir(out_dir)  # exit 2 naming -o when it cannot be made or written, before any task
     start = time.perf_counter()
     tasks = task_grid(spec)
     summary = {"tasks": len(tasks), "run": 0, "not_run": [], "cluster": None}

@@ -24,18 +24,13 @@ to find out; its row then holds the error.
 from __future__ import annotations
 
 import os
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
-from .._schema import Table
+from .._schema import Table, parse_toml, read_toml_text
 from ..errors import InputError
 from ..lenses import Prescription, resolve_lens
+from ..limits import MAX_SEED, MAX_SPP, MIN_F_NUMBER
 from ..reference_scenes import find_scene, shipped_scene_names
 from ..scene import MODELS, SAMPLERS, Scene, load_scene
 
@@ -97,21 +92,14 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
         and the key.
     """
     source = os.fspath(find_sweep(path))
-    try:
-        text = Path(source).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(source, f"cannot read sweep file ({error.__class__.__name__}: {error})") from None
+    text = read_toml_text(source, what="sweep file")  # capped: /dev/zero is refused, not read
     return parse_sweep(text, source=source, base_dir=Path(source).resolve().parent)
 
 
 def parse_sweep(text: str, *, source: str = "<sweep>", base_dir: Path | None = None) -> SweepSpec:
     """Check sweep TOML text; see :func:`load_sweep`. Relative scene and lens
     paths are looked up in ``base_dir`` first."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(source, f"not valid TOML ({error})") from None
-    root = Table(data, source=source)
+    root = Table(parse_toml(text, source=source), source=source)
     root.check_keys(["description", "scenes", "measure", "axes"])
     root.string("description", default="")
     scenes = tuple(_load_scene(root, i, name, base_dir) for i, name in enumerate(_strings(root, "scenes")))
@@ -140,7 +128,7 @@ def _read_axes(t: Table, base_dir: Path | None) -> dict:
     if t.has("lens"):
         axes["lens"] = tuple(_lens(t, i, name, base_dir) for i, name in enumerate(_strings(t, "lens")))
     if t.has("f_number"):
-        axes["f_number"] = _numbers(t, "f_number")
+        axes["f_number"] = _numbers(t, "f_number", minimum=MIN_F_NUMBER)
     if t.has("focus_distance"):
         axes["focus_distance"] = _numbers(t, "focus_distance")
     if t.has("model"):
@@ -148,9 +136,9 @@ def _read_axes(t: Table, base_dir: Path | None) -> dict:
     if t.has("sampler"):
         axes["sampler"] = _strings(t, "sampler", choices=SAMPLERS)
     if t.has("spp"):
-        axes["spp"] = _integers(t, "spp", minimum=1)
+        axes["spp"] = _integers(t, "spp", minimum=1, maximum=MAX_SPP)
     if t.has("seed"):
-        axes["seed"] = _integers(t, "seed", minimum=0)
+        axes["seed"] = _integers(t, "seed", minimum=0, maximum=MAX_SEED)
     return axes
 
 
@@ -180,13 +168,13 @@ def _strings(t: Table, name: str, *, choices=None, why: str = "") -> tuple[str, 
     return tuple(values)
 
 
-def _numbers(t: Table, name: str) -> tuple[float, ...]:
+def _numbers(t: Table, name: str, *, minimum: float | None = None) -> tuple[float, ...]:
     values = _array(t, name)
     item = Table({f"{name}[{i}]": v for i, v in enumerate(values)}, source=t.source, key=t.key)
-    return tuple(item.number(f"{name}[{i}]", positive=True) for i in range(len(values)))
+    return tuple(item.number(f"{name}[{i}]", positive=True, minimum=minimum) for i in range(len(values)))
 
 
-def _integers(t: Table, name: str, *, minimum: int) -> tuple[int, ...]:
+def _integers(t: Table, name: str, *, minimum: int, maximum: int) -> tuple[int, ...]:
     values = _array(t, name)
     item = Table({f"{name}[{i}]": v for i, v in enumerate(values)}, source=t.source, key=t.key)
-    return tuple(item.integer(f"{name}[{i}]", minimum=minimum) for i in range(len(values)))
+    return tuple(item.integer(f"{name}[{i}]", minimum=minimum, maximum=maximum) for i in range(len(values)))

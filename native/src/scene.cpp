@@ -10,6 +10,9 @@ namespace lc {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+// (0.1 mm)^2: the smallest squared distance an inverse-square light falls off over
+// (lenscompare.povray.export.INVERSE_SQUARE_FADE_DISTANCE_M squared).
+constexpr float kNearestFalloffM2 = 1e-8f;
 
 void throw_on_device_error(RTCDevice device, const char* what) {
     RTCError err = rtcGetDeviceError(device);
@@ -173,7 +176,9 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             float to_light_m = length(to_light);
             cos_theta[i] = dot(n[i], to_light) / to_light_m;
             if (!(cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
-            falloff[i] = light.inverse_square ? 1.0f / (to_light_m * to_light_m) : 1.0f;
+            // 1 / d^2, at most 1 / (0.1 mm)^2 (POV-Ray's export caps it there too): a surface at
+            // the light itself stays finite.
+            falloff[i] = light.inverse_square ? 1.0f / std::max(to_light_m * to_light_m, kNearestFalloffM2) : 1.0f;
             Vec3f from = p[i] + n[i] * surface_offset(p[i]);
             Vec3f d = light.position_m - from;
             float dist = length(d);
