@@ -3,7 +3,7 @@ hypothesis where the class is a space of inputs.
 
 Every bad value is exit 2 (or an InputError) naming the file and key or the
 option, one line, no traceback; every value inside the limits gives a finite
-answer. Examples per run: about 1,420 here (``LENSCOMPARE_HYPOTHESIS_SCALE``
+answer. Examples per run: about 1,520 here (``LENSCOMPARE_HYPOTHESIS_SCALE``
 multiplies them), beside the 2,450 of ``test_hard_inputs.py``.
 """
 
