@@ -26,7 +26,9 @@ bench: install
 	$(PY) bench/bench_lens.py
 	$(PY) bench/bench_povray.py
 	$(PY) bench/bench_cost.py
+	$(PY) bench/bench_mesh.py
 	$(PY) bench/bench_sweep.py
+	$(PY) bench/bench_memory.py
 
 install: system-deps $(VENV)/.installed
 

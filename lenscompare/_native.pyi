@@ -41,8 +41,12 @@ class Scene:
         checker_color: numpy.ndarray,  # float32 (m, 3): albedo of the odd checker cubes
         checker_size_m: numpy.ndarray,  # float32 (m,): checker cube size, 0 for none
         light_position_m: numpy.ndarray,  # float32 (k, 3): point lights
-        light_intensity: numpy.ndarray,  # float32 (k, 3): radiant intensity, no falloff
+        light_intensity: numpy.ndarray,  # float32 (k, 3): radiant intensity
         background: Vec3,  # linear RGB radiance of rays that hit nothing
+        light_inverse_square: numpy.ndarray,  # int32 (k,): 1 = intensity / distance^2, 0 = no falloff
+        triangle_vertices: numpy.ndarray,  # float32 (v, 3): every mesh's vertices, m
+        triangles: numpy.ndarray,  # int32 (t, 3): vertex indices of each triangle
+        triangle_material: numpy.ndarray,  # int32 (t,)
     ) -> None:
         """Builds the BVH; the arrays are copied and may go once this returns."""
 
@@ -77,6 +81,8 @@ class ThinLensCamera:
         lens_radius_m: float,  # f / (2 N)
         focus_distance_m: float,  # along the view axis
         disk_mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+        aperture_blades: int = 0,  # 0: circular; 3..32: the regular polygon of the circle's area
+        aperture_rotation_deg: float = 0.0,  # counter-clockwise seen from behind; vertex up at 0
     ) -> None: ...
 
 class ThickLensCamera:
@@ -109,6 +115,8 @@ class LensSystemCamera:
         stop_index: int,  # the aperture stop's surface
         film_z_mm: float,  # film plane, lens frame
         entrance_pupil_z_mm: float,  # lens-frame z of origin
+        aperture_blades: int = 0,  # 0: round stop; 3..32: the regular polygon of the stop circle's area
+        aperture_rotation_deg: float = 0.0,  # counter-clockwise seen from the film; vertex on +y at 0
     ) -> None:
         """Builds the exit-pupil tables and calibrates the centre irradiance (GIL released)."""
 
@@ -184,6 +192,16 @@ class _Diagnostics(types.ModuleType):
         out: numpy.ndarray,  # float32 (n, 2), written
     ) -> None:
         """Maps unit-square points u to the unit disk into out."""
+
+    @staticmethod
+    def map_to_aperture(
+        u: numpy.ndarray,  # float32 (n, 2): points in [0, 1)^2
+        mapping: int,  # DISK_POLAR or DISK_CONCENTRIC
+        blades: int,  # 0: the unit circle; 3..32: the regular polygon of area pi
+        rotation_deg: float,  # counter-clockwise; vertex 0 on +y at 0
+        out: numpy.ndarray,  # float64 (n, 2), written
+    ) -> None:
+        """Maps unit-square points u to the aperture into out, as the thin lens samples it."""
 
     @staticmethod
     def count_lens_passes(

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .limits import MAX_SPP
+
 __all__ = ["adaptive_base_spp", "allocate_samples", "PREFIX_SAMPLERS"]
 
 # Samplers whose first n points do not depend on how many follow: a pixel's
@@ -68,7 +70,8 @@ def allocate_samples(variance_of_mean: np.ndarray, *, base_spp: int, mean_spp: i
     mean_spp : int
         The budget: the counts average to at most this.
     max_spp : int, optional
-        Most samples for one pixel; default ``MAX_SPP_FACTOR * mean_spp``.
+        Most samples for one pixel; default ``MAX_SPP_FACTOR * mean_spp``, and
+        never more than the native limit :data:`~lenscompare.limits.MAX_SPP`.
 
     Returns
     -------
@@ -78,7 +81,7 @@ def allocate_samples(variance_of_mean: np.ndarray, *, base_spp: int, mean_spp: i
         standard deviation where the bounds allow.
     """
     variance = np.nan_to_num(np.asarray(variance_of_mean, dtype=np.float64), nan=0.0, posinf=0.0)
-    max_spp = max_spp or MAX_SPP_FACTOR * mean_spp
+    max_spp = max_spp or min(MAX_SPP_FACTOR * mean_spp, max(MAX_SPP, mean_spp))
     sigma = _neighbourhood_max(np.sqrt(np.maximum(variance, 0.0) * base_spp))
     budget = float(mean_spp) * sigma.size
     floor = np.full(sigma.shape, base_spp, dtype=np.uint32)

@@ -9,8 +9,11 @@ line on stderr and an exit status (2 bad input, 1 external failure).
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import sys
 
+from . import interrupts
 from .commands import COMMANDS
 from .errors import InputError, LensCompareError
 
@@ -39,16 +42,54 @@ def _build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; return the exit status."""
-    try:
-        args = _build_parser().parse_args(argv)
-        return int(args.run(args) or 0)
-    except LensCompareError as error:
-        print(f"lenscompare: error: {error}", file=sys.stderr)
-        return error.exit_status
-    except KeyboardInterrupt:
-        print("lenscompare: interrupted", file=sys.stderr)
-        return 130
+    """Run the command line; return the exit status.
+
+    Exit 0 success, 1 an outside failure, 2 bad input, 128 + N after signal N
+    (130 SIGINT, 143 SIGTERM: no output written, no temporary file left),
+    141 when the reader of stdout went away (``| head``). Every failure is one
+    line on stderr, never a traceback.
+    """
+    with interrupts.handling_signals():
+        try:
+            args = _build_parser().parse_args(argv)
+            status = int(args.run(args) or 0)
+        except LensCompareError as error:
+            return _fail(str(error), error.exit_status)
+        except interrupts.Interrupted as interrupt:
+            return _fail(f"interrupted ({interrupt}) before the work was done; no partial file is left",
+                         interrupt.exit_status)
+        except KeyboardInterrupt:  # outside main's signal handling (e.g. another thread)
+            return _fail("interrupted", 130)
+        except BrokenPipeError:
+            return _stdout_gone()
+        except MemoryError:
+            return _fail("out of memory (see the README's limits)", 1)
+        except OSError as error:  # an outside failure the commands did not name
+            where = f"{error.filename}: " if error.filename else ""
+            return _fail(f"{where}{error.strerror or error}", 1)
+        late = interrupts.late_signal()
+        if late is not None:
+            print(f"lenscompare: {signal.Signals(late).name} arrived after {interrupts.finished_output()} was "
+                  "written; the output is complete", file=sys.stderr)
+        try:
+            sys.stdout.flush()
+        except BrokenPipeError:
+            return _stdout_gone()
+        return status
+
+
+def _fail(message: str, status: int) -> int:
+    print(f"lenscompare: error: {message}", file=sys.stderr)
+    return status
+
+
+def _stdout_gone() -> int:
+    """The reader closed the pipe (``lenscompare lens info X | head -1``): end
+    quietly, as a shell tool killed by SIGPIPE would (status 141)."""
+    # Python would flush stdout again at exit and print the error it raises.
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    return 128 + signal.SIGPIPE
 
 
 if __name__ == "__main__":  # pragma: no cover

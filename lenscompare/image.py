@@ -17,6 +17,7 @@ import OpenEXR
 from .atomic import atomic_output
 from .cameras import CameraModel
 from .errors import InputError
+from .limits import MAX_PIXELS
 
 __all__ = ["Image", "write_exr", "read_exr", "write_png_preview", "srgb_encode"]
 
@@ -56,10 +57,12 @@ class Image:
         return self.pixels.shape[1]
 
 
-def write_exr(path: str | os.PathLike, image: Image, *, option: str = "-o") -> None:
+def write_exr(path: str | os.PathLike, image: Image, *, option: str = "-o", within: str | os.PathLike | None = None,
+              final: bool = False) -> None:
     """Write a linear float32 OpenEXR file (channels R, G, B), atomically.
 
     The metadata goes into a string header attribute ``lenscompare`` as JSON.
+    ``within`` and ``final`` as for :func:`lenscompare.atomic.atomic_output`.
     """
     pixels = np.ascontiguousarray(image.pixels, dtype=np.float32)
     header = {
@@ -68,7 +71,7 @@ def write_exr(path: str | os.PathLike, image: Image, *, option: str = "-o") -> N
         _METADATA_KEY: json.dumps(image.metadata, sort_keys=True),
     }
     channels = {name: np.ascontiguousarray(pixels[:, :, i]) for i, name in enumerate("RGB")}
-    with atomic_output(path, option=option) as tmp:
+    with atomic_output(path, option=option, within=within, final=final) as tmp:
         with OpenEXR.File(header, channels) as exr:
             exr.write(str(tmp))
 
@@ -82,8 +85,21 @@ def read_exr(path: str | os.PathLike) -> Image:
         The file cannot be read or has no R, G, B channels.
     """
     source = os.fspath(path)
-    if not os.path.isfile(source):  # checked here: the library would print its own message too
+    # Checked here: the library would print its own message too.
+    if os.path.isdir(source):
+        raise InputError(source, "is a folder, expected an OpenEXR image")
+    if not os.path.exists(source):
         raise InputError(source, "no such file")
+    if not os.path.isfile(source):
+        raise InputError(source, "is not a regular file (a device or a pipe), expected an OpenEXR image")
+    try:
+        with OpenEXR.File(source, header_only=True) as exr:
+            low, high = exr.header()["dataWindow"]
+        width_px, height_px = int(high[0]) - int(low[0]) + 1, int(high[1]) - int(low[1]) + 1
+    except Exception as error:  # the binding raises plain RuntimeError/OSError
+        raise InputError(source, f"cannot read as OpenEXR ({error})") from None
+    if width_px * height_px > MAX_PIXELS:  # before the pixels are allocated
+        raise InputError(source, f"image of {width_px}x{height_px} pixels, more than the limit {MAX_PIXELS:,}")
     try:
         with OpenEXR.File(source, separate_channels=True) as exr:
             header = dict(exr.header())  # the binding empties it on close
@@ -113,10 +129,12 @@ def srgb_encode(linear: np.ndarray, *, exposure: float = 1.0) -> np.ndarray:
     return np.round(encoded * 255.0).astype(np.uint8)
 
 
-def write_png_preview(path: str | os.PathLike, image: Image, *, exposure: float = 1.0) -> None:
-    """Write an sRGB-encoded 8-bit PNG preview, atomically."""
+def write_png_preview(path: str | os.PathLike, image: Image, *, exposure: float = 1.0,
+                      within: str | os.PathLike | None = None, final: bool = False) -> None:
+    """Write an sRGB-encoded 8-bit PNG preview, atomically (``within`` and
+    ``final`` as for :func:`lenscompare.atomic.atomic_output`)."""
     import imageio.v3 as iio  # here: only previews need it, and it is slow to import
 
     data = srgb_encode(image.pixels, exposure=exposure)
-    with atomic_output(path) as tmp:
+    with atomic_output(path, within=within, final=final) as tmp:
         iio.imwrite(tmp, data, extension=".png")

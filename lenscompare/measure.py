@@ -5,6 +5,11 @@ field, and image similarity. The report and the checks both use these.
 Each run's image carries the camera value it was rendered through
 (``image.camera``): focal length, film distance, aperture and pixel pitch come
 from there, never from a default.
+
+A measurement that the image cannot support (a flat field of 3 x 2 pixels, a
+dot grid with no dot inside the frame, a blur disk larger than the image) is
+``None`` for that render or that sphere, never an exception: every scene the
+schema accepts gets a report.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from .metrics import (
     rmse,
     ssim,
 )
-from .optics import circle_of_confusion_mm
+from .optics import circle_of_confusion_mm, second_moment_diameter_ratio
 from .scene import EmissiveMaterial, Scene, Sphere
 from .units import mm_from_m
 
@@ -93,8 +98,17 @@ def measure_blur_disks(scene: Scene, runs) -> dict:
                     camera.prescription, height_mm=mm_from_m(math.hypot(x, y)), distance_mm=mm_from_m(z),
                     film_z_mm=camera.film_z_mm, window_radius_mm=window_px * pitch) / pitch
                 expected_from = f"real rays through {camera.prescription.name}"
-            disk = measure_blur_disk(run.image.pixels, center_px=source.centroid_px, window_radius_px=window_px,
-                                     source_diameter_px=sphere_px)
+            if camera.aperture_blades:
+                # The blur takes the aperture's shape: an N-gon's second moment
+                # (for the lens system a first-order scaling of the round stop's spot).
+                expected_px *= second_moment_diameter_ratio(camera.aperture_blades)
+                expected_from += f", {camera.aperture_blades}-blade aperture"
+            try:
+                disk = measure_blur_disk(run.image.pixels, center_px=source.centroid_px, window_radius_px=window_px,
+                                         source_diameter_px=sphere_px)
+            except ValueError:  # the image cannot hold this disk (e.g. a few pixels in all)
+                rows.append(None)
+                continue
             d = disk.second_moment_diameter_px
             rows.append({"depth_m": z, "field_deg": math.degrees(math.atan(math.hypot(x, y) / z)),
                          "measured_px": d, "encircled_energy_px": disk.encircled_energy_diameter_px,
@@ -134,8 +148,12 @@ def measure_distortion(scene: Scene, runs) -> dict:
         field_deg = np.degrees(np.arctan(np.hypot(tan_xy[:, 0], tan_xy[:, 1])))
         direction = tan_xy * [1.0, -1.0]  # raster y grows downward
         ideal_all = centre + direction * camera.image_scale_mm / camera.pixel_pitch_mm
-        measured = dot_centroids(run.image.pixels)
-        i_measured, i_ideal = match_points(measured, ideal_all, max_distance_px=0.03 * w)
+        try:
+            measured = dot_centroids(run.image.pixels)
+            i_measured, i_ideal = match_points(measured, ideal_all, max_distance_px=0.03 * w)
+        except ValueError:  # no dot grid this image can show
+            result["renders"][run.label] = None
+            continue
         m, ideal, fields = measured[i_measured], ideal_all[i_ideal], field_deg[i_ideal]
         # Dots the frame cuts have biased centroids: keep those well inside.
         margin = 0.02 * w
@@ -145,8 +163,12 @@ def measure_distortion(scene: Scene, runs) -> dict:
         if off_axis.sum() < 3:
             result["renders"][run.label] = None
             continue
-        radial = distortion_percent(m[off_axis], ideal[off_axis], center_px=centre)
-        fit = fit_radial_distortion(m, ideal, center_px=centre, normalize_radius_px=float(np.hypot(*centre)))
+        try:
+            radial = distortion_percent(m[off_axis], ideal[off_axis], center_px=centre)
+            fit = fit_radial_distortion(m, ideal, center_px=centre, normalize_radius_px=float(np.hypot(*centre)))
+        except ValueError:
+            result["renders"][run.label] = None
+            continue
         result["renders"][run.label] = {
             "field_deg": fields[off_axis].tolist(), "distortion_percent": np.asarray(radial.percent).tolist(),
             "k1": fit.k1, "k2": fit.k2, "dots_matched": int(len(m)), "dots_in_scene": int(len(spheres)),
@@ -166,7 +188,12 @@ def measure_vignetting(scene: Scene, runs) -> dict:
     result = {"renders": {}}
     for run in runs:
         camera = _camera_of(run)
-        radius_px, ri = relative_illumination(run.image.pixels, n_bins=24)
+        try:
+            bins = min(24, max(1, min(run.image.pixels.shape[:2]) // 2))  # 24, or fewer on a tiny image
+            radius_px, ri = relative_illumination(run.image.pixels, n_bins=bins)
+        except ValueError:  # not a flat field the metric can read (dark centre, a few pixels)
+            result["renders"][run.label] = None
+            continue
         field = np.degrees(np.arctan(np.asarray(radius_px) * camera.pixel_pitch_mm / camera.image_scale_mm))
         at = {}
         for angle in (10.0, 20.0):

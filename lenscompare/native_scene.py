@@ -1,7 +1,8 @@
 """Scene objects -> the flat arrays the native tracer builds its Embree scene from.
 
 Spheres stay exact (Embree sphere points); a box becomes its six faces and a
-rectangle one quad.
+rectangle one quad; meshes go in as one Embree triangle geometry (all meshes'
+vertices in one buffer, indices offset).
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _native
-from .scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+from .scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
 __all__ = ["build_native_scene", "box_quads", "rectangle_quad"]
 
@@ -37,6 +38,7 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
     names = list(scene.materials)
     index = {name: i for i, name in enumerate(names)}
     spheres, sphere_material, quads, quad_material = [], [], [], []
+    mesh_vertices, mesh_triangles, triangle_material, n_vertices = [], [], [], 0
     for obj in scene.objects:
         if isinstance(obj, Sphere):
             spheres.append([*obj.center, obj.radius])
@@ -48,6 +50,11 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
         elif isinstance(obj, Rectangle):
             quads.append(rectangle_quad(obj.corner, obj.edge1, obj.edge2))
             quad_material.append(index[obj.material])
+        elif isinstance(obj, Mesh):
+            mesh_vertices.append(obj.vertices_m)
+            mesh_triangles.append(obj.triangles + n_vertices)
+            triangle_material.append(np.full(len(obj.triangles), index[obj.material], dtype=np.int32))
+            n_vertices += len(obj.vertices_m)
 
     kinds, colors, emissions, checker_colors, checker_sizes = [], [], [], [], []
     for name in names:
@@ -78,4 +85,8 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
         f32(checker_sizes, (-1,)),
         f32([l.position for l in scene.lights], (-1, 3)), f32([l.color for l in scene.lights], (-1, 3)),
         tuple(float(c) for c in scene.background),
+        i32([l.falloff == "inverse_square" for l in scene.lights]),
+        f32(np.concatenate(mesh_vertices) if mesh_vertices else [], (-1, 3)),
+        np.ascontiguousarray(np.concatenate(mesh_triangles) if mesh_triangles else np.zeros((0, 3)), dtype=np.int32),
+        i32(np.concatenate(triangle_material) if triangle_material else []),
     )

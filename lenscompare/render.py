@@ -17,8 +17,10 @@ import numpy as np
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
 from .cameras import CameraModel, camera_for
-from .errors import InputError
+from .diffraction import diffract, diffraction_aperture
+from .errors import ExternalError, InputError
 from .image import Image
+from .limits import MAX_SEED, MAX_SPP, check_render_budget
 from .native_scene import build_native_scene
 from .progress import progress_bar
 from .scene import MODELS, SAMPLERS, Scene
@@ -36,7 +38,8 @@ _BAND_SAMPLES = 2_000_000
 
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
-           adaptive: bool | None = None, camera: CameraModel | None = None) -> Image:
+           adaptive: bool | None = None, diffraction: bool | None = None,
+           camera: CameraModel | None = None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -51,8 +54,13 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         is the mean over the image: a first pass measures each pixel's noise
         and the rest of the samples go where it is largest
         (:mod:`lenscompare.adaptive`).
+    diffraction : bool, optional
+        Override ``[render] diffraction``: convolve the image with the
+        aperture's diffraction PSF (:mod:`lenscompare.diffraction`); its cost
+        is in ``metadata["diffraction"]["seconds"]``, not in ``seconds``.
     threads : int, optional
-        Worker threads; default all cores. The image does not depend on it.
+        Worker threads; default all cores, and never more (TBB would only warn).
+        The image does not depend on it.
     camera : CameraModel, optional
         The camera value, when the caller has built it already
         (:func:`lenscompare.cameras.camera_for`); its model wins over ``model``.
@@ -69,22 +77,27 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     model = camera.model if camera is not None else (model or scene.camera.model)
     if model not in MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
-    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive)
+    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
     settings = scene.render
-    if settings.spp < 1:
-        raise InputError("--spp", f"expected a positive integer, got {settings.spp}")
+    if not 1 <= settings.spp <= MAX_SPP:
+        raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
     if settings.sampler not in SAMPLERS:
         raise InputError("--sampler", f"expected one of {', '.join(SAMPLERS)}, got {settings.sampler!r}")
-    if settings.seed < 0:
-        raise InputError("--seed", f"expected an integer >= 0, got {settings.seed}")
+    if not 0 <= settings.seed <= MAX_SEED:
+        raise InputError("--seed", f"expected an integer from 0 to {MAX_SEED:,}, got {settings.seed}")
     threads = 0 if threads is None else int(threads)
     if threads < 0:
         raise InputError("--threads", f"expected a positive integer, got {threads}")
+    threads = min(threads, os.cpu_count() or 1)
+    height, width = scene.camera.height_px, scene.camera.width_px
+    # Before anything is allocated: too many samples, or more memory than the machine has.
+    check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
     camera = camera or camera_for(scene, model)
+    # Before the render: a scene that cannot diffract is refused at once.
+    aperture = diffraction_aperture(scene, camera) if settings.diffraction else None
     native_camera = camera.native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
-    height, width = scene.camera.height_px, scene.camera.width_px
 
     start = time.perf_counter()
     if settings.adaptive:
@@ -101,6 +114,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                 height, width * settings.spp, bar)
         adaptive_info = None
     seconds = time.perf_counter() - start
+    if not np.isfinite(pixels).all():  # the schema's bounds promise a finite image; never hand on NaN
+        raise ExternalError(f"the native render of {scene.source} gave non-finite pixels (a bug: please report it "
+                            "with the scene file)")
 
     metadata = {
         "scene": scene.name,
@@ -120,6 +136,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     }
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
+    if aperture is not None:
+        pixels, variance, metadata["diffraction"] = diffract(pixels, variance, aperture)
     return Image(pixels, metadata, camera=camera, variance=variance)
 
 

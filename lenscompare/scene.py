@@ -11,33 +11,49 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Union
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+import numpy as np
 
-from ._schema import Table
+from ._schema import Table, parse_toml, read_toml_text
 from .errors import InputError
 from .lenses import Prescription, resolve_lens
+from .limits import (
+    MAX_COLOR,
+    MAX_FILM_MM,
+    MAX_FOCAL_LENGTH_MM,
+    MAX_LENGTH_M,
+    MAX_LIGHTS,
+    MAX_NAME_CHARS,
+    MAX_PIXELS,
+    MAX_SEED,
+    MAX_SIDE_PX,
+    MAX_SPP,
+    MIN_CHECKER_M,
+    MIN_F_NUMBER,
+    MIN_FILM_MM,
+    MIN_FOCAL_LENGTH_MM,
+)
+from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "Camera", "RenderSettings", "EmissiveMaterial",
-    "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "PointLight", "Scene",
+    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
+    "PointLight", "Scene",
     "load_scene", "parse_scene",
 ]
 
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
+MAX_APERTURE_BLADES = 32  # the native aperture's limit (native/src/aperture.h)
 
 
 @dataclass(frozen=True)
@@ -55,6 +71,8 @@ class Camera:
     f_number: float | None = None
     lens: Prescription | None = None  # resolved once, when the scene is loaded (lenses.resolve_lens)
     principal_plane_gap_mm: float | None = None
+    aperture_blades: int = 0            # 0: circular; N >= 3: regular N-gon of the circle's area
+    aperture_rotation_deg: float = 0.0  # counter-clockwise seen from behind the lens; a vertex up at 0
 
     @property
     def focus_distance_mm(self) -> float:
@@ -78,6 +96,7 @@ class RenderSettings:
     seed: int = 0
     disk_mapping: str = "concentric"
     adaptive: bool = False  # spp is then the image's mean (lenscompare.adaptive)
+    diffraction: bool = False  # the aperture's diffraction PSF applied to the image (lenscompare.diffraction)
 
 
 @dataclass(frozen=True)
@@ -125,13 +144,35 @@ class Rectangle:
     material: str
 
 
-SceneObject = Union[Sphere, Box, Rectangle]
+@dataclass(frozen=True)
+class Mesh:
+    """A triangle mesh from an OBJ or PLY file, scaled then translated into the scene (m).
+
+    ``vertices_m`` (n, 3) are the file's vertices * ``scale`` + ``translate``;
+    ``triangles`` (t, 3) index them. Both are read once, when the scene loads.
+    """
+
+    file: Path
+    scale: float
+    translate: Vec3
+    material: str
+    vertices_m: np.ndarray = field(compare=False, repr=False)
+    triangles: np.ndarray = field(compare=False, repr=False)
+
+    @property
+    def polygons(self) -> np.ndarray:
+        """The triangles' corners, (t, 3, 3), m."""
+        return self.vertices_m[self.triangles]
+
+
+SceneObject = Union[Sphere, Box, Rectangle, Mesh]
 
 
 @dataclass(frozen=True)
 class PointLight:
     position: Vec3
-    color: Vec3  # radiant intensity, no distance falloff
+    color: Vec3  # radiant intensity
+    falloff: str = "none"  # or "inverse_square": lit radiance albedo * color * cos / distance^2 (m^2)
 
 
 @dataclass(frozen=True)
@@ -186,36 +227,33 @@ def load_scene(path: str | os.PathLike) -> Scene:
         file, the key and what was expected.
     """
     source = os.fspath(path)
-    try:
-        text = Path(source).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(source, f"cannot read scene file ({error.__class__.__name__}: {error})") from None
+    text = read_toml_text(source, what="scene file")  # capped: /dev/zero is refused, not read
     return parse_scene(text, source=source, base_dir=Path(source).resolve().parent)
 
 
 def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = None) -> Scene:
     """Validate scene TOML text; see :func:`load_scene`."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise InputError(source, f"not valid TOML ({error})") from None
-    root = Table(data, source=source)
+    data = parse_toml(text, source=source)
+    # Every number of a scene is bounded (limits.py): Embree computes in float32.
+    root = Table(data, source=source, max_abs=MAX_LENGTH_M)
     root.check_keys(["name", "description", "measure", "camera", "render", "background", "materials", "objects",
                      "lights"])
 
     materials = _read_materials(root.table("materials"))
-    objects = tuple(_read_object(t, materials) for t in root.tables("objects"))
+    objects = tuple(_read_object(t, materials, base_dir=base_dir) for t in root.tables("objects"))
     lights = tuple(_read_light(t) for t in root.tables("lights"))
+    if len(lights) > MAX_LIGHTS:
+        raise root.error("lights", f"{len(lights)} lights, more than the limit {MAX_LIGHTS:,}")
     background = root.table("background")
     background.check_keys(["color"])
     return Scene(
         camera=_read_camera(root.table("camera", required=True), base_dir=base_dir),
         render=_read_render(root.table("render")),
-        background=background.vector("color", 3, default=(0.0, 0.0, 0.0), non_negative=True),
+        background=background.vector("color", 3, default=(0.0, 0.0, 0.0), non_negative=True, maximum=MAX_COLOR),
         materials=materials,
         objects=objects,
         lights=lights,
-        name=root.string("name", default=Path(source).stem),
+        name=root.string("name", default=Path(source).stem, max_chars=MAX_NAME_CHARS),
         description=root.string("description", default=""),
         measure=_read_measure(root),
         source=source,
@@ -232,7 +270,8 @@ def _read_measure(root: Table) -> tuple[str, ...]:
 
 def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
-                  "film_mm", "resolution", "lens", "principal_plane_gap_mm"])
+                  "film_mm", "resolution", "lens", "principal_plane_gap_mm", "aperture_blades",
+                  "aperture_rotation_deg"])
     position = t.vector("position", 3)
     look_at = t.vector("look_at", 3)
     up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
@@ -245,16 +284,20 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
     if up_length == 0.0 or math.sqrt(sum(c * c for c in cross)) <= 1e-9 * view_length * up_length:
         raise t.error("up", "is zero or parallel to the view direction (expected a vector across it)")
 
-    film_mm = t.vector("film_mm", 2, default=(36.0, 24.0), positive=True)
-    resolution = t.vector("resolution", 2, integer=True, positive=True)
+    film_mm = t.vector("film_mm", 2, default=(36.0, 24.0), minimum=MIN_FILM_MM, maximum=MAX_FILM_MM)
+    resolution = t.vector("resolution", 2, integer=True, positive=True, maximum=MAX_SIDE_PX)
+    if resolution[0] * resolution[1] > MAX_PIXELS:
+        raise t.error("resolution", f"{resolution[0]}x{resolution[1]} = {resolution[0] * resolution[1]:,} pixels, "
+                      f"more than the limit {MAX_PIXELS:,}")
     film_aspect, pixel_aspect = film_mm[0] / film_mm[1], resolution[0] / resolution[1]
     if abs(film_aspect / pixel_aspect - 1.0) > 1e-6:
         raise t.error("resolution", f"aspect {resolution[0]}x{resolution[1]} = {pixel_aspect:.6g} differs from "
                       f"camera.film_mm aspect {film_mm[0]:g}x{film_mm[1]:g} = {film_aspect:.6g} "
                       "(pixels must be square)")
 
-    focal_length_mm = t.number("focal_length_mm", default=None, positive=True)
-    focus_distance_m = t.number("focus_distance", positive=True)
+    focal_length_mm = t.number("focal_length_mm", default=None, minimum=MIN_FOCAL_LENGTH_MM,
+                               maximum=MAX_FOCAL_LENGTH_MM)
+    focus_distance_m = t.number("focus_distance", positive=True, max_abs=math.inf)  # any finite distance
     if focal_length_mm is not None and not mm_from_m(focus_distance_m) > focal_length_mm:
         raise t.error("focus_distance", f"{focus_distance_m:g} m is not beyond the focal length "
                       f"{focal_length_mm:g} mm (nothing can be focused there)")
@@ -267,10 +310,19 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         resolution=resolution,
         film_mm=film_mm,
         focal_length_mm=focal_length_mm,
-        f_number=t.number("f_number", default=None, positive=True),
+        f_number=t.number("f_number", default=None, minimum=MIN_F_NUMBER),
         lens=_read_lens(t, base_dir),
-        principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None),
+        principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None, max_abs=MAX_FOCAL_LENGTH_MM),
+        aperture_blades=_read_aperture_blades(t),
+        aperture_rotation_deg=t.number("aperture_rotation_deg", default=0.0, max_abs=1e6),
     )
+
+
+def _read_aperture_blades(t: Table) -> int:
+    blades = t.integer("aperture_blades", default=0, minimum=0)
+    if blades in (1, 2) or blades > MAX_APERTURE_BLADES:
+        raise t.error("aperture_blades", f"expected 0 (circular) or 3 to {MAX_APERTURE_BLADES} blades, got {blades}")
+    return blades
 
 
 def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
@@ -283,14 +335,15 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction"])
     defaults = RenderSettings()
     return RenderSettings(
-        spp=t.integer("spp", default=defaults.spp, minimum=1),
+        spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
         sampler=t.string("sampler", default=defaults.sampler, choices=SAMPLERS),
-        seed=t.integer("seed", default=defaults.seed, minimum=0),
+        seed=t.integer("seed", default=defaults.seed, minimum=0, maximum=MAX_SEED),
         disk_mapping=t.string("disk_mapping", default=defaults.disk_mapping, choices=DISK_MAPPINGS),
         adaptive=t.boolean("adaptive", default=defaults.adaptive),
+        diffraction=t.boolean("diffraction", default=defaults.diffraction),
     )
 
 
@@ -301,19 +354,20 @@ def _read_materials(t: Table) -> dict[str, Material]:
         kind = m.string("type", choices=("emissive", "diffuse"))
         if kind == "emissive":
             m.check_keys(["type", "color"])
-            materials[name] = EmissiveMaterial(name, m.vector("color", 3, non_negative=True))
+            materials[name] = EmissiveMaterial(name, m.vector("color", 3, non_negative=True, maximum=MAX_COLOR))
             continue
         m.check_keys(["type", "color", "checker", "emission"])
         checker = None
         if m.has("checker"):
             c = m.table("checker")
             c.check_keys(["color", "size"])
-            checker = Checker(color=c.vector("color", 3, non_negative=True), size_m=c.number("size", positive=True))
+            checker = Checker(color=c.vector("color", 3, non_negative=True, maximum=MAX_COLOR),
+                              size_m=c.number("size", minimum=MIN_CHECKER_M))
         materials[name] = DiffuseMaterial(
             name,
-            color=m.vector("color", 3, non_negative=True),
+            color=m.vector("color", 3, non_negative=True, maximum=MAX_COLOR),
             checker=checker,
-            emission=m.vector("emission", 3, default=(0.0, 0.0, 0.0), non_negative=True),
+            emission=m.vector("emission", 3, default=(0.0, 0.0, 0.0), non_negative=True, maximum=MAX_COLOR),
         )
     return materials
 
@@ -326,8 +380,27 @@ def _material_name(t: Table, materials: dict[str, Material]) -> str:
     return name
 
 
-def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
-    kind = t.string("type", choices=("sphere", "box", "rectangle"))
+def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None) -> Mesh:
+    """A ``type = "mesh"`` object: its file beside the scene (or absolute), read now."""
+    t.check_keys(["type", "file", "scale", "translate", "material"])
+    name = t.string("file")
+    path = Path(name) if Path(name).is_absolute() else (base_dir or Path.cwd()) / name
+    if not path.is_file():
+        raise t.error("file", f"no mesh file {str(path)!r} (a path beside the scene file, or absolute)")
+    scale = t.number("scale", default=1.0, positive=True)
+    translate = t.vector("translate", 3, default=(0.0, 0.0, 0.0))
+    material = _material_name(t, materials)
+    vertices, triangles = read_mesh(path)
+    vertices_m = vertices * scale + np.asarray(translate, dtype=float)
+    vertices_m.flags.writeable = False
+    triangles.flags.writeable = False
+    return Mesh(path, scale, translate, material, vertices_m, triangles)
+
+
+def _read_object(t: Table, materials: dict[str, Material], *, base_dir: Path | None = None) -> SceneObject:
+    kind = t.string("type", choices=("sphere", "box", "rectangle", "mesh"))
+    if kind == "mesh":
+        return _read_mesh(t, materials, base_dir)
     if kind == "sphere":
         t.check_keys(["type", "center", "radius", "material"])
         return Sphere(t.vector("center", 3), t.number("radius", positive=True), _material_name(t, materials))
@@ -346,6 +419,7 @@ def _read_object(t: Table, materials: dict[str, Material]) -> SceneObject:
 
 
 def _read_light(t: Table) -> PointLight:
-    t.check_keys(["type", "position", "color"])
+    t.check_keys(["type", "position", "color", "falloff"])
     t.string("type", choices=("point",))
-    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True))
+    return PointLight(t.vector("position", 3), t.vector("color", 3, non_negative=True, maximum=MAX_COLOR),
+                      falloff=t.string("falloff", default="none", choices=FALLOFFS))

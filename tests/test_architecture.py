@@ -17,20 +17,22 @@ PACKAGE = Path(__file__).resolve().parent.parent / "lenscompare"
 
 # Lowest first. Units on one layer do not import each other.
 LAYERS = [
-    {"__init__", "errors", "units", "progress", "_native", "reference_scenes"},
+    {"__init__", "errors", "units", "progress", "_native", "reference_scenes", "interrupts"},
+    {"limits"},
     {"atomic", "_schema", "cluster"},
-    {"optics", "metrics", "lenses"},
+    {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
-    {"image"},
-    {"render", "povray"},
+    {"image", "flat_geometry", "diffraction"},
+    {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},
+    {"verdict"},
     {"cost", "checks", "sweep"},
     {"report"},
     {"commands"},
     {"cli"},
-    {"__main__"},
+    {"__main__", "console"},
 ]
 LAYER_OF = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}
 

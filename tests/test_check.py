@@ -3,6 +3,10 @@ give exit 1 and 2; JUnit XML is written."""
 
 from xml.etree import ElementTree as ET
 
+import pytest
+
+from lenscompare.errors import InputError
+
 from helpers import REPO, run_cli
 
 
@@ -10,9 +14,9 @@ def test_default_config_passes_and_writes_junit(tmp_path):
     junit = tmp_path / "junit.xml"
     result = run_cli("check", "--junit", junit)
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "4 passed, 0 failed" in result.stdout
+    assert "5 passed, 0 failed" in result.stdout
     suite = ET.parse(junit).getroot()
-    assert suite.tag == "testsuite" and suite.get("tests") == "4" and suite.get("failures") == "0"
+    assert suite.tag == "testsuite" and suite.get("tests") == "5" and suite.get("failures") == "0"
 
 
 def test_a_failing_check_exits_1(tmp_path):
@@ -44,15 +48,19 @@ def test_a_short_scene_name_means_the_shipped_scene_unless_such_a_file_exists(tm
     # The source tree's reference_scenes/ is the packaged folder itself.
     assert (REPO / "reference_scenes").resolve() == scenes_dir().resolve()
     config = tmp_path / "checks.toml"
+    shipped_text = (scenes_dir() / "showcase.toml").read_text()
+    (tmp_path / "showcase.toml").write_text(shipped_text)
     config.write_text('[[check]]\ntype = "blur_equation5"\nscene = "showcase"\n'
-                      '[[check]]\ntype = "blur_equation5"\nscene = "mine"\n'
                       '[[check]]\ntype = "blur_equation5"\nscene = "showcase.toml"\n')
-    shipped, own, path = load_checks(config)
+    shipped, path = load_checks(config)
     assert shipped.path("scene") == scenes_dir() / "showcase.toml"
-    assert own.path("scene") == tmp_path / "mine"  # neither a file nor shipped: reading it will say so
     assert path.path("scene") == tmp_path / "showcase.toml"  # a .toml name is always a path
     (tmp_path / "showcase").write_text("")
     assert shipped.path("scene") == tmp_path / "showcase"  # a file of that name wins
+    # Neither a file nor shipped: the config is refused when it loads, naming the check and key.
+    config.write_text('[[check]]\ntype = "blur_equation5"\nscene = "mine"\n')
+    with pytest.raises(InputError, match=r"check\[0\]\.scene: .*mine: no such scene file"):
+        load_checks(config)
     assert find_scene("showcase", tmp_path / "elsewhere") == scenes_dir() / "showcase.toml"
 
 

@@ -104,10 +104,10 @@ def test_missing_povray_exits_1_and_keeps_the_old_output(scene_file, tmp_path, c
 
 
 @pytest.mark.parametrize("args, words", [
-    (["-o", "out.png"], "expected an .exr file name"),
+    (["-o", "out.png"], "expected a .exr file name"),
     (["-o", "no/such/folder/out.exr"], "does not exist"),
-    (["-o", "out.exr", "--spp", "0"], "expected a positive integer"),
-    (["-o", "out.exr", "--timeout", "-1"], "expected a positive number"),
+    (["-o", "out.exr", "--spp", "0"], "--spp: expected an integer from 1 to 1,048,576"),
+    (["-o", "out.exr", "--timeout", "-1"], "--timeout: expected a finite number > 0"),
 ])
 def test_bad_options_exit_2(scene_file, tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)

@@ -51,3 +51,79 @@ def test_small_study_end_to_end_and_reference_cache(tmp_path):
     assert (tmp_path / "a" / "index.html").is_file() and (tmp_path / "a" / "showcase.cost.png").is_file()
     second = run_cost_study([scene], tmp_path / "b", settings)
     assert second["scenes"]["showcase"]["references"]["thin"]["cached"]
+
+
+# --- the reference cache key --------------------------------------------------
+
+
+def _key(scene, **settings):
+    from lenscompare.cost.references import reference_key
+
+    return reference_key(scene, "lens", **{"spp": 1024, "sampler": "jittered", "seed": 3, **settings})
+
+
+def test_reference_key_follows_the_tracer_fingerprint(monkeypatch):
+    """The key changes with the tracer (native build, camera/render sources),
+    stays put while it does not, and does not care for ``__version__``, which
+    stayed 0.1.0 through many tracer changes."""
+    import lenscompare
+    from lenscompare.cost import references
+
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml").with_camera(lens="dgauss.50mm", f_number=4.0)
+    key = _key(scene)
+    assert _key(scene) == key
+    assert _key(scene, seed=4) != key and _key(scene.with_camera(f_number=5.6)) != key
+    monkeypatch.setattr(lenscompare, "__version__", "99.0")
+    assert _key(scene) == key
+    monkeypatch.setattr(references, "tracer_fingerprint", lambda: "0" * 64)
+    other = _key(scene)
+    assert other != key
+    assert _key(scene) == other
+    monkeypatch.setattr(references, "tracer_fingerprint", lambda: "1" * 64)
+    assert _key(scene) not in (key, other)
+
+
+def test_tracer_fingerprint_is_the_native_module_and_the_rendering_sources(tmp_path):
+    """One changed byte of the compiled module, or of a camera or render
+    source, changes the fingerprint; a report or metrics source does not. The
+    process's fingerprint is that of the loaded ``_native`` file."""
+    from pathlib import Path
+
+    from lenscompare import _native
+    from lenscompare.cost import references
+
+    native = tmp_path / "_native.so"
+    native.write_bytes(Path(_native.__file__).read_bytes())
+    package = tmp_path / "lenscompare"
+    files = {"render.py": "RENDER = 1\n", "cameras/lens.py": "LENS = 1\n", "report/html.py": "HTML = 1\n",
+             "metrics/blur_disk.py": "BLUR = 1\n"}
+    for name, text in files.items():
+        (package / name).parent.mkdir(parents=True, exist_ok=True)
+        (package / name).write_text(text)
+    base = references.fingerprint_files(native, package)
+    assert references.fingerprint_files(native, package) == base
+
+    def changed(path, data: bytes) -> str:
+        original = path.read_bytes()
+        path.write_bytes(data)
+        try:
+            return references.fingerprint_files(native, package)
+        finally:
+            path.write_bytes(original)
+
+    blob = bytearray(native.read_bytes())
+    blob[len(blob) // 2] ^= 1
+    assert changed(native, bytes(blob)) != base
+    assert changed(package / "render.py", b"RENDER = 2\n") != base
+    assert changed(package / "cameras/lens.py", b"LENS = 2\n") != base
+    assert changed(package / "report/html.py", b"HTML = 2\n") == base
+    assert changed(package / "metrics/blur_disk.py", b"BLUR = 2\n") == base
+    (package / "lenses").mkdir()
+    (package / "lenses" / "trace.py").write_text("NEW = 1\n")  # a new module counts
+    assert references.fingerprint_files(native, package) != base
+
+    import lenscompare
+
+    assert references.tracer_fingerprint() is references.tracer_fingerprint()  # computed once
+    assert references.tracer_fingerprint() == references.fingerprint_files(
+        Path(_native.__file__), Path(lenscompare.__file__).resolve().parent)

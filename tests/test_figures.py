@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from lenscompare import figures
-from lenscompare.errors import InputError
+from lenscompare.errors import ExternalError, InputError
 from lenscompare.figures import (
     lens_system_figure,
     lens_system_geometry,
@@ -289,7 +289,7 @@ def test_lens_system_refuses_a_focus_the_lens_cannot_reach():
 def test_write_teaching_figures_writes_valid_pngs_and_svgs(tmp_path):
     out = tmp_path / "new" / "figures"  # created with its parents
     written = write_teaching_figures(out)
-    assert set(written) == {"thin_lens", "thick_lens", "lens_system"}
+    assert set(written) == {"thin_lens", "thick_lens", "lens_system", "aperture"}
     for name, path in written.items():
         assert path == out / f"{name}.png"
         data = path.read_bytes()
@@ -340,7 +340,7 @@ def test_a_failure_while_writing_leaves_no_file(tmp_path, monkeypatch):
 
     monkeypatch.setattr(figures, "atomic_output", failing_on_the_fourth)
     out = tmp_path / "figures"
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(ExternalError, match="disk full"):  # an OS error while writing: exit 1, one line
         write_teaching_figures(out)
     assert len(entered) == 4
     assert list(out.iterdir()) == []  # neither figures nor temporaries
@@ -365,8 +365,8 @@ def test_command_writes_the_figures_for_a_user_lens(main, tmp_path, capsys):
                    "--object-distances", "0.7", "4", "--no-svg", "--json"])
     assert status == 0, capsys.readouterr().err
     report = json.loads(capsys.readouterr().out)
-    assert set(report["figures"]) == {"thin_lens", "thick_lens", "lens_system"}
-    assert sorted(p.name for p in out.iterdir()) == ["lens_system.png", "thick_lens.png",
+    assert set(report["figures"]) == {"thin_lens", "thick_lens", "lens_system", "aperture"}
+    assert sorted(p.name for p in out.iterdir()) == ["aperture.png", "lens_system.png", "thick_lens.png",
                                                      "thin_lens.png"]
 
 
@@ -374,7 +374,7 @@ def test_command_writes_the_figures_for_a_user_lens(main, tmp_path, capsys):
     (["--lens", "no-such-lens"], "no-such-lens"),
     (["--lens", str(DATA / "missing.dat")], "missing.dat"),
     (["--focus-distance", "0.03"], "focus_distance_m"),
-    (["--f-number", "-2"], "positive"),
+    (["--f-number", "-2"], "--f-number: expected a finite number > 0"),
     (["--object-distances", "1", "2", "3", "4"], "object_distances_m"),
 ])
 def test_command_bad_input_exits_2_and_writes_nothing(main, tmp_path, capsys, argv, needle):

@@ -82,7 +82,7 @@ def test_unreadable_file_names_the_file(tmp_path):
 
 
 def test_a_directory_is_unreadable(tmp_path):
-    with pytest.raises(InputError, match="cannot read"):
+    with pytest.raises(InputError, match="is a folder, expected a lens file"):
         load_prescription(tmp_path)
 
 

@@ -177,3 +177,28 @@ def test_ciede2000_grows_with_the_difference():
 def test_ciede2000_bad_arguments(image, kwargs, match):
     with pytest.raises(ValueError, match=match):
         ciede2000(image, image, **kwargs)
+
+
+@pytest.mark.parametrize("size", [1, 3, 7, 9])
+def test_ssim_of_an_image_smaller_than_the_window_is_one_window_over_the_whole_image(size):
+    """Below 11 px SSIM is Wang et al.'s formula over the whole image. An odd
+    square image through scikit-image's uniform window of its own size keeps
+    one output pixel, whose window is the whole image: the same number by an
+    independent implementation."""
+    from skimage.metrics import structural_similarity
+
+    rng = np.random.default_rng(size)
+    true = rng.random((size, size, 3))
+    test = np.clip(true + rng.normal(0, 0.1, true.shape), 0, 1)
+    ours = ssim(true, test, data_range=1.0)
+    if size >= 7:  # scikit-image takes windows of 7 px and more
+        theirs = structural_similarity(true, test, data_range=1.0, channel_axis=-1, win_size=size,
+                                       use_sample_covariance=False)
+        assert ours == pytest.approx(theirs, rel=1e-12)
+    assert ssim(true, true, data_range=1.0) == pytest.approx(1.0)
+    assert ours < 1.0 or size == 1
+    # 1 x 1: no structure, only luminance: (2 x y + C1) / (x^2 + y^2 + C1), averaged over channels
+    if size == 1:
+        c1 = 0.01 ** 2
+        expected = np.mean((2 * true * test + c1) / (true ** 2 + test ** 2 + c1))
+        assert ours == pytest.approx(expected, rel=1e-12)

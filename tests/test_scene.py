@@ -86,7 +86,7 @@ def test_not_toml(minimal_scene_text):
 
 
 def test_unreadable_file(tmp_path):
-    with pytest.raises(InputError, match=r"cannot read scene file"):
+    with pytest.raises(InputError, match=r"no such scene file"):
         load_scene(tmp_path / "missing.toml")
 
 

@@ -200,7 +200,7 @@ def test_report_renders_run_as_tasks_and_match_this_process(cluster):
 
     from helpers import REFERENCE_SCENES
 
-    settings = ExperimentSettings(quick=True, povray=False)
+    settings = ExperimentSettings(quick=True, povray=False, mitsuba=False)
     scenes = [prepare_scene(load_scene(REFERENCE_SCENES / "flat_field.toml"), settings)[0]]
     scenes = [s.with_render(spp=4) for s in scenes]
     here = render_scenes(scenes, settings)

@@ -88,7 +88,8 @@ def test_wheel_ships_the_runtime_files(installed):
 
     _, _, wheel, _ = installed
     names = set(zipfile.ZipFile(wheel).namelist())
-    for scene in ("blur_disks", "dot_grid", "flat_field", "showcase"):
+    assert "lenscompare/reference_scenes/bunny.ply" in names  # the mesh_bunny scene's mesh
+    for scene in ("blur_disks", "dot_grid", "flat_field", "showcase", "lit_showcase", "mesh_bunny"):
         assert f"lenscompare/reference_scenes/{scene}.toml" in names
     for lens in ("dgauss.50mm", "wide.22mm", "fisheye.10mm", "telephoto.250mm"):
         assert f"lenscompare/lenses/data/{lens}.dat" in names
@@ -116,7 +117,9 @@ def test_installed_report_and_check_run_outside_the_source_tree(installed):
     out = work / "out"
     assert (out / "index.html").is_file() and (out / "results.json").is_file()
     results = json.loads((out / "results.json").read_text())
-    assert set(results["scenes"]) == {"blur_disks", "dot_grid", "flat_field", "showcase"}
+    assert set(results["scenes"]) == {"blur_disks", "dot_grid", "flat_field", "showcase", "lit_showcase", "mesh_bunny"}
+    # the wheel's own Mitsuba (a dependency) rendered the scenes it can
+    assert results["scenes"]["lit_showcase"]["vs_mitsuba"]["thin"]["ssim"] > 0.95
 
     # The schema as the wheel ships it, read as a user would.
     schema_text = _run([bin_dir / "python", "-c",
@@ -134,4 +137,4 @@ def test_installed_report_and_check_run_outside_the_source_tree(installed):
     check = _run([bin_dir / "lenscompare", "check"], cwd=work, timeout=900)
     timings["check"] = time.perf_counter() - start
     assert check.returncode == 0, check.stdout + check.stderr
-    assert "4 passed, 0 failed" in check.stdout
+    assert "5 passed, 0 failed" in check.stdout

@@ -8,7 +8,7 @@ exporter, the planner and the measurements all read the value it returns.
 from __future__ import annotations
 
 from ..errors import InputError
-from .base import CameraModel
+from .base import CameraModel, check_camera_numbers
 from .frame import CameraFrame, Film
 from .lens import LensSystemCamera
 from .pinhole import PinholeCamera
@@ -35,4 +35,5 @@ def camera_for(scene, model: str | None = None) -> CameraModel:
         kind = CAMERA_TYPES[model]
     except KeyError:
         raise InputError("--model", f"expected one of {', '.join(CAMERA_TYPES)}, got {model!r}") from None
-    return kind.from_scene(scene)
+    # Nothing non-finite may reach the native tracer (or POV-Ray).
+    return check_camera_numbers(kind.from_scene(scene), scene)

@@ -19,7 +19,7 @@ from ..lenses import paraxial_data
 from ..units import mm_from_m
 from .frame import CameraFrame, Film
 
-__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable"]
+__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable", "check_camera_numbers"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -43,6 +43,12 @@ class CameraModel:
         Working aperture; None for the pinhole.
     aperture_diameter_mm : float
         Entrance-pupil diameter f / N; 0 for the pinhole.
+    aperture_blades : int
+        0: a circular aperture; N >= 3: a regular N-gon diaphragm of the
+        circle's area.
+    aperture_rotation_deg : float
+        The polygon's turn, counter-clockwise seen from behind the lens
+        (camera x right, y up); a vertex points up at 0.
     """
 
     model: ClassVar[str]
@@ -53,6 +59,17 @@ class CameraModel:
     film_distance_mm: float
     f_number: float | None = None
     aperture_diameter_mm: float = 0.0
+    aperture_blades: int = 0
+    aperture_rotation_deg: float = 0.0
+
+    @property
+    def working_f_number(self) -> float | None:
+        """Film distance over the exit-pupil diameter, which sets the size of
+        the diffraction PSF on the film: N (1 + |m|) for the ideal lenses
+        (pupils at the lens, magnification m); None without an aperture."""
+        if self.f_number is None:
+            return None
+        return self.film_distance_mm / self.aperture_diameter_mm
 
     @property
     def focus_distance_mm(self) -> float:
@@ -95,7 +112,9 @@ class CameraModel:
                 "focus_distance_m": self.focus_distance_m,
                 "pixel_pitch_mm": self.pixel_pitch_mm}
         if self.f_number is not None:
-            info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm)
+            info.update(f_number=self.f_number, aperture_diameter_mm=self.aperture_diameter_mm,
+                        aperture_blades=self.aperture_blades, aperture_rotation_deg=self.aperture_rotation_deg,
+                        working_f_number=self.working_f_number)
         return info
 
 
@@ -121,3 +140,34 @@ def check_focus_reachable(scene, focal_length_mm: float) -> None:
     if not mm_from_m(scene.camera.focus_distance_m) > focal_length_mm:
         raise InputError(scene.source, f"{scene.camera.focus_distance_m:g} m is not beyond the focal length "
                          f"{focal_length_mm:g} mm", key="camera.focus_distance")
+
+
+def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
+    """``camera``, after checking that every number the native tracer and
+    POV-Ray will read from it is finite (and positive where it must be).
+
+    The scene's keys are bounded one by one (:mod:`lenscompare.limits`); this
+    checks what they combine into, so that nothing non-finite reaches Embree
+    whatever the combination.
+
+    Raises
+    ------
+    InputError
+        Naming the scene file, ``camera`` and the quantity that came out
+        unusable.
+    """
+    half_width, half_height = camera.screen_half_extent
+    values = {"focal length (mm)": (camera.focal_length_mm, True),
+              "film distance (mm)": (camera.film_distance_mm, True),
+              "image scale (mm)": (camera.image_scale_mm, True),
+              "aperture diameter (mm)": (camera.aperture_diameter_mm, False),
+              "tangent of the half field (width)": (half_width, True),
+              "tangent of the half field (height)": (half_height, True)}
+    for name, extra in getattr(camera, "native_numbers", dict)().items():
+        values[name] = (extra, False)
+    for name, (value, positive) in values.items():
+        if not (math.isfinite(value) and (value > 0 if positive else True)):
+            raise InputError(scene.source, f"the {camera.model} camera's {name} comes out as {value:g} from these "
+                             f"camera values (expected a finite{' positive' if positive else ''} number)",
+                             key="camera")
+    return camera

@@ -9,6 +9,9 @@ f_number            float  -     optional: stops the lens down (never opens
 focus_distance      float  m     plane of sharp focus, from the entrance
                                  pupil; the film moves (unit focusing)
 film_mm             pair   mm    film width and height
+aperture_blades     int    -     0: round stop; N >= 3: the stop a regular
+                                 N-gon of its circle's area
+aperture_rotation   float  deg   the polygon's turn (``_deg`` in the file)
 ==================  =====  ====  ===========================================
 
 ``camera.position`` is the centre of the entrance pupil, so all models share
@@ -90,11 +93,22 @@ class LensSystemCamera(CameraModel):
                    film_distance_mm=film_z_mm - data.rear_principal_plane_mm,
                    f_number=data.f_number, aperture_diameter_mm=data.entrance_pupil_diameter_mm,
                    prescription=prescription, paraxial=data, film_z_mm=film_z_mm,
-                   paraxial_scale_mm=paraxial_image_scale_mm(prescription, film_z_mm))
+                   paraxial_scale_mm=paraxial_image_scale_mm(prescription, film_z_mm),
+                   aperture_blades=camera.aperture_blades, aperture_rotation_deg=camera.aperture_rotation_deg)
 
     @property
     def image_scale_mm(self) -> float:
         return self.paraxial_scale_mm
+
+    def native_numbers(self) -> dict[str, float]:
+        """Numbers beyond :class:`CameraModel`'s that the native camera reads (checked finite)."""
+        return {"film position (mm)": self.film_z_mm,
+                "entrance pupil position (mm)": self.paraxial.entrance_pupil_position_mm}
+
+    @property
+    def working_f_number(self) -> float:
+        """Film distance from the paraxial exit pupil over its diameter."""
+        return (self.film_z_mm - self.paraxial.exit_pupil_position_mm) / self.paraxial.exit_pupil_diameter_mm
 
     @property
     def film_distance_from_last_vertex_mm(self) -> float:
@@ -108,6 +122,8 @@ class LensSystemCamera(CameraModel):
             **lens_elements(self.prescription),
             film_z_mm=self.film_z_mm,
             entrance_pupil_z_mm=self.paraxial.entrance_pupil_position_mm,
+            aperture_blades=self.aperture_blades,
+            aperture_rotation_deg=self.aperture_rotation_deg,
         )
 
     def to_json(self) -> dict:

@@ -7,6 +7,9 @@ focal_length_mm     float  mm    focal length f (or ``lens``: its EFL)
 f_number            float  -     N; lens diameter f / N
 focus_distance      float  m     plane of sharp focus, from the lens centre
 film_mm             pair   mm    film width and height
+aperture_blades     int    -     0: circular; N >= 3: regular N-gon, same
+                                 area as the circle
+aperture_rotation   float  deg   the polygon's turn (``_deg`` in the file)
 ==================  =====  ====  ===========================================
 
 The film sits at d' = f d / (d - f) (eq. 4); ``camera.position`` is the lens
@@ -41,7 +44,9 @@ class ThinLensCamera(CameraModel):
         return cls(frame=CameraFrame.of(scene.camera), film=Film.of(scene.camera),
                    focus_distance_m=scene.camera.focus_distance_m, focal_length_mm=f_mm,
                    film_distance_mm=focus_film_distance_mm(scene.camera.focus_distance_mm, f_mm),
-                   f_number=n, aperture_diameter_mm=aperture_diameter_mm(f_mm, n), **extra)
+                   f_number=n, aperture_diameter_mm=aperture_diameter_mm(f_mm, n),
+                   aperture_blades=scene.camera.aperture_blades,
+                   aperture_rotation_deg=scene.camera.aperture_rotation_deg, **extra)
 
     def native(self, *, disk_mapping: str = "concentric") -> "_native.ThinLensCamera":
         half_w, half_h = self.screen_half_extent
@@ -50,4 +55,6 @@ class ThinLensCamera(CameraModel):
             lens_radius_m=m_from_mm(self.aperture_diameter_mm / 2.0),
             focus_distance_m=self.focus_distance_m,
             disk_mapping=DISK_MAPPING_CODES[disk_mapping],
+            aperture_blades=self.aperture_blades,
+            aperture_rotation_deg=self.aperture_rotation_deg,
         )

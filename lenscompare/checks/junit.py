@@ -21,5 +21,5 @@ def write_junit(path: str | os.PathLike, results) -> None:
             ET.SubElement(case, "failure", message=r.message).text = r.message
         else:
             ET.SubElement(case, "system-out").text = r.message
-    with atomic_output(path, option="--junit") as tmp:
+    with atomic_output(path, option="--junit", final=True) as tmp:
         ET.ElementTree(suite).write(tmp, encoding="utf-8", xml_declaration=True)

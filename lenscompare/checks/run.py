@@ -5,17 +5,20 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..errors import InputError, LensCompareError
+from ..errors import LensCompareError
 from ..experiment import Run
-from ..image import read_exr
+from ..cameras import camera_for
+from ..image import Image, read_exr
 from ..lenses import load_prescription
 from ..lenses.info import lens_info
 from ..measure import measure_blur_disks
+from ..mitsuba import render_mitsuba
 from ..metrics import ciede2000, luminance, relative_rmse, ssim
 from ..povray import render_povray
 from ..render import render
 from ..scene import load_scene
-from .config import Check
+from ..verdict import Tolerances, judge_image
+from .config import Check, lens_argument
 
 __all__ = ["CheckResult", "run_check"]
 
@@ -41,7 +44,10 @@ def run_check(check: Check, *, threads: int | None = None) -> CheckResult:
 def _blur_equation5(check: Check, threads):
     o = check.options
     scene = load_scene(check.path("scene"))
-    image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
+    if o["image"] is not None:  # a renderer's own image of the scene, measured as ours would be
+        image = _outside_image(check, scene, o["model"])
+    else:
+        image = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False)
     # The report's measurement, on one render.
     rows = measure_blur_disks(scene, [Run(scene, o["model"], "native", image)])["renders"][o["model"]]
     errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
@@ -51,6 +57,26 @@ def _blur_equation5(check: Check, threads):
     ok = abs(worst) <= o["tolerance_percent"]
     return ok, f"largest blur-disk error {worst:+.2f} % (limit {o['tolerance_percent']:g} %)", {
         "errors_percent": errors}
+
+
+def _outside_image(check: Check, scene, model):
+    pixels = read_exr(check.path("image")).pixels
+    w, h = scene.camera.resolution
+    if pixels.shape[:2] != (h, w):
+        raise InputError(str(check.path("image")), f"image is {pixels.shape[1]}x{pixels.shape[0]}, the scene "
+                         f"renders {w}x{h}")
+    return Image(pixels, {"model": model}, camera=camera_for(scene, model))
+
+
+def _measure(check: Check, threads):
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    tolerances = Tolerances(**{k: float(o[k]) for k in Tolerances.__dataclass_fields__})
+    verdicts = judge_image(scene, read_exr(check.path("image")), model=o["model"], tolerances=tolerances,
+                           source=str(check.path("image")), threads=threads)
+    failed = [v for v in verdicts if not v.passed]
+    message = "; ".join(f"{v.measurement}: {v.message}" for v in (failed or verdicts))
+    return not failed, message, {v.measurement: v.passed for v in verdicts}
 
 
 def _povray_ssim(check: Check, threads):
@@ -65,12 +91,30 @@ def _povray_ssim(check: Check, threads):
         "ssim": value, "relative_rmse": rel}
 
 
+def _mitsuba_agreement(check: Check, threads):
+    """Mitsuba's render against the native one (SSIM) and, where the scene has
+    emissive spheres blurred beyond ``min_expected_px``, Mitsuba's blur disks
+    against equation 5."""
+    o = check.options
+    scene = load_scene(check.path("scene"))
+    native = render(scene, model=o["model"], spp=int(o["spp"]), threads=threads, progress=False).pixels
+    image = render_mitsuba(scene, model=o["model"], spp=int(o["mitsuba_spp"]))
+    value = ssim(image.pixels, native, data_range=float(image.pixels.max() - image.pixels.min()) or 1.0)
+    ok, message, measured = value >= o["min_ssim"], f"SSIM {value:.4f} (min {o['min_ssim']:g})", {"ssim": value}
+    rows = measure_blur_disks(scene, [Run(scene, o["model"], "mitsuba", image)])["renders"].get(
+        f"{o['model']} (Mitsuba)", [])
+    errors = [r["error_percent"] for r in rows if r and r["expected_px"] >= o["min_expected_px"]]
+    if errors:
+        worst = max(errors, key=abs)
+        ok = ok and abs(worst) <= o["tolerance_percent"]
+        message += f"; Mitsuba blur disks: largest error {worst:+.2f} % of eq. 5 (limit {o['tolerance_percent']:g} %)"
+        measured["blur_errors_percent"] = errors
+    return ok, message, measured
+
+
 def _lens_paraxial(check: Check, threads):
     o = check.options
-    lens = str(check.path("lens")) if ("/" in str(o["lens"]) or str(o["lens"]).endswith(".dat")) else o["lens"]
-    info = lens_info(load_prescription(lens))
-    if o["quantity"] not in info:
-        raise InputError(str(check.base_dir), f"unknown quantity {o['quantity']!r}", key=f"check {check.name}")
+    info = lens_info(load_prescription(lens_argument(check)))  # the quantity was checked when the config loaded
     value = float(info[o["quantity"]])
     expected = float(o["expected"])
     rel = abs(value - expected) / abs(expected) if expected else abs(value)
@@ -94,5 +138,7 @@ def _image_matches(check: Check, threads):
         "ssim": s, "ciede2000_mean": de}
 
 
-_RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "lens_paraxial": _lens_paraxial,
+_RUNNERS = {"blur_equation5": _blur_equation5, "povray_ssim": _povray_ssim, "mitsuba_agreement": _mitsuba_agreement,
+            "measure": _measure,
+            "lens_paraxial": _lens_paraxial,
             "image_matches": _image_matches}

@@ -1,5 +1,5 @@
 """Sub-commands of the command line, in the order ``--help`` lists them."""
 
-from . import check, cost, figures, lens, plan, povray, preview, render, report, sweep
+from . import check, cost, export, figures, lens, measure, mitsuba, plan, povray, preview, render, report, sweep
 
-COMMANDS = [render, povray, report, cost, plan, check, figures, lens, preview, sweep]
+COMMANDS = [render, povray, mitsuba, export, measure, report, cost, sweep, plan, check, figures, lens, preview]

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from ..atomic import check_output_file
 from ..checks import DEFAULT_CONFIG, load_checks, run_check, write_junit
+from ._options import THREADS
 
 __all__ = ["add_parser", "run"]
 
@@ -13,12 +15,14 @@ def add_parser(subparsers) -> None:
                                           "hold, 1 when any fails, 2 for a bad config.")
     p.add_argument("config", nargs="?", metavar="CONFIG.toml")
     p.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
-    p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--threads", type=THREADS, default=None, help="worker threads (default and at most: all cores)")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     checks = load_checks(args.config or DEFAULT_CONFIG)
+    if args.junit:
+        check_output_file(args.junit, option="--junit")  # before the checks run, not after
     results = []
     for check in checks:
         result = run_check(check, threads=args.threads)

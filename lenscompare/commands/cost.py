@@ -7,8 +7,9 @@ from pathlib import Path
 
 from ..cost import CostSettings, run_cost_study
 from ..cluster import open_cluster
-from ..errors import InputError
+from ..lenses import resolve_lens
 from ..scene import load_scene
+from ._options import THREADS
 
 __all__ = ["add_parser", "run"]
 
@@ -24,22 +25,21 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens", default="dgauss.50mm")
     p.add_argument("--no-povray", action="store_true")
     p.add_argument("--cache", metavar="DIR", help="reference cache (default ~/.cache/lenscompare)")
-    p.add_argument("--threads", type=int, default=None,
-                   help="threads per render (default: every core; on a cluster, its machine's cores over its Dask "
-                        "slots)")
+    p.add_argument("--threads", type=THREADS, default=None,
+                   help="threads per render (default and at most: every core; on a cluster, its machine's cores over "
+                        "its Dask slots)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the renders as tasks on the Dask cluster of this scheduler (tcp://HOST:PORT)")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    if args.threads is not None and args.threads < 1:
-        raise InputError("--threads", f"expected a positive integer, got {args.threads}")
+    resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
     scenes = [load_scene(p) for p in args.scenes]
     settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
                             cache_dir=Path(args.cache) if args.cache else None)
     with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:
-        results = run_cost_study(scenes, args.output, settings, cluster=cluster)
+        results = run_cost_study(scenes, args.output, settings, cluster=cluster, final=True)
     for line in results["findings"]:
         print(line)
     print(f"Cost study written in {results['total_seconds']:.0f} s: open {Path(args.output).resolve() / 'index.html'}")

@@ -1,49 +1,47 @@
 """``lenscompare figures -o DIR``: the teaching figures (paper Figs. 1-4) as PNG and SVG.
 
-Writes ``thin_lens``, ``thick_lens`` and ``lens_system`` (``.png`` and
-``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
+Writes ``thin_lens``, ``thick_lens``, ``lens_system`` and ``aperture`` (``.png``
+and ``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
-import math
 
 from ..figures import write_teaching_figures
+from ..limits import MAX_FOCAL_LENGTH_MM, MAX_LENGTH_M, MIN_F_NUMBER, MIN_FOCAL_LENGTH_MM
+from ._options import number_option
 
 __all__ = ["add_parser", "run"]
 
 
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
-    return value
+# The limits of a scene's camera (lenscompare.limits) hold for the drawings too.
+_FOCAL_LENGTH = number_option(minimum=MIN_FOCAL_LENGTH_MM, maximum=MAX_FOCAL_LENGTH_MM)
+_F_NUMBER = number_option(minimum=MIN_F_NUMBER)
+_DISTANCE = number_option(maximum=MAX_LENGTH_M)
 
 
 def add_parser(subparsers) -> None:
     """Register ``figures``."""
     p = subparsers.add_parser(
-        "figures", help="draw the teaching figures (thin lens, thick lens, lens system)",
+        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture)",
         description="Draw the teaching figures of the paper (Figs. 1-4) from lenscompare's own "
         "optics code: the thin lens with real numbers (eqs. 1-10), the thick-lens model of LENS "
         "(H, H', F, F' against traced rays), and LENS in cross-section with traced bundles, its "
-        "exit pupil and the film. Writes thin_lens, thick_lens and lens_system as .png and .svg "
+        "exit pupil and the film; and the aperture: defocus against diffraction over the f-number (the best "
+        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades. Writes thin_lens, thick_lens, "
+        "lens_system and aperture as .png and .svg "
         "into DIR (created if missing).")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="folder for the figures")
     p.add_argument("--lens", default="dgauss.50mm", metavar="NAME|PATH",
                    help="lens for the thick-lens and lens-system figures (default: dgauss.50mm)")
-    p.add_argument("--focal-length-mm", type=_positive_float, default=50.0, metavar="F",
+    p.add_argument("--focal-length-mm", type=_FOCAL_LENGTH, default=50.0, metavar="F",
                    help="thin-lens focal length, mm (default: 50)")
-    p.add_argument("--f-number", type=_positive_float, default=2.0, metavar="N",
+    p.add_argument("--f-number", type=_F_NUMBER, default=2.0, metavar="N",
                    help="thin-lens f-number (default: 2)")
-    p.add_argument("--focus-distance", type=_positive_float, default=2.0, metavar="M",
+    p.add_argument("--focus-distance", type=_DISTANCE, default=2.0, metavar="M",
                    help="plane of focus, m, for the thin lens and the lens system (default: 2)")
-    p.add_argument("--object-distances", type=_positive_float, nargs="+", default=[1.0, 5.0],
+    p.add_argument("--object-distances", type=_DISTANCE, nargs="+", default=[1.0, 5.0],
                    metavar="M", help="one to three object points for the thin-lens figure, m "
                    "(default: 1 5)")
     p.add_argument("--no-svg", action="store_true", help="write PNG only")

@@ -48,6 +48,14 @@ def _json_safe(info: dict) -> dict:
             for key, value in info.items()}
 
 
+def _number(value: float, unit: str) -> str:
+    """Four decimals for ordinary lengths; 4 significant digits for metres and
+    for values too large or small for a fixed column (a nearly powerless lens)."""
+    if unit == "m" or not math.isfinite(value) or (value != 0 and not 1e-3 <= abs(value) < 1e7):
+        return f"{value:.4g}"
+    return f"{value:.4f}"
+
+
 def _table(info: dict) -> str:
     """A small readable table."""
     lines = [f"{info['name']}  ({info['surfaces']} surfaces, stop is surface "
@@ -56,6 +64,6 @@ def _table(info: dict) -> str:
     width = max(len(label) for _, label, _ in LENS_INFO_FIELDS)
     for key, label, unit in LENS_INFO_FIELDS:
         value = info[key]
-        shown = "n/a" if value is None else f"{value:.4f}" if unit != "m" else f"{value:.4g}"
+        shown = "n/a" if value is None else _number(value, unit)
         lines.append(f"  {label:<{width}}  {shown:>10} {unit}".rstrip())
     return "\n".join(lines)

@@ -6,6 +6,7 @@ import json
 
 from ..plan import plan_scene
 from ..scene import load_scene
+from ._options import NON_NEGATIVE
 
 __all__ = ["add_parser", "run"]
 
@@ -15,8 +16,8 @@ def add_parser(subparsers) -> None:
                               description="Predict each lens effect's size from the scene and camera (no "
                                           "rendering) and pick the cheapest model within tolerance.")
     p.add_argument("scene", metavar="SCENE.toml")
-    p.add_argument("--tolerance-px", type=float, default=0.5, help="largest blur/distortion left out (px)")
-    p.add_argument("--tolerance-percent", type=float, default=2.0, help="largest corner falloff left out (%%)")
+    p.add_argument("--tolerance-px", type=NON_NEGATIVE, default=0.5, help="largest blur/distortion left out (px)")
+    p.add_argument("--tolerance-percent", type=NON_NEGATIVE, default=2.0, help="largest corner falloff left out (%%)")
     p.add_argument("--no-costs", action="store_true", help="skip the timing renders")
     p.add_argument("--json", action="store_true")
     p.set_defaults(run=run)

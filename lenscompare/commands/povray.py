@@ -9,27 +9,14 @@ missing or failing POV-Ray exits 1 with POV-Ray's own last lines.
 
 from __future__ import annotations
 
-import argparse
 import json
-from pathlib import Path
 
-from ..errors import InputError
 from ..image import write_exr
 from ..povray import render_povray
 from ..scene import MODELS, load_scene
-from .render import positive_int
+from ._options import POSITIVE, SPP, THREADS, check_output_suffix, with_lens_option
 
 __all__ = ["add_parser", "run"]
-
-
-def positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = 0.0
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
-    return value
 
 
 def add_parser(subparsers) -> None:
@@ -42,26 +29,20 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
-    p.add_argument("--spp", type=positive_int, help="camera rays per pixel (default: the scene's render.spp)")
-    p.add_argument("--threads", type=positive_int, help="POV-Ray worker threads (default: all cores)")
+    p.add_argument("--spp", type=SPP, help="camera rays per pixel (default: the scene's render.spp)")
+    p.add_argument("--threads", type=THREADS, help="POV-Ray worker threads (default: all cores)")
     p.add_argument("--povray", default="povray", metavar="BINARY", help="the POV-Ray binary (default: povray)")
-    p.add_argument("--timeout", type=positive_float, metavar="SECONDS", help="stop POV-Ray after this long")
+    p.add_argument("--timeout", type=POSITIVE, metavar="SECONDS", help="stop POV-Ray after this long")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    if not str(args.output).lower().endswith(".exr"):
-        raise InputError("-o", f"expected an .exr file name, got {args.output!r}")
-    folder = Path(args.output).parent
-    if not folder.is_dir():  # say so before a long render, not after
-        raise InputError("-o", f"folder {str(folder)!r} for {str(args.output)!r} does not exist")
-    scene = load_scene(args.scene)
-    if args.lens is not None:
-        scene = scene.with_camera(lens=args.lens)
+    output = check_output_suffix(args.output, ".exr")  # say so before a long render, not after
+    scene = with_lens_option(load_scene(args.scene), args.lens)
     image = render_povray(scene, model=args.model, spp=args.spp, threads=args.threads, povray=args.povray,
                           timeout_s=args.timeout)
-    write_exr(args.output, image)
+    write_exr(output, image, final=True)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))
     return 0

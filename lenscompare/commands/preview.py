@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ..errors import InputError
 from ..image import read_exr, write_png_preview
+from ._options import POSITIVE, check_output_suffix
 
 __all__ = ["add_parser", "run"]
 
@@ -13,14 +13,11 @@ def add_parser(subparsers) -> None:
                               description="Encode a linear EXR as an 8-bit sRGB PNG (values above 1 clip).")
     p.add_argument("image", metavar="IN.exr")
     p.add_argument("-o", "--output", required=True, metavar="OUT.png")
-    p.add_argument("--exposure", type=float, default=1.0, help="linear scale applied before encoding")
+    p.add_argument("--exposure", type=POSITIVE, default=1.0, help="linear scale applied before encoding")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    if not str(args.output).lower().endswith(".png"):
-        raise InputError("-o", f"expected a .png file name, got {args.output!r}")
-    if not args.exposure > 0:
-        raise InputError("--exposure", f"expected a positive number, got {args.exposure}")
-    write_png_preview(args.output, read_exr(args.image), exposure=args.exposure)
+    output = check_output_suffix(args.output, ".png")
+    write_png_preview(output, read_exr(args.image), exposure=args.exposure, final=True)
     return 0

@@ -8,9 +8,11 @@ from pathlib import Path
 from ..cluster import open_cluster
 from ..errors import InputError
 from ..experiment import ExperimentSettings
+from ..lenses import resolve_lens
 from ..reference_scenes import find_scene, scenes_dir, shipped_scene_names
 from ..report import build_report
 from ..scene import load_scene
+from ._options import THREADS
 
 __all__ = ["add_parser", "run", "DEFAULT_SCENES"]
 
@@ -31,9 +33,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens", default="dgauss.50mm", help="lens for scenes that name none (default dgauss.50mm)")
     p.add_argument("--quick", action="store_true", help="half resolution, a quarter of the samples (CI)")
     p.add_argument("--no-povray", action="store_true", help="skip the POV-Ray reference renders")
-    p.add_argument("--threads", type=int, default=None,
-                   help="threads per render (default: every core; on a cluster, its machine's cores over its Dask "
-                        "slots)")
+    p.add_argument("--no-mitsuba", action="store_true", help="skip the Mitsuba 3 reference renders")
+    p.add_argument("--threads", type=THREADS, default=None,
+                   help="threads per render (default and at most: every core; on a cluster, its machine's cores over "
+                        "its Dask slots)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the renders as tasks on the Dask cluster of this scheduler (tcp://HOST:PORT)")
     p.set_defaults(run=run)
@@ -47,15 +50,15 @@ def run(args) -> int:
                                     + ", ".join(shipped_scene_names()) + ")")
     if not paths:
         raise InputError("SCENE", f"no scene files given and none in {DEFAULT_SCENES}")
-    if args.threads is not None and args.threads < 1:
-        raise InputError("--threads", f"expected a positive integer, got {args.threads}")
+    resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
     scenes = [load_scene(p) for p in paths]
     names = [s.name for s in scenes]
     if len(set(names)) != len(names):
-        raise InputError("SCENE", f"two scenes share a name ({', '.join(names)}); names become file names")
-    settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray)
+        raise InputError("SCENE", f"two scenes share a name ({', '.join(names)}); the report keys its results by name")
+    settings = ExperimentSettings(lens=args.lens, quick=args.quick, threads=args.threads, povray=not args.no_povray,
+                                  mitsuba=not args.no_mitsuba)
     with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:
-        results = build_report(scenes, args.output, settings, cluster=cluster)
+        results = build_report(scenes, args.output, settings, cluster=cluster, final=True)
     index = Path(args.output).resolve() / "index.html"
     print(f"Report written in {results['total_seconds']:.0f} s: open {index}")
     return 0

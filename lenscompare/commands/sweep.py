@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..errors import ExternalError
 from ..sweep import load_sweep, run_sweep
+from ._options import THREADS
 
 __all__ = ["add_parser", "run"]
 
@@ -24,7 +25,7 @@ def add_parser(subparsers) -> None:
                                                           "local cluster)")
     p.add_argument("--workers", type=int, default=None,
                    help="workers of the local cluster (default: one per core)")
-    p.add_argument("--threads", type=int, default=None,
+    p.add_argument("--threads", type=THREADS, default=None,
                    help="native threads per render (default: the worker machine's cores over its Dask slots)")
     p.add_argument("--no-plots", action="store_true", help="write the table only")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")

@@ -8,11 +8,11 @@ import json
 import os
 import platform
 import time
-from pathlib import Path
 
 from .. import __version__
-from ..atomic import atomic_output
+from ..atomic import atomic_output, prepare_output_dir, unique_file_names
 from ..cluster import Cluster
+from ..experiment import ExperimentSettings, check_renderable
 from ..progress import progress_bar
 from ..scene import Scene
 from .findings import findings
@@ -23,12 +23,23 @@ __all__ = ["CostSettings", "run_cost_study", "time_table_rows"]
 
 
 def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None = None, *,
-                   progress: bool | None = None, cluster: Cluster | None = None) -> dict:
-    """Run the study and write ``results.json``, ``index.html`` and plots into
-    ``out_dir``; with a ``cluster``, every render is a task there."""
+                   progress: bool | None = None, cluster: Cluster | None = None, stems: dict[str, str] | None = None,
+                   final: bool = False) -> dict:
+    """Run the study and write ``results.json``, ``index.html`` and plots into ``out_dir``.
+
+    With a ``cluster``, every render is a task there. Plots are named by
+    ``stems`` (scene name -> file name; default
+    :func:`lenscompare.atomic.unique_file_names`), never by the raw name;
+    ``final``: ``index.html`` is the command's last output.
+    """
     settings = settings or CostSettings()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    # Every input problem surfaces here, before the folder is made or a render starts.
+    prepared_scenes = [prepared_for_cost(scene, settings) for scene in scenes]
+    for prepared in prepared_scenes:
+        check_renderable(prepared.with_render(spp=settings.reference_spp),
+                         ExperimentSettings(lens=settings.lens, povray=settings.povray), models=settings.models)
+    out = prepare_output_dir(out_dir)
+    stems = stems or unique_file_names(s.name for s in scenes)
     start = time.perf_counter()
     per_scene = len(settings.models) * len(settings.samplers) * len(settings.spp_values) + (
         len(settings.povray_spp_values) if settings.povray else 0)
@@ -38,10 +49,9 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
                             "scheduler": cluster.address if cluster else None},
                "scenes": {}, "findings": []}
     with progress_bar(per_scene * len(scenes), description="cost study", unit="render", enabled=progress) as bar:
-        for scene in scenes:
-            prepared = prepared_for_cost(scene, settings)
+        for scene, prepared in zip(scenes, prepared_scenes):
             study = study_scene(prepared, settings, progress=bar, cluster=cluster)
-            study["plot"] = plot_error_vs_time(prepared.name, study, out / f"{prepared.name}.cost.png")
+            study["plot"] = plot_error_vs_time(prepared.name, study, out / f"{stems[scene.name]}.cost.png")
             results["scenes"][prepared.name] = study
             results["findings"] += findings(prepared.name, study)
     results["total_seconds"] = time.perf_counter() - start
@@ -49,7 +59,7 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
                              "lenscompare": __version__, "machine": platform.machine(), "cpu_count": os.cpu_count()}
     with atomic_output(out / "results.json") as tmp:
         tmp.write_text(json.dumps(results, indent=2))
-    with atomic_output(out / "index.html") as tmp:
+    with atomic_output(out / "index.html", final=final) as tmp:
         tmp.write_text(_page(results), encoding="utf-8")
     return results
 

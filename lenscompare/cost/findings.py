@@ -25,8 +25,9 @@ def findings(scene_name: str, study: dict, *, compare_spp: int = 64) -> list[str
             for points, name in ranked:
                 p = _at_spp({"points": points}, compare_spp)
                 if p:
-                    parts.append(f"{name} {100 * p['relative_rmse']:.2f} % in {p['seconds']:.2f} s "
-                                 f"({base['relative_rmse'] / p['relative_rmse']:.2f}x lower than random)")
+                    ratio = (f"{base['relative_rmse'] / p['relative_rmse']:.2f}x lower than random"
+                             if p["relative_rmse"] > 0 else "no error left")
+                    parts.append(f"{name} {100 * p['relative_rmse']:.2f} % in {p['seconds']:.2f} s ({ratio})")
             out.append(f"{scene_name}, thin lens (defocus) at {compare_spp} spp: " + "; ".join(parts) + ".")
         slopes = ", ".join(f"{name} {s['slope']:.2f}" for name, s in thin.items() if s["slope"] is not None)
         out.append(f"{scene_name}, thin lens: error falls as N^slope with slope {slopes} "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 from ..atomic import atomic_output
@@ -14,6 +15,13 @@ SAMPLER_STYLE = {"random": ("#7f7f7f", "o"), "jittered": ("#1f77b4", "s"), "regu
 
 
 def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
+    """Write the plot to ``path``; return its file name."""
+    with warnings.catch_warnings():  # an image with no error left (a uniform scene) has nothing to log-scale
+        warnings.filterwarnings("ignore", message="Data has no positive values")
+        return _plot_error_vs_time(scene_name, study, path)
+
+
+def _plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
     import matplotlib  # here, not at the top: matplotlib is slow to import and only plots need it
 
     matplotlib.use("Agg")
@@ -57,9 +65,13 @@ def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
     fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=min(5, len(handles)), frameon=False)
-    fig.suptitle(f"{scene_name}: error against time")
-    fig.tight_layout(rect=(0, 0.07 if rows > 1 else 0.12, 1, 1))
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, format="png")
+    # A scene name is shown literally: "$" would start matplotlib's mathematics.
+    fig.suptitle("".join(c if c.isprintable() else "\ufffd" for c in f"{scene_name}: error against time")
+                 .replace("$", r"\$"))
+    with warnings.catch_warnings():  # a scene name in a script the font lacks: boxes, not stderr noise
+        warnings.filterwarnings("ignore", message="Glyph .* missing")
+        fig.tight_layout(rect=(0, 0.07 if rows > 1 else 0.12, 1, 1))
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png")
     plt.close(fig)
     return path.name

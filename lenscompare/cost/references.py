@@ -1,21 +1,24 @@
 """Converged reference renders, cached by a content hash of everything that
-determines them (scene, model, samples, seed, lens file, renderer version), so
-repeated studies render each reference once."""
+determines them (scene, model, samples, seed, lens file, and the tracer itself:
+the compiled native module and the Python sources that set up cameras and
+renders), so repeated studies render each reference once and a changed tracer
+renders them again."""
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import os
 from pathlib import Path
 
-from .. import __version__
+from .. import _native
 from ..image import Image, read_exr, write_exr
 from ..render import render
 from ..scene import Scene
 
-__all__ = ["default_cache_dir", "reference_key", "converged_reference"]
+__all__ = ["default_cache_dir", "reference_key", "converged_reference", "tracer_fingerprint", "fingerprint_files"]
 
 
 def default_cache_dir() -> Path:
@@ -26,6 +29,33 @@ def default_cache_dir() -> Path:
     return base / "lenscompare"
 
 
+# Subpackages that only read or present finished images: their sources do not
+# enter the fingerprint (anything else in the package, new modules included, does).
+_NOT_RENDERING = frozenset({"report", "cost", "figures", "commands", "checks", "povray", "metrics"})
+
+
+def fingerprint_files(native_module: Path, package_dir: Path) -> str:
+    """Hex SHA-256 of the native module's bytes and of every ``.py`` file of
+    the package outside :data:`_NOT_RENDERING`, each with its relative path."""
+    digest = hashlib.sha256()
+    digest.update(b"native\0" + Path(native_module).read_bytes())
+    package_dir = Path(package_dir)
+    for path in sorted(package_dir.rglob("*.py")):
+        relative = path.relative_to(package_dir)
+        if relative.parts[0] in _NOT_RENDERING or "__pycache__" in relative.parts:
+            continue
+        digest.update(b"\0" + relative.as_posix().encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()
+
+
+@functools.cache
+def tracer_fingerprint() -> str:
+    """Fingerprint of the tracer in this process (computed once): the compiled
+    ``lenscompare._native`` and the Python that builds cameras and renders.
+    ``__version__`` is no fingerprint: it stays put across tracer changes."""
+    return fingerprint_files(Path(_native.__file__), Path(__file__).resolve().parent.parent)
+
+
 def reference_key(scene: Scene, model: str, *, spp: int, sampler: str, seed: int) -> str:
     """Hex SHA-256 naming a reference render."""
     content = dataclasses.asdict(scene)
@@ -33,7 +63,7 @@ def reference_key(scene: Scene, model: str, *, spp: int, sampler: str, seed: int
         content.pop(volatile, None)
     lens_hash = scene.camera.lens.sha256 if scene.camera.lens is not None else None
     payload = {"scene": content, "model": model, "spp": spp, "sampler": sampler, "seed": seed,
-               "lens_sha256": lens_hash, "lenscompare": __version__}
+               "lens_sha256": lens_hash, "tracer": tracer_fingerprint()}
     return hashlib.sha256(json.dumps(payload, sort_keys=True, default=str).encode()).hexdigest()
 
 

@@ -6,9 +6,12 @@ drawing, a :class:`matplotlib.figure.Figure` rendered with Agg, no display):
 
 - :mod:`.thin_lens`: thin lens with real numbers, eqs. 1-10 (Figs. 1-2);
 - :mod:`.thick_lens`: a prescription's H, H', F, F', model against real rays (Fig. 3);
-- :mod:`.lens_system`: any prescription in cross-section with traced bundles (Fig. 4).
+- :mod:`.lens_system`: any prescription in cross-section with traced bundles (Fig. 4);
+- :mod:`.aperture`: where the geometric models stop: defocus against
+  diffraction over the f-number (the best aperture), and bokeh and diffraction
+  stars of 5, 6, 7 and 9 blades.
 
-:func:`write_teaching_figures` writes all three; ``lenscompare figures`` is its
+:func:`write_teaching_figures` writes all four; ``lenscompare figures`` is its
 command line.
 """
 
@@ -18,10 +21,11 @@ import contextlib
 import os
 from pathlib import Path
 
-from ..atomic import atomic_output
+from ..atomic import atomic_output, prepare_output_dir
 from ..errors import InputError
 from ..lenses import load_prescription
 from ._style import figure_bytes
+from .aperture import aperture_figure, aperture_geometry
 from .lens_system import lens_system_figure, lens_system_geometry
 from .thick_lens import thick_lens_figure, thick_lens_geometry
 from .thin_lens import thin_lens_figure, thin_lens_geometry
@@ -35,16 +39,18 @@ __all__ = [
     "thick_lens_figure",
     "lens_system_geometry",
     "lens_system_figure",
+    "aperture_geometry",
+    "aperture_figure",
 ]
 
-FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system")
+FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture")
 
 
 def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLike = "dgauss.50mm",
                            focal_length_mm: float = 50.0, f_number: float = 2.0,
                            focus_distance_m: float = 2.0, object_distances_m=(1.0, 5.0),
                            svg: bool = True) -> dict[str, Path]:
-    """Draw the three teaching figures and write them into a folder.
+    """Draw the teaching figures and write them into a folder.
 
     Parameters
     ----------
@@ -59,14 +65,16 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
         Plane of focus, m: from the thin lens in the thin-lens figure, from
         the entrance pupil for the lens system (its film is placed there).
     object_distances_m : sequence of float, optional
-        One to three axial object points for the thin-lens figure, m.
+        One to three axial object points for the thin-lens figure, m; the
+        farthest is the point whose blur the aperture figure follows.
     svg : bool, optional
         Also write an SVG next to each PNG (same stem).
 
     Returns
     -------
     dict of str to Path
-        Figure name (``"thin_lens"``, ``"thick_lens"``, ``"lens_system"``) to
+        Figure name (``"thin_lens"``, ``"thick_lens"``, ``"lens_system"``,
+        ``"aperture"``) to
         its PNG file; with ``svg`` the SVG is ``path.with_suffix(".svg")``.
 
     Raises
@@ -95,12 +103,15 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
         "thick_lens": thick_lens_figure(thick_lens_geometry(prescription)),
         "lens_system": lens_system_figure(lens_system_geometry(
             prescription, focus_distance_m=focus_distance_m)),
+        "aperture": aperture_figure(aperture_geometry(
+            focal_length_mm=focal_length_mm, focus_distance_m=focus_distance_m,
+            object_distance_m=max(object_distances_m))),
     }
     formats = ("png", "svg") if svg else ("png",)
     rendered = {(name, fmt): figure_bytes(figure, fmt)
                 for name, figure in figures.items() for fmt in formats}
 
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_output_dir(out)  # a read-only place: exit 2 naming -o, not a traceback
     # Every file goes to a temporary first; all are renamed into place only
     # once all of them are written.
     with contextlib.ExitStack() as stack:

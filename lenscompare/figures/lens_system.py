@@ -30,6 +30,7 @@ from ..lenses import (
     sag_mm,
     trace_from_scene,
 )
+from ..units import MM_PER_M
 from . import _style
 from ._lens_drawing import RayPath, draw_lens, draw_ray_paths, stop_bar_mm, traced_paths
 
@@ -44,7 +45,6 @@ OFF_AXIS_FILM_FRACTION = 0.7
 
 _SCAN_RAYS = 1201
 _RAYS_THROUGH = 9
-_MM_PER_M = 1000.0
 
 
 @dataclass(frozen=True)
@@ -153,7 +153,7 @@ def lens_system_geometry(prescription: Prescription, *, focus_distance_m: float 
 
 def _bundle(prescription, data, focus_distance_m, theta, start_z, film_z) -> Bundle | None:
     """The rays from the object point at angle theta that get through, plus one each side."""
-    distance_mm = focus_distance_m * _MM_PER_M
+    distance_mm = focus_distance_m * MM_PER_M
     if math.isinf(distance_mm):
         object_point = None
     else:

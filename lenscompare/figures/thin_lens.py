@@ -33,11 +33,11 @@ from matplotlib.ticker import MaxNLocator
 
 from ..errors import InputError
 from ..optics import thin_lens as optics
+from ..units import MM_PER_M
 from . import _style
 
 __all__ = ["ObjectPoint", "ThinLensGeometry", "thin_lens_geometry", "thin_lens_figure"]
 
-_MM_PER_M = 1000.0
 _SUB = str.maketrans("0123456789", "\u2080\u2081\u2082\u2083\u2084\u2085\u2086\u2087\u2088\u2089")
 _SOURCE = "teaching figures"
 
@@ -122,9 +122,9 @@ def thin_lens_geometry(*, focal_length_mm: float = 50.0, f_number: float = 2.0,
     """
     f = _positive(focal_length_mm, "focal_length_mm")
     n = _positive(f_number, "f_number")
-    d = _positive(focus_distance_m, "focus_distance_m") * _MM_PER_M
+    d = _positive(focus_distance_m, "focus_distance_m") * MM_PER_M
     if d <= f:
-        raise InputError(_SOURCE, f"the plane of focus ({d / _MM_PER_M:g} m) must lie beyond the "
+        raise InputError(_SOURCE, f"the plane of focus ({d / MM_PER_M:g} m) must lie beyond the "
                          f"focal length ({f:g} mm)", key="focus_distance_m")
     try:
         distances = [float(x) for x in object_distances_m]
@@ -136,14 +136,14 @@ def thin_lens_geometry(*, focal_length_mm: float = 50.0, f_number: float = 2.0,
                          key="object_distances_m")
     for value in distances:
         _positive(value, "object_distances_m")
-        if value * _MM_PER_M <= f:
+        if value * MM_PER_M <= f:
             raise InputError(_SOURCE, f"an object at {value:g} m is not beyond the focal length "
                              f"({f:g} mm): it has no real image", key="object_distances_m")
 
     a = optics.aperture_diameter_mm(f, n)
     film = optics.focus_film_distance_mm(d, f)
     points = []
-    for l_mm in sorted(x * _MM_PER_M for x in distances):
+    for l_mm in sorted(x * MM_PER_M for x in distances):
         image = optics.image_distance_mm(l_mm, f)
         blur = optics.circle_of_confusion_mm(l_mm, focus_distance_mm=d, focal_length_mm=f,
                                              aperture_diameter_mm=a)
@@ -217,7 +217,7 @@ def thin_lens_figure(geometry: ThinLensGeometry):
         _draw_film_zoom(fig.add_subplot(grid[1, 0]), g)
         _draw_blur_angle(fig.add_subplot(grid[1, 1]), g)
         fig.suptitle(f"Thin lens (paper Figs. 1\u20132): f = {g.focal_length_mm:g} mm, "
-                     f"f/{g.f_number:g}, focused at {g.focus_distance_mm / _MM_PER_M:g} m",
+                     f"f/{g.f_number:g}, focused at {g.focus_distance_mm / MM_PER_M:g} m",
                      x=0.01, ha="left")
     return fig
 
@@ -260,7 +260,7 @@ def _draw_overview(ax, g: ThinLensGeometry) -> None:
         # Below the axis; above it when the previous point's label would be too near.
         previous = float(axis.x(-g.points[i - 1].object_distance_mm)) if i else math.inf
         above = i % 2 == 1 and abs(x_object - previous) < 0.15 * (right - left)
-        ax.annotate(f"P{_label(i)}, l{_label(i)} = {l / _MM_PER_M:g} m", (x_object, 0.0),
+        ax.annotate(f"P{_label(i)}, l{_label(i)} = {l / MM_PER_M:g} m", (x_object, 0.0),
                     xytext=(0, 8 if above else -8), textcoords="offset points", ha="center",
                     va="bottom" if above else "top", color=colour, fontsize=8.5,
                     bbox=_style.LABEL_BOX, zorder=5)
@@ -269,7 +269,7 @@ def _draw_overview(ax, g: ThinLensGeometry) -> None:
     x_focus = float(axis.x(-g.focus_distance_mm))
     ax.plot([x_focus, x_focus], [-1.15 * half, 1.15 * half], color=_style.FOCUS_PLANE, lw=1.2,
             ls=(0, (5, 3)), zorder=1.5, gid="plane-of-focus")
-    ax.annotate(f"plane of focus\nd = {g.focus_distance_mm / _MM_PER_M:g} m",
+    ax.annotate(f"plane of focus\nd = {g.focus_distance_mm / MM_PER_M:g} m",
                 (x_focus, 1.15 * half), xytext=(0, 3), textcoords="offset points", ha="center",
                 va="bottom", color=_style.FOCUS_PLANE, fontsize=8.5)
 
@@ -342,11 +342,11 @@ def _draw_break_and_ticks(ax, axis: _BrokenAxis, g, left, right, half) -> None:
         for x in (x0, x1):
             ax.plot([x - 0.25 * axis.gap, x + 0.25 * axis.gap], [-0.12 * half, 0.12 * half],
                     color=_style.MUTED, lw=1.0, zorder=0.7)
-        farthest_m = max(g.focus_distance_mm, *(p.object_distance_mm for p in g.points)) / _MM_PER_M
+        farthest_m = max(g.focus_distance_mm, *(p.object_distance_mm for p in g.points)) / MM_PER_M
         for value in MaxNLocator(nbins=6, steps=[1, 2, 2.5, 5, 10]).tick_values(
-                axis.true_from_mm / _MM_PER_M, farthest_m):
-            if axis.true_from_mm / _MM_PER_M * 1.15 < value <= farthest_m * 1.06:
-                ticks.append(float(axis.x(-value * _MM_PER_M)))
+                axis.true_from_mm / MM_PER_M, farthest_m):
+            if axis.true_from_mm / MM_PER_M * 1.15 < value <= farthest_m * 1.06:
+                ticks.append(float(axis.x(-value * MM_PER_M)))
                 labels.append(f"{value:g} m")
         ax.text((left + x0) / 2.0, -1.9 * half, "object side: distances compressed",
                 ha="center", va="bottom", fontsize=7.5, color=_style.MUTED, style="italic")

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from ..units import MM_PER_M
 from .focus import film_distance_mm, front_most_z_mm
 from .paraxial import (
     aperture_stop_index,
@@ -32,7 +33,6 @@ __all__ = [
     "real_f_number",
 ]
 
-_MM_PER_M = 1000.0
 
 
 def chief_ray_film_height_mm(prescription: Prescription, field_angle_deg: float, *,
@@ -311,7 +311,7 @@ def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float
     first = prescription.surfaces[0]
     # Slope dy/dz of the ray through height y0 at z = 0.  Written so that a
     # far object (1e12 m) costs no precision and infinity gives -tan(theta).
-    distance_mm = focus_distance_m * _MM_PER_M
+    distance_mm = focus_distance_m * MM_PER_M
     lever_mm = distance_mm - data.entrance_pupil_position_mm  # object to first vertex
     along = 1.0 if math.isinf(distance_mm) else distance_mm / lever_mm
 

@@ -12,12 +12,12 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
+from ..units import MM_PER_M
 from .paraxial import paraxial_data, ray_transfer_matrix
 from .prescription import Prescription, sag_mm
 
 __all__ = ["film_distance_mm", "closest_focus_distance_m", "front_most_z_mm"]
 
-_MM_PER_M = 1000.0
 
 
 def front_most_z_mm(prescription: Prescription) -> float:
@@ -45,7 +45,7 @@ def closest_focus_distance_m(prescription: Prescription) -> float:
     """
     data = _check_forms_images(prescription)
     limit_z = min(data.front_focal_point_mm, front_most_z_mm(prescription))
-    return max(0.0, (data.entrance_pupil_position_mm - limit_z) / _MM_PER_M)
+    return max(0.0, (data.entrance_pupil_position_mm - limit_z) / MM_PER_M)
 
 
 def film_distance_mm(prescription: Prescription, focus_distance_m: float, *,
@@ -93,7 +93,7 @@ def film_distance_mm(prescription: Prescription, focus_distance_m: float, *,
     # Object distance in front of the first vertex, mm.  Divide through by it,
     # so that infinity (and 1e12 m) give -A/C, the back focal length, without
     # inf/inf.
-    object_mm = distance_m * _MM_PER_M - data.entrance_pupil_position_mm
+    object_mm = distance_m * MM_PER_M - data.entrance_pupil_position_mm
     inverse = 1.0 / object_mm
     numerator = a + b * inverse
     denominator = c + d * inverse

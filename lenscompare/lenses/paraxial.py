@@ -247,6 +247,10 @@ def stop_semi_aperture_for_f_number(prescription: Prescription, f_number: float,
         raise InputError(source, f"f-number must be a positive number, got {f_number!r}", key=key)
     f_number = requested
     data = paraxial_data(prescription)
+    if not (math.isfinite(data.f_number) and data.f_number > 0):
+        raise InputError(source, f"{prescription.name} has no usable aperture (focal length "
+                         f"{data.effective_focal_length_mm:.4g} mm, entrance pupil "
+                         f"{data.entrance_pupil_diameter_mm:.4g} mm): it cannot be stopped down", key=key)
     # A request within F_NUMBER_RELATIVE_TOLERANCE of the lens's own f-number is
     # wide open: a file's f/5 must not be refused for a lens at f/5.00002.
     if f_number < data.f_number * (1.0 - F_NUMBER_RELATIVE_TOLERANCE):

@@ -28,6 +28,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..errors import InputError
+from ..limits import read_input_bytes
 
 __all__ = [
     "Surface",
@@ -189,10 +190,10 @@ def load_prescription(name_or_path: str | os.PathLike) -> Prescription:
     path = Path(text)
     if bare and path.suffix != ".dat" and not path.exists():
         raise InputError(text, "unknown lens name; shipped lenses: " + ", ".join(names))
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise InputError(text, f"cannot read lens file: {error.strerror or error}") from None
+    if not path.exists():
+        raise InputError(text, "cannot read lens file: no such file (nor a shipped lens: " + ", ".join(names) + ")")
+    # At most MAX_FILE_BYTES, and never a device such as /dev/zero.
+    data = read_input_bytes(path, what="lens file")
     name = path.name[: -len(".dat")] if path.name.endswith(".dat") else path.name
     return parse_prescription(data, source=text, name=name)
 

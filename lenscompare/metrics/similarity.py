@@ -73,7 +73,7 @@ def ssim(image_true, image_test, *, data_range) -> float:
     Parameters
     ----------
     image_true, image_test : ndarray, shape (H, W) or (H, W, 3)
-        Reference and compared images, same shape, at least 11 px each way.
+        Reference and compared images, same shape, any size (1 x 1 too).
         RGB channels are compared separately and averaged.
     data_range : float
         Peak value of the signal (sets the constants C1, C2). Required.
@@ -88,6 +88,10 @@ def ssim(image_true, image_test, *, data_range) -> float:
     :func:`skimage.metrics.structural_similarity` with the paper's settings:
     an 11 x 11 Gaussian window of σ = 1.5 px and population covariances
     (``gaussian_weights=True, sigma=1.5, use_sample_covariance=False``).
+    An image narrower than the window (under 11 px either way: the smallest
+    scenes the schema allows) is one window: the paper's formula with the
+    means, variances and covariance of the whole image, C1 = (0.01 L)²,
+    C2 = (0.03 L)².
 
     References
     ----------
@@ -105,6 +109,8 @@ def ssim(image_true, image_test, *, data_range) -> float:
     """
     true, test = as_image_pair(image_true, image_test)
     peak = as_positive(data_range, "data_range")
+    if min(true.shape[:2]) < SSIM_WINDOW_PX:
+        return _ssim_one_window(true, test, peak)
     return float(
         metrics.structural_similarity(
             true,
@@ -116,6 +122,23 @@ def ssim(image_true, image_test, *, data_range) -> float:
             use_sample_covariance=False,
         )
     )
+
+
+SSIM_WINDOW_PX = 11
+"""Side of the Gaussian SSIM window: 2 * int(3.5 * 1.5 + 0.5) + 1 (scikit-image, σ = 1.5, truncated at 3.5 σ)."""
+
+
+def _ssim_one_window(true: np.ndarray, test: np.ndarray, peak: float) -> float:
+    """SSIM of Wang et al. (2004), eq. 13, with the whole image as the window
+    (uniform weights, population statistics), averaged over channels."""
+    c1, c2 = (0.01 * peak) ** 2, (0.03 * peak) ** 2
+    x = true.reshape(-1, true.shape[2] if true.ndim == 3 else 1)
+    y = test.reshape(x.shape)
+    mx, my = x.mean(axis=0), y.mean(axis=0)
+    vx, vy = ((x - mx) ** 2).mean(axis=0), ((y - my) ** 2).mean(axis=0)
+    cxy = ((x - mx) * (y - my)).mean(axis=0)
+    values = ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx ** 2 + my ** 2 + c1) * (vx + vy + c2))
+    return float(values.mean())
 
 
 def rmse(image_true, image_test) -> float:

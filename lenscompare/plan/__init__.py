@@ -104,6 +104,8 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     :func:`lenscompare.render.render`.
     """
     plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
+    if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
+        render_options["diffraction"] = plan.needed["diffraction"]
     image = render(scene, model=plan.model, **render_options)
     image.metadata["plan"] = plan.to_json()
     return image

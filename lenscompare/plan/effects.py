@@ -10,12 +10,13 @@ from dataclasses import dataclass
 from ..cameras import CameraModel, camera_for
 from ..lenses import chief_ray_distortion_percent, image_circle_radius_mm, paraxial_data, relative_illumination
 from ..optics import circle_of_confusion_mm
+from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
 from ..units import mm_from_m
 from .visible_depth import visible_depth_range_m
 
 __all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "distortion", "vignetting",
-           "EFFECTS"]
+           "diffraction", "EFFECTS"]
 
 
 @dataclass(frozen=True)
@@ -94,4 +95,17 @@ def vignetting(scene: Scene, camera: CameraModel) -> Effect:
                   "lens")
 
 
-EFFECTS = (defocus, principal_plane_gap, distortion, vignetting)
+def diffraction(scene: Scene, camera: CameraModel) -> Effect:
+    """Airy-disk diameter 2.44 λ N_w at 550 nm, in pixels (DESIGN.md). Any
+    model can carry it: the PSF is applied to the image after the render
+    (lenscompare.diffraction), so it asks for no dearer model."""
+    n_w = camera.working_f_number
+    if n_w is None:
+        return Effect("diffraction", 0.0, "px", "no aperture (no f-number)", "pinhole")
+    diameter = airy_diameter_mm(REFERENCE_WAVELENGTH_NM, n_w) / camera.pixel_pitch_mm
+    return Effect("diffraction", diameter, "px",
+                  f"Airy disk {1000 * airy_diameter_mm(REFERENCE_WAVELENGTH_NM, n_w):.3g} um at 550 nm, "
+                  f"working f/{n_w:.3g}, pixel {1000 * camera.pixel_pitch_mm:.3g} um", "pinhole")
+
+
+EFFECTS = (defocus, principal_plane_gap, distortion, vignetting, diffraction)

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..cameras import CameraFrame
 from ..native_scene import box_quads, rectangle_quad
-from ..scene import Box, Scene, Sphere
+from ..scene import Box, Mesh, Scene, Sphere
 
 __all__ = ["visible_depth_range_m"]
 
@@ -63,8 +63,12 @@ def visible_depth_range_m(scene: Scene, *, tan_half_w: float, tan_half_h: float)
             if all(p[:3] @ c + p[3] >= -obj.radius * np.linalg.norm(p[:3]) for p in planes):
                 lo, hi = min(lo, max(c[2] - obj.radius, _NEAR_M)), max(hi, c[2] + obj.radius)
             continue
-        faces = box_quads(obj.min, obj.max) if isinstance(obj, Box) else [rectangle_quad(obj.corner, obj.edge1,
-                                                                                          obj.edge2)]
+        if isinstance(obj, Mesh):  # its bounding box: the depth range can only grow, as with occlusion
+            faces = box_quads(obj.vertices_m.min(axis=0), obj.vertices_m.max(axis=0) + 1e-9)
+        elif isinstance(obj, Box):
+            faces = box_quads(obj.min, obj.max)
+        else:
+            faces = [rectangle_quad(obj.corner, obj.edge1, obj.edge2)]
         for face in faces:
             polygon = [to_camera @ (corner - origin) for corner in face]
             for plane in planes:

@@ -8,6 +8,8 @@ lenscompare                   POV-Ray 3.7
 ============================  ==================================================
 sphere                        ``sphere { <c>, r }`` (exact, as Embree's)
 box (axis-aligned)            ``box { <min>, <max> }``
+mesh (OBJ / PLY)              ``mesh2`` with ``vertex_vectors`` and
+                              ``face_indices`` (flat triangles, as Embree's)
 rectangle (parallelogram)     ``mesh`` of two triangles (p0 p1 p3, p2 p3 p1:
                               Embree's split of the same quad); exact, and no
                               coplanarity test to trip over as ``polygon`` has
@@ -31,6 +33,10 @@ diffuse + emission E          POV-Ray multiplies ``emission`` by the pigment, so
                               (2 A lit + 2 E) / 2 = A lit + E, also for A = 0
 point light, intensity I      ``light_source { <p> rgb I }``: no ``fade_*``, so
                               no distance falloff; not an area light
+point light, ``falloff =      POV-Ray attenuates by 2 / (1 + (d / D)^P); with
+"inverse_square"``            ``fade_power 2`` and ``fade_distance D`` = 1e-4 m
+                              that is 2 D² / (D² + d²), so the colour is written
+                              as I / (2 D²): I / d² within D² / d² (1e-6 at 1 cm)
 background                    ``background { rgb <...> }``
 global                        ``assumed_gamma 1.0`` (linear colours),
                               ``ambient_light 0``, no radiosity, no photons
@@ -79,9 +85,11 @@ import numpy as np
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
 from ..units import m_from_mm
-from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Rectangle, Scene, Sphere
+from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
-__all__ = ["POVRAY_MODELS", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "PovCamera", "scene_to_pov", "pov_camera", "format_number"]
+__all__ = ["POVRAY_MODELS", "unsupported", "CHECKER_TOLERANCE", "FOCAL_BLUR_FILM_BIAS_PX", "FOCUS_AT_INFINITY_M",
+           "INVERSE_SQUARE_FADE_DISTANCE_M", "PovCamera", "scene_to_pov", "pov_camera", "format_number",
+           "radiance_bound"]
 
 POVRAY_MODELS = ("pinhole", "thin")
 """Camera models POV-Ray can render (it has no thick-lens or lens-system camera)."""
@@ -92,6 +100,15 @@ CHECKER_TOLERANCE = 0.001
 
 FOCAL_BLUR_FILM_BIAS_PX = 1.0 / 32.0
 """Mean offset of POV-Ray 3.7's focal-blur film samples, up and left, in pixels."""
+
+INVERSE_SQUARE_FADE_DISTANCE_M = 1e-4
+"""``fade_distance`` written for an inverse-square light: POV-Ray's 2 / (1 + (d/D)²)
+is 2 D² / d² to a relative 1e-6 beyond 1 cm (module notes)."""
+
+FOCUS_AT_INFINITY_M = 1e9
+"""POV-Ray's focal point goes no further (its focal blur turns black near
+1e200 m). Scene coordinates stop at 1e9 m (limits.MAX_LENGTH_M), and a focus
+moved from there to infinity changes a 50 mm f/2.8 blur disk by 1e-9 px."""
 
 
 @dataclass(frozen=True)
@@ -160,6 +177,22 @@ def _tuple(v) -> tuple[float, float, float]:
     return tuple(float(c) for c in v)
 
 
+def unsupported(scene: Scene, model: str) -> tuple[str, str] | None:
+    """(scene key, why) when POV-Ray cannot render what ``scene`` asks of
+    ``model``, else None. Its focal blur samples a circular lens only (with
+    few ``blur_samples`` a hexagonal pattern, which is no diaphragm), and it
+    traces geometric optics only: no polygonal aperture, no diffraction. The
+    POV-Ray reference is therefore the circular, geometric case."""
+    if model == "thin" and scene.camera.aperture_blades:
+        return ("camera.aperture_blades", f"POV-Ray's focal blur has a circular aperture only, not "
+                f"{scene.camera.aperture_blades} blades (render the polygon natively; POV-Ray is the reference "
+                "for the circular aperture)")
+    if scene.render.diffraction:
+        return ("render.diffraction", "POV-Ray traces geometric optics only (render diffraction natively; "
+                "POV-Ray is the reference without it)")
+    return None
+
+
 def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
     """The POV-Ray camera for ``scene`` seen through ``model`` (default: the scene's).
 
@@ -175,6 +208,9 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
             raise InputError("--model", f"POV-Ray has no thick-lens / lens-system camera (model {model!r}); "
                              f"POV-Ray renders only {' and '.join(POVRAY_MODELS)}")
         raise InputError("--model", f"expected one of {', '.join(POVRAY_MODELS)}, got {model!r}")
+    problem = unsupported(scene, model)
+    if problem is not None:
+        raise InputError(scene.source, problem[1], key=problem[0])
     value = camera_for(scene, model)
     f_mm, d_prime_mm = value.focal_length_mm, value.film_distance_mm
     film = value.film
@@ -190,14 +226,30 @@ def pov_camera(scene: Scene, model: str | None = None) -> PovCamera:
     bias = FOCAL_BLUR_FILM_BIAS_PX
     direction = forward + right_v * (bias / film.width_px) - up_v * (bias / film.height_px)
     # POV-Ray's focal plane lies at |focal_point - location| / |direction| along the axis.
-    focal_point = origin + forward * (value.focus_distance_m * float(np.linalg.norm(direction)))
+    focus_m = min(value.focus_distance_m, FOCUS_AT_INFINITY_M)
+    focal_point = origin + forward * (focus_m * float(np.linalg.norm(direction)))
     return PovCamera(model, _tuple(origin), _tuple(direction), _tuple(right_v), _tuple(up_v), f_mm, d_prime_mm,
                      angle_deg, aperture_diameter_mm=aperture_mm, pov_aperture_m=2.0 * m_from_mm(aperture_mm),
                      focal_point=_tuple(focal_point), camera=value)
 
 
+def radiance_bound(scene: Scene) -> float:
+    """Largest value any pixel of a render of ``scene`` can take: the brightest
+    emitter or background, or the brightest albedo lit by every light at once
+    at normal incidence (no distance falloff), plus its emission."""
+    intensity = np.sum([light.color for light in scene.lights], axis=0) if scene.lights else np.zeros(3)
+    bound = max(scene.background)
+    for m in scene.materials.values():
+        if isinstance(m, EmissiveMaterial):
+            bound = max(bound, max(m.color))
+        elif isinstance(m, DiffuseMaterial):
+            albedo = np.maximum(m.color, m.checker.color if m.checker else 0.0)
+            bound = max(bound, float(np.max(albedo * intensity + np.asarray(m.emission))))
+    return float(bound)
+
+
 def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None,
-                 blur_adaptive: tuple[int, float] | None = None) -> str:
+                 blur_adaptive: tuple[int, float] | None = None, radiance_scale: float = 1.0) -> str:
     """POV-Ray 3.7 scene text for ``scene`` through the pinhole or thin lens.
 
     Parameters
@@ -215,6 +267,11 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         ``(min_samples, variance)``: ``blur_samples min_samples, spp`` and
         ``variance``, so that a pixel stops once its samples vary less than
         that (with POV-Ray's default ``confidence 0.9``).
+    radiance_scale : float, optional
+        Every emitted radiance and light intensity (background, emissive
+        colours, emission, lights) times this: the image scales by it, the
+        albedos stay. The runner uses a power of two to keep bright scenes
+        inside POV-Ray's half-float EXR (at most 65504).
 
     Returns
     -------
@@ -236,22 +293,33 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         f"// lenscompare scene {scene.name!r} ({scene.source!r}), {camera.model} camera",
         "// Linear colours, no ambient, no radiosity: the only light is the point lights and emission.",
         "global_settings { assumed_gamma 1.0 ambient_light 0 }",
-        f"background {{ rgb {_vec(scene.background)} }}",
+        f"background {{ rgb {_vec(np.asarray(scene.background) * radiance_scale)} }}",
         "",
         _camera_block(scene, camera, spp, blur_adaptive),
         "",
     ]
     for light in scene.lights:
-        lines.append(f"light_source {{ {_vec(light.position)} rgb {_vec(light.color)} }}")
+        lines.append(_light(light, radiance_scale))
     lines.append("")
     # Material names are any TOML key: number them into POV-Ray identifiers.
     names = {name: f"LC_Material{i}" for i, name in enumerate(scene.materials)}
     for name, material in scene.materials.items():
-        lines.append(f"#declare {names[name]} = {_texture(material)};  // {name!r}")
+        lines.append(f"#declare {names[name]} = {_texture(material, radiance_scale)};  // {name!r}")
     lines.append("")
     for obj in scene.objects:
         lines.append(_object(obj, names[obj.material]))
     return "\n".join(lines) + "\n"
+
+
+def _light(light, radiance_scale: float = 1.0) -> str:
+    intensity = np.asarray(light.color, dtype=float) * radiance_scale
+    if light.falloff == "none":
+        return f"light_source {{ {_vec(light.position)} rgb {_vec(intensity)} }}"
+    fade_m = INVERSE_SQUARE_FADE_DISTANCE_M
+    # 2 / (1 + (d / D)^2) = 2 D^2 / (D^2 + d^2): the colour I / (2 D^2) makes it I / d^2.
+    color = intensity / (2.0 * fade_m * fade_m)
+    return (f"light_source {{ {_vec(light.position)} rgb {_vec(color)}  // intensity {_vec(light.color)} / d^2\n"
+            f"  fade_distance {format_number(fade_m)} fade_power 2 }}")
 
 
 def _camera_block(scene: Scene, camera: PovCamera, spp: int, blur_adaptive: tuple[int, float] | None) -> str:
@@ -294,15 +362,15 @@ def _diffuse_pigment(m: DiffuseMaterial, scale: float = 1.0) -> str:
             f"translate {_vec((shift, shift, shift))} }}")
 
 
-def _texture(m) -> str:
+def _texture(m, radiance_scale: float = 1.0) -> str:
     if isinstance(m, EmissiveMaterial):
-        return f"texture {{ pigment {{ rgb {_vec(m.color)} }} {_EMISSIVE_FINISH} }}"
+        return f"texture {{ pigment {{ rgb {_vec(np.asarray(m.color) * radiance_scale)} }} {_EMISSIVE_FINISH} }}"
     if isinstance(m, DiffuseMaterial):
         if not any(e > 0 for e in m.emission):
             return f"texture {{ {_diffuse_pigment(m)} {_LAMBERT_FINISH} }}"
         # POV-Ray scales emission by the pigment; average a lit texture and an
         # emissive one, each at twice its colour, to get albedo * lit + emission.
-        emitted = 2.0 * np.asarray(m.emission, dtype=float)
+        emitted = 2.0 * np.asarray(m.emission, dtype=float) * radiance_scale
         return ("texture { average texture_map {\n"
                 f"    [1 {_diffuse_pigment(m, 2.0)} {_LAMBERT_FINISH}]\n"
                 f"    [1 pigment {{ rgb {_vec(emitted)} }} {_EMISSIVE_FINISH}]\n"
@@ -320,4 +388,9 @@ def _object(obj, texture: str) -> str:
         p0, p1, p2, p3 = c, c + e1, c + e1 + e2, c + e2
         return (f"mesh {{ triangle {{ {_vec(p0)}, {_vec(p1)}, {_vec(p3)} }} "
                 f"triangle {{ {_vec(p2)}, {_vec(p3)}, {_vec(p1)} }} texture {{ {texture} }} }}")
+    if isinstance(obj, Mesh):
+        vertices = ",\n    ".join(_vec(v) for v in obj.vertices_m)
+        faces = ",\n    ".join(f"<{a}, {b}, {c}>" for a, b, c in obj.triangles.tolist())
+        return (f"mesh2 {{  // {obj.file.name}\n  vertex_vectors {{ {len(obj.vertices_m)},\n    {vertices} }}\n"
+                f"  face_indices {{ {len(obj.triangles)},\n    {faces} }}\n  texture {{ {texture} }}\n}}")
     raise TypeError(f"unknown object {obj!r}")  # pragma: no cover

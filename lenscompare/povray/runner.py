@@ -24,11 +24,21 @@ What "samples per pixel" means for POV-Ray
 
 POV-Ray has no random seed: the same input gives the same image.
 
-Environment: POV-Ray runs in a fresh temporary folder (its cwd, which its I/O
-restrictions allow it to write), with ``HOME`` pointing there and ``POVINI``
-unset, so no user or stray ``povray.ini`` changes the render; Debian's
+Environment: POV-Ray runs in a fresh private temporary folder (its cwd, which
+its I/O restrictions allow it to write), with ``HOME`` pointing there and
+``POVINI`` unset, so no user or stray ``povray.ini`` changes the render; Debian's
 ``/etc/povray/3.7/povray.ini`` is read but every setting it makes that matters
 (size, display, anti-aliasing, output type) is overridden on the command line.
+It may write only inside that folder, and no file larger than the image needs
+(:mod:`lenscompare.povray.sandbox`, the second barrier behind the exporter's
+escaping).
+
+Bright scenes: POV-Ray writes half floats, which end at 65504. When a scene can
+be brighter (:func:`~lenscompare.povray.export.radiance_bound`), every emitter
+and light is exported scaled down by a power of two and the image scaled back
+(exact in floating point; values below 6e-5 of the new scale lose relative
+precision). A POV-Ray image with a non-finite pixel is refused (exit 1), never
+handed on.
 """
 
 from __future__ import annotations
@@ -43,16 +53,28 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 from .. import __version__
 from ..errors import ExternalError, InputError
 from ..image import Image, read_exr
+from ..limits import check_render_budget
 from ..scene import Scene
-from .export import pov_camera, scene_to_pov
+from .export import pov_camera, radiance_bound, scene_to_pov
+from .sandbox import confined_writes
 
-__all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "MAX_ANTIALIAS_DEPTH"]
+__all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "MAX_ANTIALIAS_DEPTH",
+           "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE"]
 
 MAX_ANTIALIAS_DEPTH = 9
 """POV-Ray 3.7's largest ``+R`` (anti-aliasing depth)."""
+
+MAX_POVRAY_SPP = 65_536
+"""POV-Ray's focal-blur set-up grows faster than its sample count: 65,536
+samples spend about 4 s before tracing, 2^20 samples 6.6 min (measured)."""
+
+HALF_FLOAT_SAFE = 32_768.0
+"""Brightest value exported unscaled (half floats end at 65504)."""
 
 _STDERR_TAIL_LINES = 12
 _TRACE_TIME = re.compile(r"Trace Time:.*\(([0-9.]+) seconds\)\s*using \d+ thread\(s\) with ([0-9.]+) CPU-seconds")
@@ -138,11 +160,15 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     model = model or scene.camera.model
     camera = pov_camera(scene, model)  # refuses thick / lens before anything runs
     spp = scene.render.spp if spp is None else int(spp)
-    if spp < 1:
-        raise InputError("--spp", f"expected a positive integer, got {spp}")
+    if not 1 <= spp <= MAX_POVRAY_SPP:
+        raise InputError("--spp", f"expected an integer from 1 to {MAX_POVRAY_SPP:,} for POV-Ray, got {spp} "
+                         "(its focal-blur set-up grows faster than the sample count)")
     if threads is not None and int(threads) < 1:
         raise InputError("--threads", f"expected a positive integer, got {threads}")
+    if threads is not None:
+        threads = min(int(threads), os.cpu_count() or 1)
     width, height = scene.camera.width_px, scene.camera.height_px
+    check_render_budget(width, height, spp, source=scene.source)
 
     if model == "thin":
         sampling = ["-A"]  # focal blur samples the pixel area itself
@@ -154,38 +180,24 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
 
     if blur_adaptive is not None and model != "thin":
         raise InputError("blur_adaptive", "POV-Ray's adaptive focal blur needs the thin-lens camera")
-    text = scene_to_pov(scene, model=model, spp=spp, blur_adaptive=blur_adaptive)
-    with tempfile.TemporaryDirectory(prefix="lenscompare-povray-") as folder:
-        work = Path(folder)
-        (work / "scene.pov").write_text(text, encoding="utf-8")
-        command = [povray, "+Iscene.pov", "+Oout.exr", "+FE", "-D", "-V", "+Q9", "-UA",
-                   f"+W{width}", f"+H{height}", *sampling]
-        if threads is not None:
-            command.append(f"+WT{int(threads)}")
-        start = time.perf_counter()
-        try:
-            result = subprocess.run(command, cwd=work, env=_clean_env(folder), capture_output=True, text=True,
-                                    errors="replace", timeout=timeout_s, stdin=subprocess.DEVNULL)
-        except subprocess.TimeoutExpired as error:
-            stderr = error.stderr.decode(errors="replace") if isinstance(error.stderr, bytes) else error.stderr
-            raise ExternalError(f"POV-Ray did not finish within {timeout_s:g} s (command: {shlex.join(command)})"
-                                f"{_tail(stderr or '')}") from None
-        except OSError as error:
-            raise ExternalError(_missing_message(povray, error)) from None
-        wall_seconds = time.perf_counter() - start
-
-        output = work / "out.exr"
-        if result.returncode != 0:
-            raise ExternalError(f"POV-Ray failed (exit status {result.returncode}; command: {shlex.join(command)})"
-                                f"{_tail(result.stderr)}")
-        if not output.is_file():
-            raise ExternalError(f"POV-Ray wrote no image (command: {shlex.join(command)}){_tail(result.stderr)}")
-        try:
-            pixels = read_exr(output).pixels
-        except InputError as error:
-            raise ExternalError(f"POV-Ray's output cannot be read ({error.problem}){_tail(result.stderr)}") from None
+    bound = radiance_bound(scene)
+    # A power of two: exact both ways, so scenes inside half floats' range are untouched.
+    radiance_scale = 2.0 ** -math.ceil(math.log2(bound / HALF_FLOAT_SAFE)) if bound > HALF_FLOAT_SAFE else 1.0
+    text = scene_to_pov(scene, model=model, spp=spp, blur_adaptive=blur_adaptive, radiance_scale=radiance_scale)
+    options = ["+FE", "-D", "-V", "+Q9", "-UA", f"+W{width}", f"+H{height}", *sampling]
+    if threads is not None:
+        options.append(f"+WT{int(threads)}")
+    pixels, result, wall_seconds, command = run_povray(text, options, povray=povray, timeout_s=timeout_s,
+                                                       max_file_bytes=64 * 2**20 + 16 * width * height)
+    if pixels is None:
+        raise ExternalError(f"POV-Ray wrote no image (command: {shlex.join(command)}){_tail(result.stderr)}")
     if pixels.shape != (height, width, 3):
         raise ExternalError(f"POV-Ray wrote a {pixels.shape[1]}x{pixels.shape[0]} image, expected {width}x{height}")
+    if not np.isfinite(pixels).all():
+        raise ExternalError(f"POV-Ray's image of {scene.source} has non-finite pixels (its half-float EXR; radiance "
+                            f"bound {bound:.3g}, exported at scale {radiance_scale:g})")
+    if radiance_scale != 1.0:
+        pixels = pixels / np.float32(radiance_scale)
 
     match = _TRACE_TIME.search(result.stderr)
     seconds = float(match.group(1)) if match else 0.0
@@ -215,7 +227,55 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
                                 "jittered sub-pixel rays"),
         "lenscompare_version": __version__,
     }
+    if radiance_scale != 1.0:
+        metadata["radiance_scale"] = radiance_scale  # what the exported scene was multiplied by
     return Image(pixels.astype("float32", copy=False), metadata, camera=camera.camera)
+
+
+def run_povray(text: str, options: list[str], *, povray: str = "povray", timeout_s: float | None = None,
+               max_file_bytes: int = 2**30):
+    """Run POV-Ray on SDL ``text`` in a private folder, confined to it.
+
+    Returns ``(pixels or None, completed process, wall seconds, command)``:
+    the pixels of ``out.exr`` when POV-Ray wrote one. ``options`` are POV-Ray
+    command-line options beyond input and output.
+
+    Raises
+    ------
+    ExternalError
+        POV-Ray is missing, fails, times out, or its output cannot be read.
+    """
+    with tempfile.TemporaryDirectory(prefix="lenscompare-povray-") as folder:
+        work = Path(folder)
+        (work / "scene.pov").write_text(text, encoding="utf-8")
+        command = [povray, "+Iscene.pov", "+Oout.exr", *options]
+        preexec, pass_fds, _ = confined_writes(work, max_file_bytes=max_file_bytes)
+        start = time.perf_counter()
+        try:
+            result = subprocess.run(command, cwd=work, env=_clean_env(folder), capture_output=True, text=True,
+                                    errors="replace", timeout=timeout_s, stdin=subprocess.DEVNULL,
+                                    preexec_fn=preexec, pass_fds=pass_fds)
+        except subprocess.TimeoutExpired as error:
+            stderr = error.stderr.decode(errors="replace") if isinstance(error.stderr, bytes) else error.stderr
+            raise ExternalError(f"POV-Ray did not finish within {timeout_s:g} s (command: {shlex.join(command)})"
+                                f"{_tail(stderr or '')}") from None
+        except (OSError, subprocess.SubprocessError) as error:
+            raise ExternalError(_missing_message(povray, error)) from None
+        finally:
+            for fd in pass_fds:
+                os.close(fd)
+        wall_seconds = time.perf_counter() - start
+        if result.returncode != 0:
+            raise ExternalError(f"POV-Ray failed (exit status {result.returncode}; command: {shlex.join(command)})"
+                                f"{_tail(result.stderr)}")
+        output = work / "out.exr"
+        if not output.is_file():
+            return None, result, wall_seconds, command
+        try:
+            pixels = read_exr(output).pixels
+        except InputError as error:
+            raise ExternalError(f"POV-Ray's output cannot be read ({error.problem}){_tail(result.stderr)}") from None
+    return pixels, result, wall_seconds, command
 
 
 def _clean_env(home: str) -> dict:

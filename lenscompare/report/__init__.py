@@ -14,13 +14,21 @@ import numpy as np
 import skimage
 
 from .. import __version__, measure
-from ..atomic import atomic_output
+from ..atomic import atomic_output, prepare_output_dir, unique_file_names
 from ..cluster import Cluster
 from ..cost import CostSettings, run_cost_study, time_table_rows
 from ..errors import InputError
-from ..experiment import POVRAY_MODELS, ExperimentSettings, prepare_scene, render_scenes
+from ..experiment import (
+    MITSUBA_MODELS,
+    POVRAY_MODELS,
+    ExperimentSettings,
+    check_renderable,
+    prepare_scene,
+    render_scenes,
+)
 from ..figures import write_teaching_figures
 from ..lenses import load_prescription
+from ..mitsuba import mitsuba_version
 from ..plan import plan_scene
 from ..povray import povray_version
 from ..progress import progress_bar
@@ -37,7 +45,7 @@ DGAUSS_RELATIVE_ILLUMINATION = [(10.0, 0.70), (20.0, 0.29)]
 
 
 def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: ExperimentSettings | None = None, *,
-                 progress: bool | None = None, cluster: Cluster | None = None) -> dict:
+                 progress: bool | None = None, cluster: Cluster | None = None, final: bool = False) -> dict:
     """Render, measure and write the report; return the results dictionary.
 
     Parameters
@@ -45,49 +53,58 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     scenes : list of Scene
     out_dir : path
         Created if missing; ``index.html``, ``results.json``, ``renders/`` and
-        ``plots/`` are written into it (each file atomically).
+        ``plots/`` are written into it (each file atomically), and nothing
+        outside it: scene names become safe file names
+        (:func:`lenscompare.atomic.unique_file_names`).
     settings : ExperimentSettings, optional
         Lens, quick mode, threads, whether to run POV-Ray.
     cluster : Cluster, optional
         Run every render as a task there (:func:`lenscompare.cluster.open_cluster`);
         measurements, plots and pages are made here.
+    final : bool, optional
+        ``index.html`` is the command's last output (see
+        :func:`lenscompare.atomic.atomic_output`).
     """
     settings = settings or ExperimentSettings()
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise InputError("-o", f"{str(out)!r} exists and is not a folder")
-    for sub in ("", "renders", "plots", "figures"):
-        (out / sub).mkdir(parents=True, exist_ok=True)
-
     start = time.perf_counter()
+    # Every input problem surfaces here, before the folder is made or a render starts.
     prepared = [prepare_scene(s, settings) for s in scenes]
-    renders_per_scene = len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
+    for scene, _ in prepared:
+        check_renderable(scene, settings)
+    out = prepare_output_dir(out_dir)
+    for sub in ("renders", "plots", "figures"):
+        (out / sub).mkdir(exist_ok=True)
+    stems = unique_file_names(s.name for s in scenes)
+
+    renders_per_scene = (len(MODELS) + (len(POVRAY_MODELS) if settings.povray else 0)
+                         + (len(MITSUBA_MODELS) if settings.mitsuba else 0))
     results = {"settings": {"lens": settings.lens, "quick": settings.quick, "threads": settings.threads,
-                            "povray": settings.povray, "scheduler": cluster.address if cluster else None},
+                            "povray": settings.povray, "mitsuba": settings.mitsuba,
+                            "scheduler": cluster.address if cluster else None},
                "scenes": {}, "renders": [], "notes": []}
     with progress_bar(renders_per_scene * len(scenes), description="report", unit="render",
                       enabled=progress) as bar:
         rendered = render_scenes([scene for scene, _ in prepared], settings, progress=bar, cluster=cluster)
         for (scene, notes), (runs, render_notes) in zip(prepared, rendered):
-            summaries = save_runs(runs, out)
+            summaries = save_runs(runs, out, stem=stems[scene.name])
             results["scenes"][scene.name] = _measure_scene(scene, runs, summaries, out, notes + render_notes,
-                                                           settings)
+                                                           settings, stem=stems[scene.name])
             results["renders"].extend(summaries)
 
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
-    results["cost"] = _cost_section(scenes, out, settings, cluster)
+    results["cost"] = _cost_section(scenes, out, settings, stems, cluster)
     results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
     with atomic_output(out / "results.json") as tmp:
         tmp.write_text(json.dumps(_finite(results), indent=2, default=_json_default, allow_nan=False))
-    with atomic_output(out / "index.html") as tmp:
+    with atomic_output(out / "index.html", final=final) as tmp:
         tmp.write_text(render_page(results), encoding="utf-8")
     return results
 
 
 def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: list[str],
-                   settings: ExperimentSettings) -> dict:
+                   settings: ExperimentSettings, *, stem: str) -> dict:
     by_label = {r.label: r for r in runs}
     camera = scene.camera
     entry = {"description": scene.description, "notes": notes, "measure": list(scene.measure),
@@ -95,28 +112,32 @@ def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: 
              "rendered": {"lens": camera.lens.name, "f_number": camera.f_number,
                           "focus_distance_m": camera.focus_distance_m, "resolution": list(camera.resolution),
                           "spp": scene.render.spp,
-                          "povray_spp": settings.povray_spp(scene) if settings.povray else None},
+                          "povray_spp": settings.povray_spp(scene) if settings.povray else None,
+                          "mitsuba_spp": settings.mitsuba_spp(scene) if settings.mitsuba else None},
              "renders": summaries}
     entry["plan"] = _plan_against_measured(scene, by_label)
     lens_is_dgauss = scene.camera.lens.sha256 == load_prescription("dgauss.50mm").sha256
     if "blur_disks" in scene.measure:
         entry["blur_disks"] = measure.measure_blur_disks(scene, runs)
         entry["blur_disks"]["plot"] = "plots/" + plots.plot_blur(
-            entry["blur_disks"], out / "plots" / f"{scene.name}.blur.png", title=f"{scene.name}: blur disks")
+            entry["blur_disks"], out / "plots" / f"{stem}.blur.png", title=f"{scene.name}: blur disks")
     if "distortion" in scene.measure:
         entry["distortion"] = measure.measure_distortion(scene, runs)
         entry["distortion"]["plot"] = "plots/" + plots.plot_distortion(
-            entry["distortion"], out / "plots" / f"{scene.name}.distortion.png", title=f"{scene.name}: distortion",
+            entry["distortion"], out / "plots" / f"{stem}.distortion.png", title=f"{scene.name}: distortion",
             published=DGAUSS_DISTORTION if lens_is_dgauss else None)
     if "vignetting" in scene.measure:
         entry["vignetting"] = measure.measure_vignetting(scene, runs)
         entry["vignetting"]["plot"] = "plots/" + plots.plot_vignetting(
-            entry["vignetting"], out / "plots" / f"{scene.name}.vignetting.png",
+            entry["vignetting"], out / "plots" / f"{stem}.vignetting.png",
             title=f"{scene.name}: relative illumination",
             published=DGAUSS_RELATIVE_ILLUMINATION if lens_is_dgauss else None)
     # Similarity: against POV-Ray, and against the full lens system.
     entry["vs_povray"] = {m: measure.compare_images(by_label[f"{m} (POV-Ray)"].image.pixels, by_label[m].image.pixels)
                           for m in POVRAY_MODELS if f"{m} (POV-Ray)" in by_label}
+    entry["vs_mitsuba"] = {m: measure.compare_images(by_label[f"{m} (Mitsuba)"].image.pixels,
+                                                     by_label[m].image.pixels)
+                           for m in MITSUBA_MODELS if f"{m} (Mitsuba)" in by_label}
     entry["vs_lens"] = {m: measure.compare_images(by_label["lens"].image.pixels, by_label[m].image.pixels)
                         for m in ("pinhole", "thin", "thick")}
     return entry
@@ -132,14 +153,16 @@ def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
     return plan
 
 
-def _cost_section(scenes, out: Path, settings: ExperimentSettings, cluster: Cluster | None) -> dict | None:
+def _cost_section(scenes, out: Path, settings: ExperimentSettings, stems: dict[str, str],
+                  cluster: Cluster | None) -> dict | None:
     """A small cost study on the showcase scene (or the first scene)."""
     scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
     if scene is None:
         return None
     cost = CostSettings(quick=True, lens=settings.lens, threads=settings.threads, povray=settings.povray,
                         samplers=("random", "jittered", "sobol"))
-    results = run_cost_study([scene], out / "cost", cost, progress=False, cluster=cluster)
+    results = run_cost_study([scene], out / "cost", cost, progress=False, cluster=cluster,
+                             stems={scene.name: stems[scene.name]})
     return {"index": "cost/index.html", "findings": results["findings"],
             "plot": f"cost/{results['scenes'][scene.name]['plot']}",
             "time_to_1_percent": [list(row) for row in time_table_rows(results)]}
@@ -173,6 +196,11 @@ def _provenance(scenes, prepared, settings) -> dict:
             info["povray"] = povray_version()
         except Exception as error:  # noqa: BLE001 - recorded, not fatal
             info["povray"] = f"unavailable ({error})"
+    if settings.mitsuba:
+        try:
+            info["mitsuba"] = f"Mitsuba {mitsuba_version()} scalar_rgb"
+        except Exception as error:  # noqa: BLE001 - recorded, not fatal
+            info["mitsuba"] = f"unavailable ({error})"
     return info
 
 

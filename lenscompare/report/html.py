@@ -7,12 +7,16 @@ import json
 
 __all__ = ["render_page", "SECTIONS"]
 
+_RENDERER_SUFFIX = {"povray": " · POV-Ray", "mitsuba": " · Mitsuba"}
+_RENDERER_LABEL = {"povray": " (POV-Ray)", "mitsuba": " (Mitsuba)"}
+
 SECTIONS = [
     ("images", "Images, model by model"),
     ("blur", "Blur disks against equation 5"),
     ("distortion", "Distortion"),
     ("vignetting", "Vignetting"),
     ("povray", "Agreement with POV-Ray"),
+    ("mitsuba", "Agreement with Mitsuba 3"),
     ("model-error", "Model error against the full lens system"),
     ("time", "Time per render"),
     ("cost", "What accuracy costs in time"),
@@ -105,11 +109,12 @@ def render_page(results: dict) -> str:
         r = s["rendered"]
         rendered = (f"Rendered through {r['lens']} at f/{r['f_number']:g}, focused at {r['focus_distance_m']:g} m, "
                     f"{r['resolution'][0]}×{r['resolution'][1]} px, {r['spp']} spp"
-                    + (f" (POV-Ray {r['povray_spp']})" if r.get("povray_spp") else "") + ".")
+                    + (f" (POV-Ray {r['povray_spp']})" if r.get("povray_spp") else "")
+                    + (f" (Mitsuba {r['mitsuba_spp']})" if r.get("mitsuba_spp") else "") + ".")
         body.append(f"<h3>{html.escape(name)}</h3><p class='note'>{html.escape(s['description'])}</p>"
                     f"<p class='note'><strong>{html.escape(rendered)}</strong></p><div class='grid'>")
         for r in s["renders"]:
-            label = r["model"] + (" · POV-Ray" if r["renderer"] == "povray" else "")
+            label = r["model"] + _RENDERER_SUFFIX.get(r["renderer"], "")
             body.append(f"<figure><img src='{html.escape(r['png'])}' alt='{html.escape(name)} {html.escape(label)}'>"
                         f"<figcaption>{html.escape(label)} · {r['seconds']:.2f} s</figcaption></figure>")
         body.append("</div>")
@@ -156,7 +161,7 @@ def render_page(results: dict) -> str:
             continue
         body.append(f"<img class='plot' src='{html.escape(v['plot'])}' alt='relative illumination'>")
         rows = [[label, data["f_number"], data["at"].get("10_deg"), data["at"].get("20_deg"),
-                 _traced_at(data, 10.0), _traced_at(data, 20.0)] for label, data in v["renders"].items()]
+                 _traced_at(data, 10.0), _traced_at(data, 20.0)] for label, data in v["renders"].items() if data]
         body.append(_table(["render", "f-number", "RI at 10°", "RI at 20°", "real-ray trace at 10°",
                             "real-ray trace at 20°"], rows))
     parts.append(_section("vignetting", "".join(body) or "<p>No flat-field scene in this report.</p>"))
@@ -168,12 +173,20 @@ def render_page(results: dict) -> str:
                           + _table(["scene", "model", "SSIM", "relative RMSE", "PSNR (dB)", "ΔE00 mean"], rows, 2)))
 
     rows = [[name, model, c["ssim"], c["relative_rmse"], c["psnr_db"], c["ciede2000_mean"]]
+            for name, s in scenes.items() for model, c in s.get("vs_mitsuba", {}).items()]
+    parts.append(_section("mitsuba", "<p class='note'>Native render against Mitsuba 3's render of the same scene "
+                          "(scalar_rgb, exported as by <code>lenscompare export --to mitsuba</code>; Mitsuba is the "
+                          "reference). Scenes whose lights have no inverse-square falloff are not rendered by "
+                          "Mitsuba (see the notes).</p>"
+                          + _table(["scene", "model", "SSIM", "relative RMSE", "PSNR (dB)", "ΔE00 mean"], rows, 2)))
+
+    rows = [[name, model, c["ssim"], c["relative_rmse"], c["psnr_db"], c["ciede2000_mean"]]
             for name, s in scenes.items() for model, c in s.get("vs_lens", {}).items()]
     parts.append(_section("model-error", "<p class='note'>Each cheaper model against the full lens system on the "
                           "same lens (the lens image is film irradiance, so vignetting counts as model error).</p>"
                           + _table(["scene", "model", "SSIM", "relative RMSE", "PSNR (dB)", "ΔE00 mean"], rows, 2)))
 
-    rows = [[r["scene"], r["model"] + (" (POV-Ray)" if r["renderer"] == "povray" else ""), r["spp"], r["seconds"],
+    rows = [[r["scene"], r["model"] + _RENDERER_LABEL.get(r["renderer"], ""), r["spp"], r["seconds"],
              r["samples_per_second"]] for r in results["renders"]]
     parts.append(_section("time", f"<img class='plot' src='{html.escape(results['time_plot'])}' alt='render times'>"
                           + _table(["scene", "render", "spp", "seconds", "samples/s"], rows, 2)))

@@ -3,16 +3,26 @@ relative illumination against field angle, time per render."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..atomic import atomic_output
 
-__all__ = ["plot_blur", "plot_distortion", "plot_vignetting", "plot_times"]
+__all__ = ["plot_blur", "plot_distortion", "plot_vignetting", "plot_times", "plain_text"]
 
 COLOURS = {"pinhole": "#7f7f7f", "thin": "#1f77b4", "thick": "#2ca02c", "lens": "#d62728",
-           "pinhole (POV-Ray)": "#bcbd22", "thin (POV-Ray)": "#17becf"}
+           "pinhole (POV-Ray)": "#bcbd22", "thin (POV-Ray)": "#17becf",
+           "pinhole (Mitsuba)": "#8c564b", "thin (Mitsuba)": "#e377c2"}
+_SUFFIX = {"povray": " (POV-Ray)", "mitsuba": " (Mitsuba)"}
+
+
+def plain_text(text: str) -> str:
+    """A string from an input file (a scene name) as matplotlib shows it
+    literally: ``$`` would start mathematics (and a bad formula raises),
+    control characters become U+FFFD."""
+    return "".join(c if c.isprintable() else "\ufffd" for c in str(text)).replace("$", r"\$")
 
 
 # Drawn at the size the page shows them (100 % zoom): 7 x 4.2 in at 100 dpi is
@@ -33,9 +43,11 @@ def _figure(width=7.0, height=4.2):
 
 
 def _save(plt, fig, path: Path) -> str:
-    fig.tight_layout()
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, format="png")
+    with warnings.catch_warnings():  # a scene name in a script the font lacks: boxes, not stderr noise
+        warnings.filterwarnings("ignore", message="Glyph .* missing")
+        fig.tight_layout()
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png")
     plt.close(fig)
     return path.name
 
@@ -59,7 +71,7 @@ def plot_blur(blur: dict, path: Path, *, title: str) -> str:
     ax.set_xscale("log")
     ax.set_xlabel("depth along the view axis (m)")
     ax.set_ylabel("blur-disk diameter (px)")
-    ax.set_title(title)
+    ax.set_title(plain_text(title))
     ax.legend()
     return _save(plt, fig, path)
 
@@ -75,7 +87,7 @@ def plot_distortion(distortion: dict, path: Path, *, title: str, published=None)
     ax.axhline(0, color="black", lw=0.8)
     ax.set_xlabel("field angle (deg)")
     ax.set_ylabel("radial distortion (%)")
-    ax.set_title(title)
+    ax.set_title(plain_text(title))
     ax.legend()
     return _save(plt, fig, path)
 
@@ -83,6 +95,8 @@ def plot_distortion(distortion: dict, path: Path, *, title: str, published=None)
 def plot_vignetting(vignetting: dict, path: Path, *, title: str, published=None) -> str:
     plt, fig, ax = _figure()
     for label, data in vignetting["renders"].items():
+        if not data:  # the image held no flat field to measure
+            continue
         aperture = f" (f/{data['f_number']:g})" if data.get("f_number") else ""
         ax.plot(data["field_deg"], data["relative_illumination"], "-", color=COLOURS.get(label),
                 label=f"{label}{aperture}, rendered")
@@ -94,16 +108,16 @@ def plot_vignetting(vignetting: dict, path: Path, *, title: str, published=None)
     ax.set_ylim(0, 1.1)
     ax.set_xlabel("field angle (deg)")
     ax.set_ylabel("relative illumination")
-    ax.set_title(title)
+    ax.set_title(plain_text(title))
     ax.legend()
     return _save(plt, fig, path)
 
 
 def plot_times(rows: list[dict], path: Path) -> str:
     plt, fig, ax = _figure(7.0, 0.25 * len(rows) + 1.2)
-    labels = [f"{r['scene']}: {r['model']}" + (" (POV-Ray)" if r["renderer"] == "povray" else "") for r in rows]
+    labels = [plain_text(f"{r['scene']}: {r['model']}" + _SUFFIX.get(r["renderer"], "")) for r in rows]
     ax.barh(labels, [r["seconds"] for r in rows],
-            color=[COLOURS.get(r["model"] + (" (POV-Ray)" if r["renderer"] == "povray" else "")) for r in rows])
+            color=[COLOURS.get(r["model"] + _SUFFIX.get(r["renderer"], "")) for r in rows])
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.set_xlabel("render time (s)")

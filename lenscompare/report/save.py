@@ -12,9 +12,13 @@ from ..image import Image, write_exr, write_png_preview
 __all__ = ["save_runs", "preview_exposure"]
 
 
-def save_runs(runs: list[Run], out_dir: Path) -> list[dict]:
-    """Write ``renders/<scene>.<model>[.povray].exr`` and ``.png`` for every run;
+def save_runs(runs: list[Run], out_dir: Path, *, stem: str) -> list[dict]:
+    """Write ``renders/<stem>.<model>[.povray|.mitsuba].exr`` and ``.png`` for every run;
     return each run's summary (model, renderer, spp, seconds, files, camera).
+
+    ``stem`` is the scene's file name (:func:`lenscompare.atomic.safe_file_name`
+    of its ``name``): a scene name never becomes a path, and every file is
+    refused unless it lies inside ``out_dir``.
 
     All runs of a scene share one preview exposure (the native thin lens's, or
     the first run's), so the previews compare.
@@ -25,10 +29,10 @@ def save_runs(runs: list[Run], out_dir: Path) -> list[dict]:
     exposure = preview_exposure(exposure_from.image)
     summaries = []
     for run in runs:
-        stem = f"{run.scene.name}.{run.model}" + (".povray" if run.renderer == "povray" else "")
-        exr, png = out_dir / "renders" / f"{stem}.exr", out_dir / "renders" / f"{stem}.png"
-        write_exr(exr, run.image)
-        write_png_preview(png, run.image, exposure=exposure)
+        name = f"{stem}.{run.model}" + ("" if run.renderer == "native" else f".{run.renderer}")
+        exr, png = out_dir / "renders" / f"{name}.exr", out_dir / "renders" / f"{name}.png"
+        write_exr(exr, run.image, within=out_dir)
+        write_png_preview(png, run.image, exposure=exposure, within=out_dir)
         m = run.image.metadata
         summaries.append({"scene": run.scene.name, "model": run.model, "renderer": run.renderer, "spp": m.get("spp"),
                           "seconds": m.get("seconds"), "samples_per_second": m.get("samples_per_second"),

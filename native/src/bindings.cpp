@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "aperture.h"
 #include "bindings_arrays.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
@@ -51,7 +52,9 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                   CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
                   CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
                   CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
-                  CArray<const float, -1, 3> light_intensity, const Triple& background) {
+                  CArray<const float, -1, 3> light_intensity, const Triple& background,
+                  CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
+                  CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
     SceneArrays a;
     a.spheres = spheres.data();
     a.sphere_material = sphere_material.data();
@@ -64,7 +67,13 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                                        vecf(&material_emission(i, 0)), vecf(&checker_color(i, 0)), checker_size_m(i)});
     }
     for (size_t i = 0; i < light_position_m.shape(0); ++i)
-        a.lights.push_back(PointLight{vecf(&light_position_m(i, 0)), vecf(&light_intensity(i, 0))});
+        a.lights.push_back(PointLight{vecf(&light_position_m(i, 0)), vecf(&light_intensity(i, 0)),
+                                      light_inverse_square(i) != 0});
+    a.triangle_vertices = triangle_vertices.data();
+    a.n_vertices = int(triangle_vertices.shape(0));
+    a.triangles = triangles.data();
+    a.triangle_material = triangle_material.data();
+    a.n_triangles = int(triangles.shape(0));
     a.background = Vec3f(vec(background));
     return a;
 }
@@ -181,15 +190,19 @@ NB_MODULE(_native, m) {
                 CArray<const int32_t, -1> material_kind, CArray<const float, -1, 3> material_color,
                 CArray<const float, -1, 3> material_emission, CArray<const float, -1, 3> checker_color,
                 CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
-                CArray<const float, -1, 3> light_intensity, const Triple& background) {
-                 // Scene copies what it needs: the arrays may go once this returns.
+                CArray<const float, -1, 3> light_intensity, const Triple& background,
+                CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
+                CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
+                 // Python has checked the shapes and indices (native_scene.py); the arrays are
+                 // copied, so they may go once this returns.
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
-                                               light_position_m, light_intensity, background));
+                                               light_position_m, light_intensity, background, light_inverse_square,
+                                               triangle_vertices, triangles, triangle_material));
              },
              "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
              "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
-             "background"_a);
+             "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a);
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",
@@ -205,13 +218,16 @@ NB_MODULE(_native, m) {
         .def("__init__",
              [](ThinLensCamera* self, const Triple& origin, const Triple& right, const Triple& up,
                 const Triple& forward, int width_px, int height_px, double screen_half_width,
-                double screen_half_height, double lens_radius_m, double focus_distance_m, int disk_mapping) {
+                double screen_half_height, double lens_radius_m, double focus_distance_m, int disk_mapping,
+                int aperture_blades, double aperture_rotation_deg) {
                  new (self) ThinLensCamera{make_frame(origin, right, up, forward),
                                            make_film(width_px, height_px, screen_half_width, screen_half_height),
-                                           lens_radius_m, focus_distance_m, DiskMapping(disk_mapping)};
+                                           lens_radius_m, focus_distance_m, DiskMapping(disk_mapping),
+                                           ApertureShape::of(aperture_blades, aperture_rotation_deg)};
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
-             "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a);
+             "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a,
+             "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0);
 
     nb::class_<ThickLensCamera>(m, "ThickLensCamera",
                                 "Thick lens: in object space the thin lens at its front principal plane H.")
@@ -229,7 +245,7 @@ NB_MODULE(_native, m) {
                 CArray<const double, -1> curvature_per_mm, CArray<const double, -1> vertex_z_mm,
                 CArray<const double, -1> semi_aperture_mm, CArray<const double, -1> n_scene_side,
                 CArray<const double, -1> n_film_side, CArray<const bool, -1> is_stop, int stop_index,
-                double film_z_mm, double entrance_pupil_z_mm) {
+                double film_z_mm, double entrance_pupil_z_mm, int aperture_blades, double aperture_rotation_deg) {
                  std::vector<LensElement> elements;
                  for (size_t i = 0; i < curvature_per_mm.shape(0); ++i)
                      elements.push_back(LensElement{curvature_per_mm(i), vertex_z_mm(i), semi_aperture_mm(i),
@@ -237,7 +253,11 @@ NB_MODULE(_native, m) {
                  if (elements.empty()) throw std::invalid_argument("a lens system needs surfaces");
                  if (stop_index < 0 || size_t(stop_index) >= elements.size())
                      throw std::invalid_argument("stop_index out of range");
-                 auto pupil = std::make_shared<const ExitPupil>(elements, stop_index, film_z_mm,
+                 set_polygon_stop(&elements[size_t(stop_index)], aperture_blades, aperture_rotation_deg);
+                 // The pupil polygons assume a round stop (rotational symmetry): built
+                 // through the bladed stop's circumscribed circle, they hold every
+                 // ray the polygon passes, and the trace then tests the blades.
+                 auto pupil = std::make_shared<const ExitPupil>(without_blades(elements), stop_index, film_z_mm,
                                                                 film_corner_radius_mm(film_width_mm, film_height_mm));
                  new (self) LensSystemCamera{make_frame(origin, right, up, forward), std::move(elements), film_z_mm,
                                              entrance_pupil_z_mm, film_width_mm, film_height_mm, width_px,
@@ -247,7 +267,7 @@ NB_MODULE(_native, m) {
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a,
-             nb::call_guard<nb::gil_scoped_release>())
+             "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0, nb::call_guard<nb::gil_scoped_release>())
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
                      "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 

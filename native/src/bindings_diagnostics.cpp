@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "aperture.h"
 #include "bindings_arrays.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
@@ -51,6 +52,14 @@ void bind_samplers(nb::module_& m) {
               }
           },
           "u"_a, "mapping"_a, "out"_a, "Maps unit-square points u to the unit disk into out.");
+
+    m.def("map_to_aperture",
+          [](CArray<const float, -1, 2> u, int mapping, int blades, double rotation_deg, CArray<double, -1, 2> out) {
+              const ApertureShape shape = ApertureShape::of(blades, rotation_deg);
+              for (size_t i = 0; i < u.shape(0); ++i) shape.sample({u(i, 0), u(i, 1)}, DiskMapping(mapping), &out(i, 0), &out(i, 1));
+          },
+          "u"_a, "mapping"_a, "blades"_a, "rotation_deg"_a, "out"_a,
+          "Maps unit-square points u to the aperture (circle of radius 1, or the N-gon of its area) into out.");
 }
 
 void bind_lens(nb::module_& m) {

@@ -115,26 +115,22 @@ void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, i
     }
 }
 
-Point2f map_to_disk(Point2f u, DiskMapping mapping) {
+PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping) {
     constexpr float kPi = 3.14159265358979323846f;
     if (mapping == DiskMapping::Polar) {
         // r = sqrt(u) makes the density uniform in area.
-        float r = std::sqrt(u.x);
-        float phi = 2.0f * kPi * u.y;
-        return {r * std::cos(phi), r * std::sin(phi)};
+        return {std::sqrt(u.x), 2.0f * kPi * u.y};
     }
     // Shirley & Chiu 1997 concentric mapping: squares to circles, keeps strata compact.
     float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
-    float r, theta;
-    if (std::fabs(ox) > std::fabs(oy)) {
-        r = ox;
-        theta = (kPi / 4.0f) * (oy / ox);
-    } else {
-        r = oy;
-        theta = (kPi / 2.0f) - (kPi / 4.0f) * (ox / oy);
-    }
-    return {r * std::cos(theta), r * std::sin(theta)};
+    if (std::fabs(ox) > std::fabs(oy)) return {ox, (kPi / 4.0f) * (oy / ox)};
+    return {oy, (kPi / 2.0f) - (kPi / 4.0f) * (ox / oy)};
+}
+
+Point2f map_to_disk(Point2f u, DiskMapping mapping) {
+    PolarDiskPoint p = map_to_disk_polar(u, mapping);
+    return {p.r * std::cos(p.theta), p.r * std::sin(p.theta)};
 }
 
 }  // namespace lc

@@ -57,6 +57,14 @@ void jittered_strata(int spp, int* nx, int* ny);
 // Unit-square sample -> point in the unit disk, area-preserving.
 Point2f map_to_disk(Point2f u, DiskMapping mapping);
 
+// The same point as (r cos theta, r sin theta) before the last step; r may be
+// negative (the concentric map's left and lower halves). For shaped
+// apertures (aperture.h), which map theta onto a polygon.
+struct PolarDiskPoint {
+    float r, theta;
+};
+PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping);
+
 // One function per sampler defined in its own file; each fills one pixel.
 void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens);

@@ -84,6 +84,19 @@ Scene::Scene(const SceneArrays& a)
         rtcReleaseGeometry(g);
         quad_material_.assign(a.quad_material, a.quad_material + a.n_quads);
     }
+    if (a.n_triangles > 0) {
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), size_t(a.n_vertices)));
+        std::copy(a.triangle_vertices, a.triangle_vertices + 3 * size_t(a.n_vertices), v);
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), size_t(a.n_triangles)));
+        std::copy(a.triangles, a.triangles + 3 * size_t(a.n_triangles), idx);
+        rtcCommitGeometry(g);
+        triangle_geom_id_ = rtcAttachGeometry(scene_, g);
+        rtcReleaseGeometry(g);
+        triangle_material_.assign(a.triangle_material, a.triangle_material + a.n_triangles);
+    }
     rtcCommitScene(scene_);
     throw_on_device_error(device_, "building the scene");
 }
@@ -94,7 +107,9 @@ Scene::~Scene() {
 }
 
 const Material& Scene::material_of(unsigned geom_id, unsigned prim_id) const {
-    int index = geom_id == sphere_geom_id_ ? sphere_material_[prim_id] : quad_material_[prim_id];
+    int index = geom_id == sphere_geom_id_     ? sphere_material_[prim_id]
+                : geom_id == triangle_geom_id_ ? triangle_material_[prim_id]
+                                               : quad_material_[prim_id];
     return materials_[size_t(index)];
 }
 
@@ -149,13 +164,16 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         alignas(32) int shadow_valid[kPacketSize];
         alignas(32) RTCRay8 shadow;
         float cos_theta[kPacketSize] = {};
+        float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
         bool any = false;
         for (int i = 0; i < kPacketSize; ++i) {
             shadow_valid[i] = 0;
             if (i >= rays.count || !diffuse[i]) continue;
             Vec3f to_light = light.position_m - p[i];
-            cos_theta[i] = dot(n[i], to_light) / length(to_light);
+            float to_light_m = length(to_light);
+            cos_theta[i] = dot(n[i], to_light) / to_light_m;
             if (!(cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
+            falloff[i] = light.inverse_square ? 1.0f / (to_light_m * to_light_m) : 1.0f;
             Vec3f from = p[i] + n[i] * surface_offset(p[i]);
             Vec3f d = light.position_m - from;
             float dist = length(d);
@@ -173,7 +191,8 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         if (!any) continue;
         rtcOccluded8(shadow_valid, scene_, &context, &shadow);
         for (int i = 0; i < rays.count; ++i)
-            if (shadow_valid[i] && shadow.tfar[i] != -kInf) out[i] += albedo[i] * light.intensity * cos_theta[i];
+            if (shadow_valid[i] && shadow.tfar[i] != -kInf)
+                out[i] += albedo[i] * light.intensity * (cos_theta[i] * falloff[i]);
     }
 }
 

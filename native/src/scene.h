@@ -1,6 +1,7 @@
 // The scene as Embree sees it, plus the shading the contract fixes: emissive
-// surfaces, Lambert diffuse lit by point lights with hard shadows and no
-// distance falloff (POV-Ray's default), background colour for misses.
+// surfaces, Lambert diffuse lit by point lights with hard shadows and, per
+// light, no distance falloff (POV-Ray's default) or inverse-square falloff
+// (Mitsuba's and pbrt's point light), background colour for misses.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -32,7 +33,8 @@ struct RayBatch {
 
 struct PointLight {
     Vec3f position_m;
-    Vec3f intensity;  // radiant intensity, no falloff
+    Vec3f intensity;             // radiant intensity
+    bool inverse_square = false;  // divide by the squared distance (m^2) to the lit point
 };
 
 // Flat arrays in the layout Python hands over (C-contiguous float32/int32).
@@ -43,6 +45,11 @@ struct SceneArrays {
     const float* quads = nullptr;    // n_quads x 4 corners x 3 (m), corners in order round the quad
     const int32_t* quad_material = nullptr;
     int n_quads = 0;
+    const float* triangle_vertices = nullptr;  // n_vertices x 3 (m): the meshes' vertices, all meshes in one
+    int n_vertices = 0;
+    const int32_t* triangles = nullptr;        // n_triangles x 3 vertex indices
+    const int32_t* triangle_material = nullptr;
+    int n_triangles = 0;
     std::vector<Material> materials;
     std::vector<PointLight> lights;
     Vec3f background;
@@ -72,7 +79,8 @@ class Scene {
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     unsigned sphere_geom_id_ = RTC_INVALID_GEOMETRY_ID;
-    std::vector<int32_t> sphere_material_, quad_material_;
+    unsigned triangle_geom_id_ = RTC_INVALID_GEOMETRY_ID;
+    std::vector<int32_t> sphere_material_, quad_material_, triangle_material_;
     std::vector<Material> materials_;
     std::vector<PointLight> lights_;
     Vec3f background_;

@@ -24,6 +24,12 @@ inline double film_corner_radius_mm(double film_width_mm, double film_height_mm)
     return 0.5 * std::hypot(film_width_mm, film_height_mm);
 }
 
+// The elements with every bladed stop made round again (its circumscribed circle).
+inline std::vector<LensElement> without_blades(std::vector<LensElement> elements) {
+    for (LensElement& e : elements) e.blades = 0;
+    return elements;
+}
+
 static_assert(kLensBatch == kCameraBatch, "generate_rays takes the render loop's whole camera batch");
 
 struct LensSystemCamera {

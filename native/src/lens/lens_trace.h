@@ -8,9 +8,11 @@
 // reflection or a ray that turns back toward the film all block the ray.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <vector>
 
+#include "aperture.h"
 #include "vec.h"
 
 namespace lc {
@@ -22,7 +24,39 @@ struct LensElement {
     double n_scene_side;      // index of the medium in front (scene side)
     double n_film_side;       // index of the medium behind (film side)
     bool is_stop;
+    // An N-blade stop (set_polygon_stop): the hit point must also lie within
+    // every edge, p . normal_k <= apothem; semi_aperture_mm is then the
+    // polygon's circumradius, so the circle test lets every such point by.
+    int blades = 0;
+    double apothem_mm = 0.0;
+    std::array<double, kMaxApertureBlades> edge_normal_x{}, edge_normal_y{};
 };
+
+// Makes e a regular N-blade stop of the area of its circle (aperture.h's
+// orientation: a vertex on +y at rotation 0, counter-clockwise; the lens
+// frame's x and y are the camera's).
+inline void set_polygon_stop(LensElement* e, int blades, double rotation_deg) {
+    const ApertureShape shape = ApertureShape::of(blades, rotation_deg);
+    if (shape.blades == 0) return;
+    constexpr double kPi = 3.14159265358979323846;
+    const double circumradius = e->semi_aperture_mm * polygon_circumradius_same_area(blades);
+    e->blades = blades;
+    e->apothem_mm = circumradius * std::cos(kPi / blades);
+    for (int k = 0; k < blades; ++k) {
+        // Edge k, from vertex k to k + 1: its outward normal halfway between them.
+        const double angle = shape.first_vertex_rad + kPi * (2 * k + 1) / blades;
+        e->edge_normal_x[size_t(k)] = std::cos(angle);
+        e->edge_normal_y[size_t(k)] = std::sin(angle);
+    }
+    e->semi_aperture_mm = circumradius;
+}
+
+// Within the polygon of a bladed stop (true for any other surface).
+inline bool inside_blades(const LensElement& e, double x, double y) {
+    for (int k = 0; k < e.blades; ++k)
+        if (x * e.edge_normal_x[size_t(k)] + y * e.edge_normal_y[size_t(k)] > e.apothem_mm) return false;
+    return true;
+}
 
 struct LensRay {
     Vec3d origin_mm;
@@ -112,6 +146,7 @@ inline bool cross_toward_scene(const LensElement& e, LensRay* ray, bool test_ape
     if (!intersect_surface(e, *ray, &t)) return false;
     Vec3d p = ray->origin_mm + ray->direction * t;
     if (test_aperture && p.x * p.x + p.y * p.y > e.semi_aperture_mm * e.semi_aperture_mm) return false;
+    if (test_aperture && !inside_blades(e, p.x, p.y)) return false;
     ray->origin_mm = p;
     if (e.is_stop || e.n_scene_side == e.n_film_side) return true;
     Vec3d refracted;
@@ -182,6 +217,10 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
     for (int i = 0; i < kLensBatch; ++i) {
         px[i] = b->ox[i] + b->dx[i] * t[i], py[i] = b->oy[i] + b->dy[i] * t[i], pz[i] = b->oz[i] + b->dz[i] * t[i];
         ok[i] = ok[i] & !(px[i] * px[i] + py[i] * py[i] > semi2);
+    }
+    for (int k = 0; k < e.blades; ++k) {
+        const double nx = e.edge_normal_x[size_t(k)], ny = e.edge_normal_y[size_t(k)], a = e.apothem_mm;
+        for (int i = 0; i < kLensBatch; ++i) ok[i] = ok[i] & !(px[i] * nx + py[i] * ny > a);
     }
     double nx[kLensBatch], ny[kLensBatch], nz[kLensBatch];
     if (e.is_stop || e.n_scene_side == e.n_film_side) {

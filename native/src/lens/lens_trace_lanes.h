@@ -56,6 +56,9 @@ inline void cross_toward_scene_lanes(const LensElement& e, LaneGroup<D, M>* l) {
     // Hit point and aperture test
     const D px = l->ox + l->dx * t, py = l->oy + l->dy * t, pz = l->oz + l->dz * t;
     ok = ok & not_greater(px * px + py * py, D(e.semi_aperture_mm * e.semi_aperture_mm));
+    for (int k = 0; k < e.blades; ++k)
+        ok = ok & not_greater(px * D(e.edge_normal_x[size_t(k)]) + py * D(e.edge_normal_y[size_t(k)]),
+                              D(e.apothem_mm));
     D nx = l->dx, ny = l->dy, nz = l->dz;
     if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
         const double eta_scalar = e.n_film_side / e.n_scene_side;
