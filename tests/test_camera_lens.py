@@ -15,7 +15,12 @@ import pytest
 from lenscompare import _native
 from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
-from lenscompare.lenses import chief_ray_distortion_percent, chief_ray_film_height_mm, load_prescription
+from lenscompare.lenses import (
+    chief_ray_distortion_percent,
+    chief_ray_film_height_mm,
+    load_prescription,
+    relative_illumination,
+)
 from lenscompare.metrics import find_point_sources, relative_illumination_at
 from lenscompare.render import render
 from lenscompare.scene import parse_scene
@@ -125,6 +130,24 @@ def test_double_gauss_relative_illumination_from_a_rendered_flat_field():
         measured = relative_illumination_at(image.pixels, radius_px, n_bins=44)
         print(f"RI at {angle_deg} deg: {measured:.4f} (optiland about {expected})")
         assert measured == pytest.approx(expected, abs=0.03)
+
+
+@pytest.mark.parametrize("f_number", [8.0, 11.0])
+def test_wide_angle_stopped_down_is_lit_beyond_24_degrees(f_number):
+    """The sweep's fault: at f/8 and f/11 the wide-angle lens rendered black (or a
+    third too dark) beyond 24 deg, because the exit-pupil anchor's secant could
+    not start there. Rendered relative illumination against the real-ray trace."""
+    scene = lens_scene("wide.22mm", f_number=f_number, focus_distance=1e6, resolution=(180, 120), spp=64,
+                       background=1.0)
+    image = render(scene, threads=2)
+    prescription = load_prescription("wide.22mm")
+    pitch_mm = 36.0 / 180
+    for angle_deg in (20.0, 24.0, 25.0, 27.0):
+        radius_px = abs(chief_ray_film_height_mm(prescription, angle_deg, focus_distance_m=1e6)) / pitch_mm
+        measured = relative_illumination_at(image.pixels, radius_px, n_bins=60)
+        traced = relative_illumination(prescription, angle_deg, f_number=f_number)
+        print(f"f/{f_number:g} {angle_deg} deg: rendered {measured:.3f}, traced {traced:.3f}")
+        assert measured == pytest.approx(traced, abs=0.03)
 
 
 def test_double_gauss_distortion_from_a_rendered_dot_grid():

@@ -57,10 +57,9 @@ struct PupilGeometry {
     }
 };
 
-// Where the chief ray (through the stop centre) from film_x crosses the
-// sampling plane, by the secant method; false when it cannot be found. It
-// finds the pupil even when the stop is so small that a scan misses it.
-bool chief_ray_plane_x(const PupilGeometry& g, double film_x, double scale_mm, double* plane_x) {
+// The secant method from the axis: quick, and enough wherever the rays
+// aimed near the axis reach the stop.
+bool chief_ray_by_secant(const PupilGeometry& g, double film_x, double scale_mm, double* plane_x) {
     double x0 = 0.0, x1 = 0.1 * scale_mm, h0, h1;
     if (!g.stop_height(film_x, x0, &h0) || !g.stop_height(film_x, x1, &h1)) return false;
     for (int i = 0; i < 50 && std::fabs(h1) > 1e-12 * scale_mm; ++i) {
@@ -71,6 +70,48 @@ bool chief_ray_plane_x(const PupilGeometry& g, double film_x, double scale_mm, d
     }
     *plane_x = x1;
     return std::fabs(h1) <= 1e-6 * scale_mm;
+}
+
+// A scan of the plane for a sign change of the stop height between two rays
+// that both reach the stop, then bisection. Needed far off the axis of a lens
+// with a steeply curved rear group: there the ray aimed at the axis misses a
+// surface's sphere altogether and the secant never starts (the wide-angle lens
+// rendered black beyond 24 degrees at f/11 before this).
+bool chief_ray_by_bracket(const PupilGeometry& g, double film_x, double scale_mm, double* plane_x) {
+    constexpr int kCells = 512;
+    double x_prev = 0.0, h_prev = 0.0;
+    bool have_prev = false;
+    for (int i = 0; i <= kCells; ++i) {
+        double x = -2.0 * scale_mm + 4.0 * scale_mm * i / kCells, h;
+        if (!g.stop_height(film_x, x, &h)) {
+            have_prev = false;
+            continue;
+        }
+        if (have_prev && (h_prev < 0.0) != (h < 0.0)) {
+            double lo = x_prev, h_lo = h_prev, hi = x;
+            bool bracket_holds = true;
+            for (int k = 0; k < 60 && bracket_holds; ++k) {
+                double mid = 0.5 * (lo + hi), h_mid;
+                if (!g.stop_height(film_x, mid, &h_mid)) bracket_holds = false;
+                else if ((h_mid < 0.0) == (h_lo < 0.0)) lo = mid, h_lo = h_mid;
+                else hi = mid;
+            }
+            double h_at;
+            if (bracket_holds && g.stop_height(film_x, 0.5 * (lo + hi), &h_at) && std::fabs(h_at) <= 1e-6 * scale_mm) {
+                *plane_x = 0.5 * (lo + hi);
+                return true;
+            }
+        }
+        x_prev = x, h_prev = h, have_prev = true;
+    }
+    return false;
+}
+
+// Where the chief ray (through the stop centre) from film_x crosses the
+// sampling plane; false when it cannot be found. It finds the pupil even when
+// the stop is so small that a scan misses it.
+bool chief_ray_plane_x(const PupilGeometry& g, double film_x, double scale_mm, double* plane_x) {
+    return chief_ray_by_secant(g, film_x, scale_mm, plane_x) || chief_ray_by_bracket(g, film_x, scale_mm, plane_x);
 }
 
 // Largest distance from (cx, 0) along angle psi at which light from film_x
