@@ -37,7 +37,7 @@ MAX_FIELD_DEG = 80.0
 # Field angles traced for each map (the maps are smooth; the tables then
 # resample them evenly in film radius).
 _DISTORTION_ANGLES = 65
-_ILLUMINATION_ANGLES = 25
+_ILLUMINATION_ANGLES = 17
 _ILLUMINATION_GRID = 160  # rays across the beam (error about 1 / 160)
 
 _CACHE: dict[tuple, "RadialMaps"] = {}
