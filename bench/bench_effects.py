@@ -28,7 +28,7 @@ from lenscompare.render import render
 from lenscompare.scene import load_scene
 
 SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
-SPP_VALUES = (1, 2, 4, 8, 16, 32, 64, 128, 256)
+SPP_VALUES = (1, 2, 4, 8, 16, 32, 64, 128, 256, 512)
 TARGET = 0.01
 
 
