@@ -65,7 +65,8 @@ def test_maps_are_finite_one_on_the_axis_monotonic_and_memoised():
     assert maps is radial_maps(camera.prescription, **kwargs)
     assert maps.illumination[0] == 1.0 and maps.screen_scale[0] == 1.0 and maps.covers_film
     assert np.all(np.diff(maps.field_tangent) > 0) and np.isfinite(maps.screen_scale).all()
-    # The Double Gauss at f/8: a little pincushion (1-2 %) and a 15-25 % corner falloff.
+    # The Double Gauss at f/8: barrel distortion (the film corner looks 1-2 % further out) and a
+    # 15-25 % corner falloff.
     assert 1.005 < maps.screen_scale[-1] < 1.03 and 0.7 < maps.illumination[-1] < 0.9
 
 
