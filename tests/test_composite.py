@@ -86,7 +86,8 @@ def flat_field(lens, f_number):
                                                                          resolution=(120, 80))
 
 
-@pytest.mark.parametrize("lens, f_number", [("dgauss.50mm", 8.0), ("dgauss.50mm", 2.8), ("wide.22mm", 5.6)])
+@pytest.mark.parametrize("lens, f_number", [("dgauss.50mm", 8.0), ("dgauss.50mm", 2.8), ("wide.22mm", 5.6),
+                                            ("fisheye.10mm", 5.6)])
 def test_vignetting_matches_the_lens_system_within_the_tolerance(lens, f_number):
     scene = flat_field(lens, f_number)
     plan = plan_scene(scene, measure_costs=False)

@@ -6,8 +6,11 @@ Two tables over film radius, evenly spaced from the axis to the film corner:
   pupil) whose real chief ray lands at that film radius, with the film at the
   camera's focus (:func:`.analysis.chief_ray_film_height_mm`);
 - the *illumination map*: the relative illumination at that film radius
-  (:func:`.analysis.relative_illumination`: pupil area, cos factors and
-  mechanical vignetting; 1 on the axis).
+  (the formula of :func:`.analysis.relative_illumination`: pupil area, cos
+  factors and mechanical vignetting; 1 on the axis), with each beam's
+  passing area counted on a grid over the entrance pupil rather than over the
+  whole front element, so that a small pupil behind a large front element (a
+  stopped-down fisheye) is still resolved by thousands of rays.
 
 A composite render (:mod:`lenscompare.cameras.composite`) reads them instead
 of tracing every ray through the lens. Beyond ``max_radius_mm`` (the image
@@ -24,9 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .analysis import chief_ray_film_height_mm, image_circle_radius_mm, relative_illumination
+from .analysis import _chief_ray, chief_ray_film_height_mm, image_circle_radius_mm
+from .focus import front_most_z_mm
 from .paraxial import paraxial_data
 from .prescription import Prescription
+from .trace import trace_from_scene
 
 __all__ = ["RadialMaps", "radial_maps", "MAX_FIELD_DEG"]
 
@@ -37,8 +42,8 @@ MAX_FIELD_DEG = 80.0
 # Field angles traced for each map (the maps are smooth; the tables then
 # resample them evenly in film radius).
 _DISTORTION_ANGLES = 65
-_ILLUMINATION_ANGLES = 17
-_ILLUMINATION_GRID = 160  # rays across the beam (error about 1 / 160)
+_ILLUMINATION_ANGLES = 33
+_PUPIL_GRID = 128  # rays across the window round the entrance pupil
 
 _CACHE: dict[tuple, "RadialMaps"] = {}
 
@@ -150,12 +155,51 @@ def _chief_ray_heights_mm(prescription: Prescription, angles_deg: np.ndarray, fo
     return np.array(heights)
 
 
-def _relative_illumination(prescription: Prescription, angle_deg: float) -> float:
-    """Relative illumination at an angle; 0 where its chief ray (object at infinity) fails."""
+def _passing_area_mm2(prescription: Prescription, theta: float) -> float:
+    """Area (mm^2, perpendicular to the axis) of the parallel beam at theta that
+    passes every aperture, counted on a square grid round the real chief ray's
+    crossing of the first vertex plane (a wide-angle lens's pupil moves far
+    from the paraxial one); the window grows until no passing ray touches its
+    border."""
+    data = paraxial_data(prescription)
+    centre_mm = 0.0
+    if theta > 0.0:
+        origin, chief = _chief_ray(prescription, theta, math.inf)  # InputError when there is none
+        centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
+    half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
+    limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
+    direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
+    start_z = front_most_z_mm(prescription) - 1.0
+    while True:
+        cells = (np.arange(_PUPIL_GRID) + 0.5) / _PUPIL_GRID * 2.0 * half_mm - half_mm
+        x, y = np.meshgrid(cells, cells + centre_mm)
+        points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+        passed = trace_from_scene(prescription, points - direction * (-start_z / direction[2]),
+                                  direction).passed.reshape(x.shape)
+        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
+        if not border or half_mm > limit_mm:
+            return float(np.count_nonzero(passed)) * (2.0 * half_mm / _PUPIL_GRID) ** 2
+        half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
+
+
+def _relative_illumination(prescription: Prescription, angle_deg: float, on_axis_mm2: float) -> float:
+    """RI(theta) = [A(theta) cos(theta) sin(theta) / (y dy/dtheta)] / [A(0) / f^2], as
+    :func:`.analysis.relative_illumination` defines it (y the real chief-ray film
+    height, object at infinity); 0 where the chief ray fails."""
+    if angle_deg == 0.0:
+        return 1.0
+    theta, step = math.radians(angle_deg), 1e-5
     try:
-        return relative_illumination(prescription, angle_deg, samples_across=_ILLUMINATION_GRID)
+        heights = [abs(chief_ray_film_height_mm(prescription, math.degrees(t))) for t in (theta - step, theta,
+                                                                                          theta + step)]
+        area = _passing_area_mm2(prescription, theta)
     except InputError:
         return 0.0
+    film_area_per_solid_angle = heights[1] * (heights[2] - heights[0]) / (2.0 * step) / math.sin(theta)
+    focal_length = paraxial_data(prescription).effective_focal_length_mm
+    if not (film_area_per_solid_angle > 0.0 and on_axis_mm2 > 0.0):
+        return 0.0
+    return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis_mm2 / focal_length ** 2)
 
 
 def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float, focus_distance_m: float,
@@ -186,7 +230,8 @@ def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_
     # Illumination: traced at fewer angles, over the reach of the chief rays.
     ri_angles = np.linspace(0.0, angles[-1], _ILLUMINATION_ANGLES)
     ri_heights = np.interp(ri_angles, angles, heights)
-    ri = np.array([_relative_illumination(prescription, float(a)) for a in ri_angles])
+    on_axis = _passing_area_mm2(prescription, 0.0)
+    ri = np.array([_relative_illumination(prescription, float(a), on_axis) for a in ri_angles])
     illumination = np.interp(radius, ri_heights, ri)
     max_radius = min(circle_mm, reached_mm)
     illumination[radius > max_radius] = 0.0
