@@ -124,7 +124,24 @@ class LensSystemCamera:
     def inverse_centre_irradiance(self) -> float:
         """The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre."""
 
-Camera: TypeAlias = PinholeCamera | ThinLensCamera | ThickLensCamera | LensSystemCamera
+class CompositeCamera:
+    """Composite: a thin lens at the entrance pupil with radial distortion and illumination tables traced
+    once through a lens system."""
+
+    def __init__(
+        self,
+        lens: ThinLensCamera,  # at the entrance pupil, screen extent from the paraxial image scale; radius 0: pinhole
+        film_width_mm: float,
+        film_height_mm: float,
+        # Tables at film radii 0, step, 2 step, ... mm, read with linear interpolation (empty: none):
+        screen_scale: numpy.ndarray,  # float64 (k,): real chief-ray tangent over the paraxial one (distortion)
+        illumination: numpy.ndarray,  # float64 (k,): relative illumination, the ray weight (vignetting)
+        radius_step_mm: float,
+        max_radius_mm: float,  # no ray beyond this film radius (math.inf: none)
+    ) -> None:
+        """With both tables empty and max_radius_mm infinite, the thin lens bit for bit."""
+
+Camera: TypeAlias = PinholeCamera | ThinLensCamera | ThickLensCamera | LensSystemCamera | CompositeCamera
 
 def render_rows(
     scene: Scene,

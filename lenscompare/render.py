@@ -25,6 +25,9 @@ from .native_scene import build_native_scene
 from .progress import progress_bar
 from .scene import MODELS, SAMPLERS, Scene
 
+# Beyond the scene file's models: the composite of chosen effects (cameras/composite.py).
+RENDER_MODELS = MODELS + ("composite",)
+
 __all__ = ["render", "SAMPLER_CODES"]
 
 SAMPLER_CODES = {"random": _native.SAMPLER_RANDOM, "jittered": _native.SAMPLER_JITTERED,
@@ -39,16 +42,22 @@ _BAND_SAMPLES = 2_000_000
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
-           camera: CameraModel | None = None) -> Image:
+           camera: CameraModel | None = None, effects=None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
     ----------
     scene : Scene
         A loaded scene (:func:`lenscompare.scene.load_scene`).
-    model : {'pinhole', 'thin', 'thick', 'lens'}, optional
-        Camera model; default the scene's ``camera.model``. (``--model auto``
-        is the planner's: :func:`lenscompare.plan.render_planned`.)
+    model : {'pinhole', 'thin', 'thick', 'lens', 'composite'}, optional
+        Camera model; default the scene's ``camera.model``, or ``composite``
+        when the scene has ``[render] effects``. (``--model auto`` is the
+        planner's: :func:`lenscompare.plan.render_planned`.)
+    effects : sequence of str, optional
+        Render exactly these effects with a composite of cheap parts
+        (:class:`lenscompare.cameras.CompositeCamera`; ``--effects``);
+        ``diffraction`` among them turns the post-filter on. Default: the
+        scene's ``[render] effects`` when it has them and no model is given.
     spp, sampler, seed, adaptive : optional
         Override the scene's ``[render]`` settings. With ``adaptive``, ``spp``
         is the mean over the image: a first pass measures each pixel's noise
@@ -74,8 +83,15 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         metadata: model, spp, sampler, seed, seconds, samples_per_second,
         threads, and the camera's derived quantities.
     """
+    if camera is None and effects is not None:
+        if model not in (None, "composite"):
+            raise InputError("--effects", f"renders a composite of those effects; --model {model} cannot be "
+                             "given with it")
+        model = "composite"
+    if camera is None and model is None and scene.render.effects is not None:
+        model = "composite"
     model = camera.model if camera is not None else (model or scene.camera.model)
-    if model not in MODELS:
+    if model not in RENDER_MODELS:
         raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
     settings = scene.render
@@ -93,7 +109,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     # Before anything is allocated: too many samples, or more memory than the machine has.
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
-    camera = camera or camera_for(scene, model)
+    camera = camera or camera_for(scene, model, effects=effects)
+    if "diffraction" in getattr(camera, "effects", ()) and diffraction is None:  # the post-filter part
+        scene = scene.with_render(diffraction=True)
+        settings = scene.render
     # Before the render: a scene that cannot diffract is refused at once.
     aperture = diffraction_aperture(scene, camera) if settings.diffraction else None
     native_camera = camera.native(disk_mapping=settings.disk_mapping)
@@ -136,6 +155,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     }
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
+    if model == "composite":
+        metadata["effects"] = list(camera.effects)
     if aperture is not None:
         pixels, variance, metadata["diffraction"] = diffract(pixels, variance, aperture)
     return Image(pixels, metadata, camera=camera, variance=variance)

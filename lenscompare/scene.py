@@ -40,7 +40,7 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "MODELS", "EFFECT_NAMES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
     "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
     "PointLight", "Scene",
     "load_scene", "parse_scene",
@@ -49,6 +49,9 @@ __all__ = [
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+# The effects of DESIGN.md's table, in its order: `[render] effects` and `--effects` name them.
+EFFECT_NAMES = ("defocus", "aberrations", "distortion", "vignetting", "lateral_color", "longitudinal_color",
+                "motion_blur", "diffraction")
 FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
@@ -97,6 +100,7 @@ class RenderSettings:
     disk_mapping: str = "concentric"
     adaptive: bool = False  # spp is then the image's mean (lenscompare.adaptive)
     diffraction: bool = False  # the aperture's diffraction PSF applied to the image (lenscompare.diffraction)
+    effects: tuple[str, ...] | None = None  # a composite render of exactly these (lenscompare.cameras.composite)
 
 
 @dataclass(frozen=True)
@@ -335,7 +339,7 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -344,7 +348,21 @@ def _read_render(t: Table) -> RenderSettings:
         disk_mapping=t.string("disk_mapping", default=defaults.disk_mapping, choices=DISK_MAPPINGS),
         adaptive=t.boolean("adaptive", default=defaults.adaptive),
         diffraction=t.boolean("diffraction", default=defaults.diffraction),
+        effects=_read_effects(t),
     )
+
+
+def _read_effects(t: Table) -> tuple[str, ...] | None:
+    """``[render] effects``: an array of effect names (DESIGN.md's table), or None when absent."""
+    if not t.has("effects"):
+        return None
+    value = t.data["effects"]
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise t.error("effects", f"expected an array of effect names from {', '.join(EFFECT_NAMES)}, got {value!r}"[:300])
+    unknown = [v for v in value if v not in EFFECT_NAMES]
+    if unknown:
+        raise t.error("effects", f"unknown effect {unknown[0][:40]!r} (expected names from {', '.join(EFFECT_NAMES)})")
+    return tuple(dict.fromkeys(value))
 
 
 def _read_materials(t: Table) -> dict[str, Material]:

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from lenscompare.cost import CostSettings, run_cost_study
+from lenscompare.cost import CostSettings, run_cost_study, time_table_rows
 from lenscompare.cost.study import fitted_slope, pareto_front, time_to_error
 from lenscompare.scene import load_scene
 
@@ -127,3 +127,18 @@ def test_tracer_fingerprint_is_the_native_module_and_the_rendering_sources(tmp_p
     assert references.tracer_fingerprint() is references.tracer_fingerprint()  # computed once
     assert references.tracer_fingerprint() == references.fingerprint_files(
         Path(_native.__file__), Path(lenscompare.__file__).resolve().parent)
+
+
+def test_study_with_the_lens_system_gains_the_composite_rows(tmp_path):
+    scene = load_scene(REFERENCE_SCENES / "flat_field.toml").with_camera(f_number=8.0)
+    settings = CostSettings(quick=True, samplers=("jittered",), models=("pinhole", "lens"), povray=False,
+                            cache_dir=tmp_path / "cache")
+    results = run_cost_study([scene], tmp_path / "a", settings)
+    composite = results["scenes"]["flat_field"]["composite"]
+    assert composite["planned"] and "vignetting" in composite["effects"]
+    assert set(composite["part_seconds"]) == {"spp", *composite["effects"]}
+    # Vignetting as a weight, not as noise: the flat field converges at once, and matches the lens system.
+    assert composite["points"][-1]["relative_rmse"] < 1e-3 and composite["seconds_to_1_percent"]["seconds"] > 0
+    assert composite["error_vs_lens"]["relative_rmse"] < 0.02
+    rows = [row for row in time_table_rows(results) if row[1].startswith("composite")]
+    assert len(rows) == 1 and "composites" in (tmp_path / "a" / "index.html").read_text()

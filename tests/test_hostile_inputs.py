@@ -64,6 +64,7 @@ NUMERIC_OPTIONS = [
     ("report", "--threads", 1, MAX_THREADS, True), ("cost", "--threads", 1, MAX_THREADS, True),
     ("check", "--threads", 1, MAX_THREADS, True),
     ("plan", "--tolerance-px", 0.0, math.inf, False), ("plan", "--tolerance-percent", 0.0, math.inf, False),
+    ("render", "--tolerance-px", 0.0, math.inf, False), ("render", "--tolerance-percent", 0.0, math.inf, False),
     ("figures", "--focal-length-mm", 0.01, 1e6, False), ("figures", "--f-number", MIN_F_NUMBER, math.inf, False),
     ("figures", "--focus-distance", 0.0, MAX_LENGTH_M, False),
     ("mitsuba", "--spp", 1, MAX_SPP, True), ("mitsuba", "--seed", 0, 2**32 - 1, True),

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lenscompare.metrics import find_point_sources, relative_illumination_at
-from lenscompare.plan import plan_scene
+from lenscompare.plan import plan_scene, render_planned
 from lenscompare.render import render
 from lenscompare.scene import parse_scene
 
@@ -58,13 +58,38 @@ def flat_field(lens, *, focus_m, f_number=None, resolution=(96, 64)):
     return parse_scene(text + "\n[background]\ncolor = [1.0, 1.0, 1.0]\n")
 
 
-def test_fisheye_plans_the_lens_system_and_thin_would_light_the_black_corners():
+def test_fisheye_plans_its_distortion_and_vignetting_and_thin_would_light_the_black_corners():
     scene = flat_field("fisheye.10mm", focus_m=3.0)
     plan = plan_scene(scene, measure_costs=False)
-    assert plan.model == "lens" and plan.needed["vignetting"] and plan.needed["distortion"]
+    assert plan.needed["vignetting"] and plan.needed["distortion"]
+    assert plan.model in ("composite", "lens") and {"distortion", "vignetting"} <= set(plan.simulated)
     lens = render(scene, model="lens", threads=2).pixels
+    auto = render_planned(scene, threads=2).pixels
     thin = render(scene.with_camera(f_number=4.0), model="thin", threads=2).pixels
-    assert lens[0, 0].max() == 0.0 and thin[0, 0].min() == pytest.approx(1.0)
+    assert lens[0, 0].max() == auto[0, 0].max() == 0.0 and thin[0, 0].min() == pytest.approx(1.0)
+
+
+def test_a_composite_that_cannot_stand_in_for_the_lens_falls_back_to_the_lens_system(monkeypatch):
+    # A screen direction cannot look sideways: field angles past MAX_FIELD_DEG are out of
+    # the composite's reach. Lowered here so that the fisheye's lit film needs them.
+    from lenscompare.lenses import maps
+
+    monkeypatch.setattr(maps, "MAX_FIELD_DEG", 60.0)
+    monkeypatch.setattr(maps, "_CACHE", {})
+    scene = flat_field("fisheye.10mm", focus_m=3.0)
+    plan = plan_scene(scene, measure_costs=False)
+    assert plan.model == "lens" and "no composite" in plan.note and "aberrations" not in plan.composite_effects
+
+
+def test_effects_are_the_unit_distortion_and_vignetting_plan_a_composite_of_just_those():
+    scene = flat_field("dgauss.50mm", focus_m=3.0, f_number=8.0)
+    plan = plan_scene(scene, measure_costs=False)
+    assert plan.model == "composite" and plan.needed["vignetting"] and not plan.needed["defocus"]
+    assert set(plan.composite_effects) == {name for name in ("distortion", "vignetting") if plan.needed[name]}
+    assert plan.simulated == plan.composite_effects
+    # Nothing above tolerance: the pinhole; defocus alone: the thin lens (tested above).
+    loose = plan_scene(scene, tolerance_px=1e9, tolerance_percent=100.0, measure_costs=False)
+    assert loose.model == "pinhole" and loose.simulated == ()
 
 
 @pytest.mark.parametrize("lens, focus_m, f_number", [("telephoto.250mm", 20.0, 8.0), ("dgauss.50mm", 3.0, 2.1)])
@@ -86,9 +111,11 @@ def test_plan_command_json_and_render_auto(tmp_path, write_scene):
     result = run_cli("plan", scene, "--json", "--tolerance-px", "1.0")
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
-    assert data["model"] == "thin" and data["tolerance"]["px"] == 1.0
+    assert data["model"] == "thin" and data["tolerance"]["px"] == 1.0 and data["simulated"] == ["defocus"]
+    assert {"model", "effects", "simulated", "tolerance", "predicted_seconds"} <= set(data)
     assert set(data["effects"]) >= {"defocus", "distortion", "vignetting"}
     assert data["effects"]["defocus"]["needed"] and data["effects"]["defocus"]["unit"] == "px"
+    assert all({"needed", "magnitude", "unit", "detail"} <= set(e) for e in data["effects"].values())
     out = tmp_path / "auto.exr"
     rendered = run_cli("render", scene, "-o", out, "--model", "auto", "--json")
     assert rendered.returncode == 0, rendered.stderr

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from .base import CameraModel, check_camera_numbers
+from .composite import COMPOSITE_EFFECTS, POST_FILTER_EFFECTS, CompositeCamera, check_composite_effects
 from .frame import CameraFrame, Film
 from .lens import LensSystemCamera
 from .pinhole import PinholeCamera
@@ -16,13 +17,18 @@ from .thick import ThickLensCamera
 from .thin import ThinLensCamera
 
 __all__ = ["camera_for", "CameraModel", "CameraFrame", "Film", "PinholeCamera", "ThinLensCamera",
-           "ThickLensCamera", "LensSystemCamera", "CAMERA_TYPES"]
+           "ThickLensCamera", "LensSystemCamera", "CompositeCamera", "COMPOSITE_EFFECTS", "POST_FILTER_EFFECTS",
+           "check_composite_effects", "CAMERA_TYPES"]
 
-CAMERA_TYPES = {cls.model: cls for cls in (PinholeCamera, ThinLensCamera, ThickLensCamera, LensSystemCamera)}
+CAMERA_TYPES = {cls.model: cls for cls in (PinholeCamera, ThinLensCamera, ThickLensCamera, LensSystemCamera,
+                                            CompositeCamera)}
 
 
-def camera_for(scene, model: str | None = None) -> CameraModel:
+def camera_for(scene, model: str | None = None, *, effects=None) -> CameraModel:
     """The camera value of ``scene`` seen through ``model`` (default: the scene's).
+
+    ``effects`` (model ``composite`` only): the effects to simulate, as
+    ``--effects`` gave them (default: the scene's ``[render] effects``).
 
     Raises
     ------
@@ -36,4 +42,5 @@ def camera_for(scene, model: str | None = None) -> CameraModel:
     except KeyError:
         raise InputError("--model", f"expected one of {', '.join(CAMERA_TYPES)}, got {model!r}") from None
     # Nothing non-finite may reach the native tracer (or POV-Ray).
-    return check_camera_numbers(kind.from_scene(scene), scene)
+    camera = kind.from_scene(scene, effects=effects) if kind is CompositeCamera else kind.from_scene(scene)
+    return check_camera_numbers(camera, scene)

@@ -11,8 +11,9 @@ from ..atomic import check_output_file
 from ..errors import InputError
 from ..lenses import resolve_lens
 from ..limits import MAX_SEED, MAX_SPP, MAX_THREADS
+from ..scene import EFFECT_NAMES
 
-__all__ = ["integer_option", "number_option", "SPP", "SEED", "THREADS", "POSITIVE", "NON_NEGATIVE",
+__all__ = ["integer_option", "number_option", "effect_list", "SPP", "SEED", "THREADS", "POSITIVE", "NON_NEGATIVE",
            "with_lens_option", "check_output_suffix"]
 
 
@@ -56,6 +57,16 @@ def number_option(*, positive: bool = True, minimum: float | None = None, maximu
         return value
 
     return parse
+
+
+def effect_list(text: str) -> tuple[str, ...]:
+    """An argparse type: comma-separated effect names (DESIGN.md's table)."""
+    names = tuple(dict.fromkeys(n.strip() for n in text.split(",") if n.strip()))
+    unknown = [n for n in names if n not in EFFECT_NAMES]
+    if unknown or not names:
+        got = _shown(unknown[0]) if unknown else "nothing"
+        raise argparse.ArgumentTypeError(f"expected comma-separated names from {', '.join(EFFECT_NAMES)}, got {got}")
+    return names
 
 
 SPP = integer_option(minimum=1, maximum=MAX_SPP)

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import json
 
+from ..errors import InputError
 from ..image import write_exr
 from ..plan import render_planned
 from ..render import render
 from ..scene import MODELS, SAMPLERS, load_scene
-from ._options import SEED, SPP, THREADS, check_output_suffix, with_lens_option
+from ._options import NON_NEGATIVE, SEED, SPP, THREADS, check_output_suffix, effect_list, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -20,6 +21,13 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=MODELS + ("auto",),
                    help="camera model (default: the scene's); auto: the cheapest within tolerance (see plan)")
+    p.add_argument("--effects", type=effect_list, metavar="A,B,...",
+                   help="render exactly these effects with a composite of cheap parts (defocus, distortion, "
+                        "vignetting; diffraction as a post-filter); others need --model lens")
+    p.add_argument("--tolerance-px", type=NON_NEGATIVE, default=0.5,
+                   help="--model auto: largest blur/distortion left out (px)")
+    p.add_argument("--tolerance-percent", type=NON_NEGATIVE, default=2.0,
+                   help="--model auto: largest corner falloff left out (%%)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (shipped name or file)")
     p.add_argument("--spp", type=SPP, help="samples per pixel (1 to 2^20)")
     p.add_argument("--sampler", choices=SAMPLERS)
@@ -38,10 +46,13 @@ def run(args) -> int:
     scene = with_lens_option(load_scene(args.scene), args.lens)
     options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive,
                    diffraction=args.diffraction)
-    if args.model == "auto":  # simulate only what the scene calls for (default tolerances)
-        image = render_planned(scene, **options)
+    if args.effects is not None and args.model is not None:
+        raise InputError("--effects", f"renders a composite of exactly those effects; leave out --model {args.model}")
+    if args.model == "auto":  # simulate only what the scene calls for
+        image = render_planned(scene, tolerance_px=args.tolerance_px, tolerance_percent=args.tolerance_percent,
+                               **options)
     else:
-        image = render(scene, model=args.model, **options)
+        image = render(scene, model=args.model, effects=args.effects, **options)
     write_exr(output, image, final=True)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))

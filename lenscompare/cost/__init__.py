@@ -71,10 +71,26 @@ def time_table_rows(results: dict):
             for sampler, s in series.items():
                 t = s["seconds_to_1_percent"]
                 yield name, model, sampler, t["seconds"], t["extrapolated"]
+        composite = study.get("composite")
+        if composite and "seconds_to_1_percent" in composite:
+            t = composite["seconds_to_1_percent"]
+            yield name, f"composite ({'+'.join(composite['effects'])})", "jittered", t["seconds"], t["extrapolated"]
         pov = study.get("povray")
         if pov and "seconds_to_1_percent" in pov:
             yield name, "thin", "POV-Ray focal blur", pov["seconds_to_1_percent"]["seconds"], \
                 pov["seconds_to_1_percent"]["extrapolated"]
+
+
+def _composite_row(name: str, composite: dict) -> str:
+    """One table row: the composite's parts with their times, and its error against the lens system."""
+    if "error" in composite:
+        return (f"<tr><td>{html.escape(name)}</td><td colspan='4'>no composite: "
+                f"{html.escape(composite['error'])}</td></tr>")
+    parts = composite["part_seconds"]
+    times = ", ".join(f"{p} {parts[p]:.3g}" for p in composite["effects"])
+    return (f"<tr><td>{html.escape(name)}</td><td>{html.escape(' + '.join(composite['effects']))}</td>"
+            f"<td>{html.escape(times)} (at {parts['spp']} spp)</td><td>{composite['maps_seconds']:.3g}</td>"
+            f"<td>{100 * composite['error_vs_lens']['relative_rmse']:.2f} %</td></tr>")
 
 
 def _page(results: dict) -> str:
@@ -84,10 +100,14 @@ def _page(results: dict) -> str:
     plots = "".join(f"<h3>{html.escape(n)}</h3><img src='{html.escape(s['plot'])}' style='max-width:100%'>"
                     for n, s in results["scenes"].items())
     items = "".join(f"<li>{html.escape(f)}</li>" for f in results["findings"])
+    composites = "".join(_composite_row(n, s["composite"]) for n, s in results["scenes"].items() if s.get("composite"))
     return (f"<!doctype html><html lang='en'><head><meta charset='utf-8'><title>lenscompare cost study</title>"
             f"<style>body{{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto}}"
             f"td,th{{border:1px solid #ddd;padding:.2em .6em}}table{{border-collapse:collapse}}</style></head><body>"
             f"<h1>What accuracy costs in time</h1><section id='findings'><h2>Findings</h2><ul>{items}</ul></section>"
             f"<section id='time-to-1-percent'><h2>Time to reach 1 % relative RMSE</h2><table><tr><th>scene</th>"
             f"<th>model</th><th>sampler</th><th>seconds</th></tr>{rows}</table></section>"
+            f"<section id='composites'><h2>Composites: each part's time, and the error against the lens system</h2>"
+            f"<table><tr><th>scene</th><th>parts</th><th>seconds per part</th><th>maps traced (s)</th>"
+            f"<th>relative RMSE vs lens</th></tr>{composites}</table></section>"
             f"<section id='plots'><h2>Error against time</h2>{plots}</section></body></html>")

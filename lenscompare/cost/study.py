@@ -18,6 +18,7 @@ from ..plan import MODEL_ORDER, plan_scene
 from ..povray import render_povray
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
+from .composites import composite_study
 from .references import converged_reference
 
 __all__ = ["CostSettings", "study_scene", "time_to_error", "fitted_slope", "pareto_front"]
@@ -100,6 +101,9 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
                 # What the model leaves out, effect by effect (blur px, distortion px at
                 # the corner, corner falloff %), as the planner computes them.
                 "omitted_effects": omitted.get(model, {})}
+        # The composite of parts, scored against the same lens-system reference.
+        result["composite"] = composite_study(scene, settings, references["lens"], time_to_error=time_to_error,
+                                              target=TARGET_RELATIVE_RMSE)
     if settings.povray and "thin" in references:
         result["povray"] = _povray_series(scene, references["thin"], settings, progress, cluster)
     return result

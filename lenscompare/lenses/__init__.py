@@ -10,7 +10,9 @@ Pure Python and numpy.  One job per module:
 - :mod:`.focus` places the film for a focus distance;
 - :mod:`.trace` is the exact ray trace (the native tracer ports it to C++);
 - :mod:`.analysis` measures distortion, relative illumination and the image
-  circle with it.
+  circle with it;
+- :mod:`.maps` traces a focused lens's distortion and illumination against
+  film radius once, for the composite camera.
 
 Lengths are mm, focus distances m; axial positions are mm from the first
 vertex, positive toward the film.
@@ -25,6 +27,7 @@ from .analysis import (
     relative_illumination,
     traced_spot_diameter_mm,
 )
+from .maps import RadialMaps, radial_maps
 from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
 from .paraxial import (
     ParaxialData,
@@ -72,4 +75,6 @@ __all__ = [
     "traced_spot_diameter_mm",
     "real_f_number",
     "relative_illumination",
+    "RadialMaps",
+    "radial_maps",
 ]

@@ -1,6 +1,13 @@
 """Simulate only the effects a scene calls for: predict each effect's size
-without rendering, pick the cheapest model whose omitted effects all stay
-under tolerance, and predict the time that saves."""
+without rendering, pick the cheapest render that simulates every effect above
+tolerance, and predict the time that saves.
+
+Effects are the unit: each effect names the cheapest part that simulates it
+(``Effect.needed_by``). The render is the pinhole when nothing is needed, the
+thin lens for defocus alone, the composite of the needed effects when one of
+them is a composite part (distortion, vignetting), and the full lens system
+when a needed effect has no part (or the composite cannot stand in for the
+lens on this film). Post-filter effects (diffraction) go on any render."""
 
 from __future__ import annotations
 
@@ -8,6 +15,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+from ..cameras import COMPOSITE_EFFECTS, camera_for
 from ..image import Image
 from ..render import render
 from ..scene import MODELS, Scene
@@ -15,36 +23,89 @@ from .effects import EFFECTS, Effect, ideal_camera
 
 __all__ = ["Plan", "plan_scene", "render_planned", "MODEL_ORDER"]
 
-# Cheapest first; each model simulates the effects of those before it.
-MODEL_ORDER = ("pinhole", "thin", "thick", "lens")
+# Cheapest first. Effects name one of these (or "pinhole": a post-filter on
+# any render) as the cheapest part that simulates them.
+MODEL_ORDER = ("pinhole", "thin", "thick", "composite", "lens")
 
 
 @dataclass(frozen=True)
 class Plan:
+    """The chosen render and why.
+
+    Attributes
+    ----------
+    model : str
+        ``pinhole``, ``thin``, ``thick``, ``composite`` or ``lens``.
+    effects : dict of str to Effect
+        Every effect's predicted size.
+    needed : dict of str to bool
+        Whether each effect is above its tolerance.
+    simulated : tuple of str
+        The effects the chosen render simulates (post-filters included when applied).
+    composite_effects : tuple of str
+        The composite's parts (empty unless ``model`` is ``composite``).
+    """
+
     model: str
     effects: dict[str, Effect]
     needed: dict[str, bool]
     tolerance_px: float
     tolerance_percent: float
     predicted_seconds: dict[str, float]
+    simulated: tuple[str, ...] = ()
+    composite_effects: tuple[str, ...] = ()
+    note: str = ""
 
     def to_json(self) -> dict:
         saved = None
         if self.predicted_seconds:
             saved = self.predicted_seconds.get("lens", math.nan) - self.predicted_seconds.get(self.model, math.nan)
-        return {
+        data = {
             "model": self.model,
             "effects": {name: {"needed": self.needed[name], "magnitude": e.magnitude, "unit": e.unit,
                                "detail": e.detail, "simulated_from": e.needed_by} for name, e in self.effects.items()},
+            "simulated": list(self.simulated),
             "tolerance": {"px": self.tolerance_px, "percent": self.tolerance_percent},
             "predicted_seconds": self.predicted_seconds,
             "time_saved_seconds_vs_lens": saved,
         }
+        if self.note:
+            data["note"] = self.note
+        return data
+
+
+def _choose(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -> tuple[str, tuple[str, ...], str]:
+    """(model, the composite's effects, a note) for the effects above tolerance."""
+    wanted = [name for name, e in effects.items() if needed[name] and e.needed_by != "pinhole"]
+    model = max((effects[name].needed_by for name in wanted), key=MODEL_ORDER.index, default="pinhole")
+    if model == "lens" and scene.camera.lens is None:  # cannot happen: no prescription, no lens effects
+        model = "thin"
+    if model != "composite":
+        return model, (), ""
+    parts = tuple(name for name in COMPOSITE_EFFECTS if name in wanted)
+    try:  # the parts exist, but may not cover this film (a fisheye's corners)
+        camera_for(scene, "composite", effects=parts)
+    except InputError as error:
+        return "lens", (), f"no composite: {error.problem}"
+    return "composite", parts, ""
+
+
+def _simulated(model: str, parts: tuple[str, ...], effects: dict[str, Effect], needed: dict[str, bool]) -> tuple:
+    """The effects the chosen render simulates, post-filters (applied when needed) included."""
+    if model == "composite":
+        inside = set(parts)
+    elif model == "lens":  # every geometric effect
+        inside = {name for name, e in effects.items() if e.needed_by != "pinhole"}
+    else:
+        inside = {name for name, e in effects.items()
+                  if e.needed_by != "pinhole" and MODEL_ORDER.index(e.needed_by) <= MODEL_ORDER.index(model)}
+    inside |= {name for name, e in effects.items() if e.needed_by == "pinhole" and needed[name]}
+    return tuple(name for name in effects if name in inside)
 
 
 def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: float = 2.0,
                measure_costs: bool = True, threads: int | None = None) -> Plan:
-    """The cheapest model that renders ``scene`` within tolerance.
+    """The cheapest render that simulates every effect of ``scene`` above tolerance.
 
     Parameters
     ----------
@@ -64,30 +125,32 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
     effects = {e.name: e for e in (effect(scene, camera) for effect in EFFECTS)}
     limit = {"px": tolerance_px, "%": tolerance_percent}
     needed = {name: e.magnitude > limit[e.unit] for name, e in effects.items()}
-    model = "pinhole"
-    for name, e in effects.items():
-        if needed[name] and MODEL_ORDER.index(e.needed_by) > MODEL_ORDER.index(model):
-            model = e.needed_by
-    if model == "lens" and scene.camera.lens is None:  # cannot happen: no prescription, no lens effects
-        model = "thin"
-    costs = predicted_seconds(scene, threads=threads) if measure_costs else {}
-    return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs)
+    model, parts, note = _choose(scene, effects, needed)
+    costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None) \
+        if measure_costs else {}
+    return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,
+                simulated=_simulated(model, parts, effects, needed), composite_effects=parts, note=note)
 
 
-def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, float]:
-    """Each model's predicted time for the scene's full render, from a 1-spp
-    render of a small copy (samples per second scale with pixels and spp)."""
+def predicted_seconds(scene: Scene, *, threads: int | None = None,
+                      composite_effects: tuple[str, ...] | None = None) -> dict[str, float]:
+    """Each model's predicted time for the scene's full render, from an 8-spp
+    render of a small copy (samples per second scale with pixels and spp);
+    with ``composite_effects``, the composite of those effects too."""
     w, h = scene.camera.resolution
     scale = max(1, int(math.sqrt(w * h / 20000)))
     small = scene.with_camera(resolution=(max(1, w // scale), max(1, h // scale)))
     if small.camera.width_px * scene.camera.height_px != small.camera.height_px * scene.camera.width_px:
         small = scene
     models = [m for m in MODELS if m != "lens" or scene.camera.lens]
+    if composite_effects is not None:
+        models.append("composite")
     render(small, model="pinhole", spp=1, threads=threads, progress=False)  # warm up threads and caches
     out = {}
     for model in models:
+        effects = composite_effects if model == "composite" else None
         try:
-            rate = max(render(small, model=model, spp=8, threads=threads, progress=False)
+            rate = max(render(small, model=model, effects=effects, spp=8, threads=threads, progress=False)
                        .metadata["samples_per_second"] for _ in range(2))
         except InputError:
             continue  # the scene lacks what this model needs
@@ -97,7 +160,7 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, 
 
 def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: float = 2.0,
                    **render_options) -> Image:
-    """``--model auto``: render with the cheapest model within tolerance.
+    """``--model auto``: the cheapest render that simulates every effect above tolerance.
 
     The plan is made from the scene alone (no timing renders) and stored in
     ``image.metadata["plan"]``; ``render_options`` go to
@@ -106,6 +169,9 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
-    image = render(scene, model=plan.model, **render_options)
+    if plan.model == "composite":
+        image = render(scene, model="composite", effects=plan.composite_effects, **render_options)
+    else:
+        image = render(scene, model=plan.model, **render_options)  # an explicit model: [render] effects unused
     image.metadata["plan"] = plan.to_json()
     return image

@@ -25,7 +25,7 @@ class Effect:
     magnitude: float
     unit: str          # "px" or "%"
     detail: str
-    needed_by: str     # the cheapest model that simulates it
+    needed_by: str     # the cheapest part that simulates it: a model, or "composite" (cameras/composite.py)
 
 
 def ideal_camera(scene: Scene) -> CameraModel:
@@ -66,33 +66,33 @@ def distortion(scene: Scene, camera: CameraModel) -> Effect:
     """Chief-ray distortion at the film corner, as a shift in pixels."""
     lens = scene.camera.lens
     if lens is None:
-        return Effect("distortion", 0.0, "px", "ideal lens (no prescription)", "lens")
+        return Effect("distortion", 0.0, "px", "ideal lens (no prescription)", "composite")
     focus = scene.camera.focus_distance_m
     circle_mm = image_circle_radius_mm(lens, focus_distance_m=focus)
     if circle_mm < camera.film.half_diagonal_mm:
         shift = (camera.film.half_diagonal_mm - circle_mm) / camera.pixel_pitch_mm
         return Effect("distortion", shift, "px", f"film corners lie outside the {circle_mm:.3g} mm image circle",
-                      "lens")
+                      "composite")
     angle = camera.corner_field_deg
     try:
         percent = chief_ray_distortion_percent(lens, angle, focus_distance_m=focus)
     except Exception:  # no chief ray at that angle: treat as far off the ideal
-        return Effect("distortion", math.inf, "px", f"no chief ray at {angle:.3g} deg", "lens")
+        return Effect("distortion", math.inf, "px", f"no chief ray at {angle:.3g} deg", "composite")
     shift = abs(percent) / 100.0 * camera.film.half_diagonal_mm / camera.pixel_pitch_mm
-    return Effect("distortion", shift, "px", f"{percent:+.3g} % at the corner field {angle:.3g} deg", "lens")
+    return Effect("distortion", shift, "px", f"{percent:+.3g} % at the corner field {angle:.3g} deg", "composite")
 
 
 def vignetting(scene: Scene, camera: CameraModel) -> Effect:
     """Relative-illumination drop at the film corner (natural falloff and vignetting), %."""
     lens = scene.camera.lens
     if lens is None:
-        return Effect("vignetting", 0.0, "%", "ideal lens (no prescription)", "lens")
+        return Effect("vignetting", 0.0, "%", "ideal lens (no prescription)", "composite")
     if image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m) < camera.film.half_diagonal_mm:
-        return Effect("vignetting", 100.0, "%", "film corners outside the image circle are black", "lens")
+        return Effect("vignetting", 100.0, "%", "film corners outside the image circle are black", "composite")
     angle = camera.corner_field_deg
     ri = relative_illumination(lens, angle, f_number=camera.f_number, samples_across=120)
     return Effect("vignetting", 100.0 * (1.0 - ri), "%", f"relative illumination {ri:.3f} at {angle:.3g} deg",
-                  "lens")
+                  "composite")
 
 
 def diffraction(scene: Scene, camera: CameraModel) -> Effect:

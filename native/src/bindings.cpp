@@ -14,12 +14,15 @@
 #include <memory>
 #include <type_traits>
 #include <utility>
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
 #include "aperture.h"
 #include "bindings_arrays.h"
+#include "cameras/composite.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
 #include "cameras/thick_lens.h"
@@ -84,6 +87,8 @@ std::pair<int, int> resolution_px(const Camera& camera) {
         return {camera.width_px, camera.height_px};
     else if constexpr (std::is_same_v<Camera, ThickLensCamera>)
         return resolution_px(camera.at_front_principal_plane);
+    else if constexpr (std::is_same_v<Camera, CompositeCamera>)
+        return resolution_px(camera.lens);
     else
         return {camera.film.width_px, camera.film.height_px};
 }
@@ -166,6 +171,20 @@ void bind_camera_functions(nb::module_& m) {
     m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
           "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(),
           "The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted).");
+}
+
+// A radial table from Python: empty, or at least two finite values >= 0.
+RadialTable radial_table(CArray<const double, -1> values, double radius_step_mm, const char* name) {
+    RadialTable table;
+    table.radius_step_mm = radius_step_mm;
+    if (values.shape(0) == 0) return table;
+    if (values.shape(0) < 2) throw std::invalid_argument(std::string(name) + ": a table needs two values or none");
+    for (size_t i = 0; i < values.shape(0); ++i) {
+        if (!(std::isfinite(values(i)) && values(i) >= 0.0))
+            throw std::invalid_argument(std::string(name) + ": values must be finite and >= 0");
+        table.values.push_back(values(i));
+    }
+    return table;
 }
 
 }  // namespace
@@ -271,10 +290,29 @@ NB_MODULE(_native, m) {
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
                      "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 
+    nb::class_<CompositeCamera>(m, "CompositeCamera",
+                                "Composite: a thin lens at the entrance pupil with radial distortion and "
+                                "illumination tables traced once through a lens system.")
+        .def("__init__",
+             [](CompositeCamera* self, const ThinLensCamera& lens, double film_width_mm, double film_height_mm,
+                CArray<const double, -1> screen_scale, CArray<const double, -1> illumination, double radius_step_mm,
+                double max_radius_mm) {
+                 if (!(radius_step_mm > 0.0 && std::isfinite(radius_step_mm)))
+                     throw std::invalid_argument("radius_step_mm must be finite and > 0");
+                 if (!(max_radius_mm > 0.0)) throw std::invalid_argument("max_radius_mm must be > 0 (or infinity)");
+                 new (self) CompositeCamera{lens, film_width_mm, film_height_mm,
+                                            radial_table(screen_scale, radius_step_mm, "screen_scale"),
+                                            radial_table(illumination, radius_step_mm, "illumination"),
+                                            max_radius_mm};
+             },
+             "lens"_a, "film_width_mm"_a, "film_height_mm"_a, "screen_scale"_a, "illumination"_a, "radius_step_mm"_a,
+             "max_radius_mm"_a);
+
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
     bind_camera_functions<ThickLensCamera>(m);
     bind_camera_functions<LensSystemCamera>(m);
+    bind_camera_functions<CompositeCamera>(m);
 
     nb::module_ diagnostics = m.def_submodule("diagnostics", "Hooks for lenscompare's tests and benchmarks only.");
     bind_diagnostics(diagnostics);

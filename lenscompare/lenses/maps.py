@@ -1,0 +1,242 @@
+"""Radial maps of a lens system, traced once, for the composite camera.
+
+Two tables over film radius, evenly spaced from the axis to the film corner:
+
+- the *distortion map*: the tangent of the field angle (seen from the entrance
+  pupil) whose real chief ray lands at that film radius, with the film at the
+  camera's focus (:func:`.analysis.chief_ray_film_height_mm`);
+- the *illumination map*: the relative illumination at that film radius
+  (the formula of :func:`.analysis.relative_illumination`: pupil area, cos
+  factors and mechanical vignetting; 1 on the axis), with each beam's
+  passing area counted on a grid over the entrance pupil rather than over the
+  whole front element, so that a small pupil behind a large front element (a
+  stopped-down fisheye) is still resolved by thousands of rays.
+
+A composite render (:mod:`lenscompare.cameras.composite`) reads them instead
+of tracing every ray through the lens. Beyond ``max_radius_mm`` (the image
+circle, or the last film radius a chief ray reaches) the lens passes no light
+and the composite sends no ray. Maps are memoised per prescription hash,
+f-number, film position, focus and film size.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .analysis import _chief_ray, chief_ray_film_height_mm, image_circle_radius_mm
+from .focus import front_most_z_mm
+from .paraxial import paraxial_data
+from .prescription import Prescription
+from .trace import trace_from_scene
+
+__all__ = ["RadialMaps", "radial_maps", "MAX_FIELD_DEG"]
+
+# A screen direction (tan theta, 1) cannot look sideways: past this the
+# composite cannot stand in for the lens (a fisheye), and says so.
+MAX_FIELD_DEG = 80.0
+
+# Field angles traced for each map (the maps are smooth; the tables then
+# resample them evenly in film radius).
+_DISTORTION_ANGLES = 65
+_ILLUMINATION_ANGLES = 33
+_PUPIL_GRID = 128  # rays across the window round the entrance pupil
+
+_CACHE: dict[tuple, "RadialMaps"] = {}
+
+
+@dataclass(frozen=True, eq=False)
+class RadialMaps:
+    """Distortion and illumination against film radius, as the composite reads them.
+
+    Attributes
+    ----------
+    radius_step_mm : float
+        Film radius between table entries; entry i is at ``i * radius_step_mm``.
+    field_tangent : numpy.ndarray
+        Distortion map: real chief-ray field tangent at each film radius.
+    illumination : numpy.ndarray
+        Illumination map: relative illumination at each film radius (1 on the
+        axis, 0 where no light gets through).
+    paraxial_scale_mm : float
+        The ideal image scale (film height per unit tangent) the maps sit on.
+    max_radius_mm : float
+        Film radius beyond which the lens passes no light (``math.inf``: the
+        whole film is lit).
+    covers_film : bool
+        Whether the composite can stand in for the lens over the whole film:
+        False when a film radius the lens lights needs a field angle beyond
+        :data:`MAX_FIELD_DEG` (``reason`` says why).
+    reason : str
+        Why ``covers_film`` is False ("" otherwise).
+    """
+
+    radius_step_mm: float
+    field_tangent: np.ndarray
+    illumination: np.ndarray
+    paraxial_scale_mm: float
+    max_radius_mm: float
+    covers_film: bool
+    reason: str = ""
+
+    @property
+    def film_radius_mm(self) -> np.ndarray:
+        return np.arange(len(self.field_tangent)) * self.radius_step_mm
+
+    @property
+    def screen_scale(self) -> np.ndarray:
+        """Real chief-ray tangent over the paraxial one, per entry (1 on the
+        axis): the factor the composite scales its screen direction by."""
+        radius = self.film_radius_mm
+        scale = np.ones_like(radius)
+        scale[1:] = self.field_tangent[1:] * self.paraxial_scale_mm / radius[1:]
+        return scale
+
+    def corner_shift_px(self, *, pixel_pitch_mm: float) -> float:
+        """Film shift of the last entry (the film corner) from its paraxial place, px."""
+        radius = self.film_radius_mm[-1]
+        return abs(self.field_tangent[-1] * self.paraxial_scale_mm - radius) / pixel_pitch_mm
+
+
+def radial_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float, focus_distance_m: float,
+                film_half_diagonal_mm: float, entries: int = 129) -> RadialMaps:
+    """The distortion and illumination maps of a focused, stopped-down lens.
+
+    Parameters
+    ----------
+    prescription : Prescription
+        The lens as rendered (stopped down to the camera's f-number).
+    film_z_mm : float
+        Film position, mm from the first vertex (the camera's focus).
+    paraxial_scale_mm : float
+        Film height per unit tangent of the paraxial chief ray on that film.
+    focus_distance_m : float
+        Plane of focus from the entrance pupil, m: the chief rays come from it.
+    film_half_diagonal_mm : float
+        The tables run from the axis to this radius.
+    entries : int
+        Table entries (at least 2).
+
+    Returns
+    -------
+    RadialMaps
+        Memoised: the same arguments return the same value.
+
+    Raises
+    ------
+    InputError
+        When not even the film centre sees light through the lens.
+    """
+    f_number = paraxial_data(prescription).f_number
+    key = (prescription.sha256, prescription.surfaces, round(f_number, 12), film_z_mm, focus_distance_m,
+           film_half_diagonal_mm, paraxial_scale_mm, entries)
+    if key not in _CACHE:
+        _CACHE[key] = _trace_maps(prescription, film_z_mm=film_z_mm, paraxial_scale_mm=paraxial_scale_mm,
+                                  focus_distance_m=focus_distance_m, half_diagonal_mm=film_half_diagonal_mm,
+                                  entries=max(2, int(entries)))
+    return _CACHE[key]
+
+
+def _chief_ray_heights_mm(prescription: Prescription, angles_deg: np.ndarray, focus_distance_m: float) -> np.ndarray:
+    """|film height| of the real chief ray at each angle; the list ends at the
+    first angle whose chief ray fails or whose height stops growing."""
+    heights = [0.0]
+    for angle in angles_deg[1:]:
+        try:
+            h = abs(chief_ray_film_height_mm(prescription, float(angle), focus_distance_m=focus_distance_m))
+        except InputError:  # no chief ray at this angle (it misses a surface, or total reflection)
+            break
+        if not (math.isfinite(h) and h > heights[-1]):
+            break
+        heights.append(h)
+    return np.array(heights)
+
+
+def _passing_area_mm2(prescription: Prescription, theta: float) -> float:
+    """Area (mm^2, perpendicular to the axis) of the parallel beam at theta that
+    passes every aperture, counted on a square grid round the real chief ray's
+    crossing of the first vertex plane (a wide-angle lens's pupil moves far
+    from the paraxial one); the window grows until no passing ray touches its
+    border."""
+    data = paraxial_data(prescription)
+    centre_mm = 0.0
+    if theta > 0.0:
+        origin, chief = _chief_ray(prescription, theta, math.inf)  # InputError when there is none
+        centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
+    half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
+    limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
+    direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
+    start_z = front_most_z_mm(prescription) - 1.0
+    while True:
+        cells = (np.arange(_PUPIL_GRID) + 0.5) / _PUPIL_GRID * 2.0 * half_mm - half_mm
+        x, y = np.meshgrid(cells, cells + centre_mm)
+        points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+        passed = trace_from_scene(prescription, points - direction * (-start_z / direction[2]),
+                                  direction).passed.reshape(x.shape)
+        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
+        if not border or half_mm > limit_mm:
+            return float(np.count_nonzero(passed)) * (2.0 * half_mm / _PUPIL_GRID) ** 2
+        half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
+
+
+def _relative_illumination(prescription: Prescription, angle_deg: float, on_axis_mm2: float) -> float:
+    """RI(theta) = [A(theta) cos(theta) sin(theta) / (y dy/dtheta)] / [A(0) / f^2], as
+    :func:`.analysis.relative_illumination` defines it (y the real chief-ray film
+    height, object at infinity); 0 where the chief ray fails."""
+    if angle_deg == 0.0:
+        return 1.0
+    theta, step = math.radians(angle_deg), 1e-5
+    try:
+        heights = [abs(chief_ray_film_height_mm(prescription, math.degrees(t))) for t in (theta - step, theta,
+                                                                                          theta + step)]
+        area = _passing_area_mm2(prescription, theta)
+    except InputError:
+        return 0.0
+    film_area_per_solid_angle = heights[1] * (heights[2] - heights[0]) / (2.0 * step) / math.sin(theta)
+    focal_length = paraxial_data(prescription).effective_focal_length_mm
+    if not (film_area_per_solid_angle > 0.0 and on_axis_mm2 > 0.0):
+        return 0.0
+    return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis_mm2 / focal_length ** 2)
+
+
+def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float, focus_distance_m: float,
+                half_diagonal_mm: float, entries: int) -> RadialMaps:
+    circle_mm = image_circle_radius_mm(prescription, focus_distance_m=focus_distance_m)
+    if not circle_mm > 0.0:
+        raise InputError(prescription.name, "not even the film centre sees light through the lens (no maps)")
+    # Field angles up to what the film corner needs (with room for barrel
+    # distortion), never past MAX_FIELD_DEG.
+    paraxial_corner_deg = math.degrees(math.atan(half_diagonal_mm / paraxial_scale_mm))
+    top_deg = min(MAX_FIELD_DEG, 1.5 * paraxial_corner_deg + 2.0)
+    lit_mm = min(circle_mm, half_diagonal_mm)
+    while True:
+        angles = np.linspace(0.0, top_deg, _DISTORTION_ANGLES)
+        heights = _chief_ray_heights_mm(prescription, angles, focus_distance_m)
+        angles = angles[: len(heights)]
+        reached_mm = heights[-1]
+        if reached_mm >= lit_mm or len(heights) < _DISTORTION_ANGLES or top_deg >= MAX_FIELD_DEG:
+            break
+        top_deg = MAX_FIELD_DEG  # strong barrel distortion: the corner lies further out
+    covers = reached_mm >= lit_mm
+    reason = "" if covers else (f"the chief rays reach only {reached_mm:.3g} mm of film (up to "
+                                f"{angles[-1]:.3g} deg), the lens lights {lit_mm:.3g} mm")
+    step = half_diagonal_mm / (entries - 1)
+    radius = np.arange(entries) * step
+    tangent = np.interp(radius, heights, np.tan(np.radians(angles)))  # the last value beyond the reach
+
+    # Illumination: traced at fewer angles, over the reach of the chief rays.
+    ri_angles = np.linspace(0.0, angles[-1], _ILLUMINATION_ANGLES)
+    ri_heights = np.interp(ri_angles, angles, heights)
+    on_axis = _passing_area_mm2(prescription, 0.0)
+    ri = np.array([_relative_illumination(prescription, float(a), on_axis) for a in ri_angles])
+    illumination = np.interp(radius, ri_heights, ri)
+    max_radius = min(circle_mm, reached_mm)
+    illumination[radius > max_radius] = 0.0
+    if not (np.isfinite(tangent).all() and np.isfinite(illumination).all()):  # never hand NaN to the tracer
+        raise InputError(prescription.name, "the traced distortion or illumination map came out non-finite")
+    max_radius_mm = math.inf if max_radius >= half_diagonal_mm else float(max_radius)
+    return RadialMaps(step, tangent, np.clip(illumination, 0.0, None), paraxial_scale_mm, max_radius_mm, covers,
+                      reason)
