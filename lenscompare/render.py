@@ -22,8 +22,9 @@ from .errors import ExternalError, InputError
 from .image import Image
 from .limits import MAX_SEED, MAX_SPP, check_render_budget
 from .native_scene import build_native_scene
+from .postfilter import depth_buffer_m, pinhole_pass_spp, spread
 from .progress import progress_bar
-from .scene import MODELS, SAMPLERS, Scene
+from .scene import RENDER_MODELS, SAMPLERS, Scene
 
 __all__ = ["render", "SAMPLER_CODES"]
 
@@ -46,9 +47,15 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     ----------
     scene : Scene
         A loaded scene (:func:`lenscompare.scene.load_scene`).
-    model : {'pinhole', 'thin', 'thick', 'lens'}, optional
+    model : {'pinhole', 'thin', 'thick', 'lens', 'postfilter'}, optional
         Camera model; default the scene's ``camera.model``. (``--model auto``
         is the planner's: :func:`lenscompare.plan.render_planned`.)
+        ``postfilter`` renders the pinhole with at most
+        :data:`~lenscompare.postfilter.MAX_PINHOLE_SPP` film samples and
+        spreads it by its depth buffer into the thin lens's defocus
+        (:mod:`lenscompare.postfilter`); ``seconds`` includes the depth
+        buffer and the spread, ``metadata["postfilter"]`` says what was drawn
+        and what the spread cost, and ``image.camera`` is the thin lens.
     spp, sampler, seed, adaptive : optional
         Override the scene's ``[render]`` settings. With ``adaptive``, ``spp``
         is the mean over the image: a first pass measures each pixel's noise
@@ -75,8 +82,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         threads, and the camera's derived quantities.
     """
     model = camera.model if camera is not None else (model or scene.camera.model)
-    if model not in MODELS:
-        raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
+    if model not in RENDER_MODELS:
+        raise InputError("--model", f"expected one of {', '.join(RENDER_MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
@@ -93,10 +100,16 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     # Before anything is allocated: too many samples, or more memory than the machine has.
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
-    camera = camera or camera_for(scene, model)
+    postfilter = model == "postfilter"
+    # The postfilter imitates the thin lens (its image carries that camera) from a pinhole pass.
+    camera = camera or camera_for(scene, "thin" if postfilter else model)
     # Before the render: a scene that cannot diffract is refused at once.
     aperture = diffraction_aperture(scene, camera) if settings.diffraction else None
-    native_camera = camera.native(disk_mapping=settings.disk_mapping)
+    requested_spp = settings.spp
+    if postfilter:
+        settings = scene.with_render(spp=pinhole_pass_spp(settings.spp)).render
+        pinhole = camera_for(scene, "pinhole")
+    native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
 
     start = time.perf_counter()
@@ -113,6 +126,15 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                                          row_end, pixels, variance),
                 height, width * settings.spp, bar)
         adaptive_info = None
+    if postfilter:
+        pass_seconds = time.perf_counter() - start
+        depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+        depth_seconds = time.perf_counter() - start - pass_seconds
+        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
+        postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
+                           "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),
+                           **postfilter_info}
+        variance = None  # the spread mixes pixels: no per-pixel variance of the mean
     seconds = time.perf_counter() - start
     if not np.isfinite(pixels).all():  # the schema's bounds promise a finite image; never hand on NaN
         raise ExternalError(f"the native render of {scene.source} gave non-finite pixels (a bug: please report it "
@@ -121,7 +143,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     metadata = {
         "scene": scene.name,
         "model": model,
-        "spp": settings.spp,
+        "spp": requested_spp,
         "sampler": settings.sampler,
         "disk_mapping": settings.disk_mapping,
         "seed": settings.seed,
@@ -136,6 +158,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     }
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
+    if postfilter:
+        metadata["postfilter"] = postfilter_info
     if aperture is not None:
         pixels, variance, metadata["diffraction"] = diffract(pixels, variance, aperture)
     return Image(pixels, metadata, camera=camera, variance=variance)

@@ -40,7 +40,7 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "MODELS", "RENDER_MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
     "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
     "PointLight", "Scene",
     "load_scene", "parse_scene",
@@ -48,7 +48,10 @@ __all__ = [
 
 Vec3 = tuple[float, float, float]
 
-MODELS = ("pinhole", "thin", "thick", "lens")
+MODELS = ("pinhole", "thin", "thick", "lens")  # the camera models (what reports, costs and sweeps compare)
+# What the native renderer takes: the camera models, and the image-based depth of
+# field (lenscompare.postfilter: a pinhole pass spread by its depth buffer).
+RENDER_MODELS = MODELS + ("postfilter",)
 FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
@@ -302,7 +305,7 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         raise t.error("focus_distance", f"{focus_distance_m:g} m is not beyond the focal length "
                       f"{focal_length_mm:g} mm (nothing can be focused there)")
     return Camera(
-        model=t.string("model", choices=MODELS),
+        model=t.string("model", choices=RENDER_MODELS),
         position=position,
         look_at=look_at,
         up=up,

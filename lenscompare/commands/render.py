@@ -7,7 +7,7 @@ import json
 from ..image import write_exr
 from ..plan import render_planned
 from ..render import render
-from ..scene import MODELS, SAMPLERS, load_scene
+from ..scene import RENDER_MODELS, SAMPLERS, load_scene
 from ._options import SEED, SPP, THREADS, check_output_suffix, with_lens_option
 
 __all__ = ["add_parser", "run"]
@@ -18,8 +18,9 @@ def add_parser(subparsers) -> None:
                               description="Render SCENE with the native tracer into a linear float EXR.")
     p.add_argument("scene", metavar="SCENE.toml")
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
-    p.add_argument("--model", choices=MODELS + ("auto",),
-                   help="camera model (default: the scene's); auto: the cheapest within tolerance (see plan)")
+    p.add_argument("--model", choices=RENDER_MODELS + ("auto",),
+                   help="camera model (default: the scene's); postfilter: a pinhole render spread by its depth "
+                        "buffer (at most 16 spp drawn); auto: the cheapest within tolerance (see plan)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (shipped name or file)")
     p.add_argument("--spp", type=SPP, help="samples per pixel (1 to 2^20)")
     p.add_argument("--sampler", choices=SAMPLERS)

@@ -1,0 +1,176 @@
+#include "postfilter.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace lc {
+namespace {
+
+// Where the kernel of a pixel crosses one height: [left, right] in px from
+// the pixel centre, or left > right when it does not reach that height.
+struct Chord {
+    double left, right;
+};
+
+// The aperture's image on the raster (y down), radius_px the circle's radius:
+// behind the plane of focus upright in the picture, in front turned by 180
+// degrees (aperture.h).
+Chord chord_at(const ApertureShape& shape, double radius_px, bool behind_focus, double y_px) {
+    const double ay = (behind_focus ? -y_px : y_px) / radius_px;  // aperture y is up
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    if (shape.blades == 0) {
+        if (std::fabs(ay) >= 1.0) return {1.0, -1.0};
+        hi = std::sqrt(1.0 - ay * ay), lo = -hi;
+    } else {
+        for (int k = 0; k < shape.blades; ++k) {
+            const double x0 = shape.vertex_x[size_t(k)], y0 = shape.vertex_y[size_t(k)];
+            const double x1 = shape.vertex_x[size_t(k) + 1], y1 = shape.vertex_y[size_t(k) + 1];
+            if (std::min(y0, y1) > ay || std::max(y0, y1) < ay) continue;
+            const double x = y1 == y0 ? x0 : x0 + (ay - y0) * (x1 - x0) / (y1 - y0);
+            lo = std::min({lo, x, y1 == y0 ? x1 : x}), hi = std::max({hi, x, y1 == y0 ? x1 : x});
+        }
+        if (!(lo < hi)) return {1.0, -1.0};
+    }
+    // In front of the focus the picture's x is mirrored too (the 180-degree turn).
+    return behind_focus ? Chord{lo * radius_px, hi * radius_px} : Chord{-hi * radius_px, -lo * radius_px};
+}
+
+// Largest |y| of the unit aperture: the kernel's reach up and down in radii.
+double vertical_reach(const ApertureShape& shape) {
+    if (shape.blades == 0) return 1.0;
+    double reach = 0.0;
+    for (int k = 0; k < shape.blades; ++k) reach = std::max(reach, std::fabs(shape.vertex_y[size_t(k)]));
+    return reach;
+}
+
+// Rows above and below its own that a pixel's kernel reaches.
+int reach_rows(double radius_px, double reach) { return int(std::ceil(radius_px * reach + 0.5)); }
+
+// Adds weight times the box-filtered coverage of [left, right) (raster x, px)
+// to the difference buffers of one row: after a running sum, pixel i holds
+// the length of [left, right) inside [i, i + 1).
+void add_span(double left, double right, double weight, const float* rgb, int width, double* diff) {
+    left = std::clamp(left, 0.0, double(width)), right = std::clamp(right, 0.0, double(width));
+    if (!(right > left)) return;
+    const int a = int(left), b = int(right);
+    const double fa = left - a, fb = right - b;
+    const double w[4] = {weight * rgb[0], weight * rgb[1], weight * rgb[2], weight};
+    double* da = diff + 4 * size_t(a);
+    double* db = diff + 4 * size_t(b);
+    for (int c = 0; c < 4; ++c) {
+        da[c] += w[c] * (1.0 - fa), da[4 + c] += w[c] * fa;
+        db[c] += w[c] * (fb - 1.0), db[4 + c] -= w[c] * fb;
+    }
+}
+
+}  // namespace
+
+void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_coverage) {
+    const int width = in.width_px, height = in.height_px, layers = in.n_layers, sub_rows = in.sub_rows;
+    const size_t pixels = size_t(width) * size_t(height);
+    const double reach = vertical_reach(in.aperture);
+
+    // Each layer's pixels by row (compressed rows), in row-major order.
+    std::vector<size_t> start(size_t(layers) * size_t(height) + 1, 0);
+    for (size_t p = 0; p < pixels; ++p) ++start[size_t(in.layer[p]) * size_t(height) + p / size_t(width) + 1];
+    for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    std::vector<int32_t> column(pixels);
+    {
+        std::vector<size_t> next(start.begin(), start.end() - 1);
+        for (size_t p = 0; p < pixels; ++p)
+            column[next[size_t(in.layer[p]) * size_t(height) + p / size_t(width)]++] = int32_t(p % size_t(width));
+    }
+    std::vector<int> layer_reach(size_t(layers), 0);
+    for (size_t p = 0; p < pixels; ++p) {
+        int& r = layer_reach[size_t(in.layer[p])];
+        r = std::max(r, reach_rows(0.5 * std::fabs(in.coc_px[p]), reach));
+    }
+
+    tbb::task_arena arena(in.threads > 0 ? in.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        // Each pixel's kernel sum on the grid, so that it spreads exactly its
+        // own colour (0: smaller than a sub-row spacing, kept in its pixel).
+        std::vector<double> inverse_area(pixels, 0.0);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t p = range.begin(); p < range.end(); ++p) {
+                const double radius = 0.5 * std::fabs(in.coc_px[p]);
+                const bool behind = in.coc_px[p] > 0.0f;
+                const int rows = reach_rows(radius, reach);
+                double area = 0.0;
+                for (int dy = -rows; dy <= rows && radius > 0.0; ++dy)
+                    for (int k = 0; k < sub_rows; ++k) {
+                        const Chord c = chord_at(in.aperture, radius, behind, dy + (k + 0.5) / sub_rows - 0.5);
+                        if (c.right > c.left) area += (c.right - c.left) / sub_rows;
+                    }
+                inverse_area[p] = area > 0.0 ? 1.0 / area : 0.0;
+            }
+        });
+
+        tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+            std::vector<double> diff(4 * (size_t(width) + 2)), colour(3 * size_t(width)), coverage(size_t(width), 0.0);
+            for (int y = rows.begin(); y < rows.end(); ++y) {
+                std::fill(colour.begin(), colour.end(), 0.0);
+                std::fill(coverage.begin(), coverage.end(), 0.0);
+                for (int l = 0; l < layers; ++l) {  // back to front
+                    bool touched = false;
+                    const int from = std::max(0, y - layer_reach[size_t(l)]);
+                    const int to = std::min(height - 1, y + layer_reach[size_t(l)]);
+                    for (int ys = from; ys <= to; ++ys) {
+                        const size_t row = size_t(l) * size_t(height) + size_t(ys);
+                        for (size_t i = start[row]; i < start[row + 1]; ++i) {
+                            const int x = column[i];
+                            const size_t p = size_t(ys) * size_t(width) + size_t(x);
+                            const float* rgb = in.rgb + 3 * p;
+                            const int dy = y - ys;
+                            if (!touched) std::fill(diff.begin(), diff.end(), 0.0), touched = true;
+                            if (inverse_area[p] == 0.0) {  // a point: stays in its pixel
+                                if (dy == 0) add_span(x, x + 1.0, 1.0, rgb, width, diff.data());
+                                continue;
+                            }
+                            const double radius = 0.5 * std::fabs(in.coc_px[p]);
+                            if (std::abs(dy) > reach_rows(radius, reach)) continue;
+                            const bool behind = in.coc_px[p] > 0.0f;
+                            const double weight = inverse_area[p] / sub_rows;
+                            for (int k = 0; k < sub_rows; ++k) {
+                                const Chord c = chord_at(in.aperture, radius, behind, dy + (k + 0.5) / sub_rows - 0.5);
+                                if (c.right > c.left)
+                                    add_span(x + 0.5 + c.left, x + 0.5 + c.right, weight, rgb, width, diff.data());
+                            }
+                        }
+                    }
+                    if (!touched) continue;
+                    // The layer's row, then "over" what lies behind it.
+                    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+                    for (int x = 0; x < width; ++x) {
+                        for (int c = 0; c < 4; ++c) sum[c] += diff[4 * size_t(x) + size_t(c)];
+                        double alpha = sum[3];
+                        if (!(alpha > 1e-9)) continue;
+                        // Overlapping kernels may sum past 1: the layer is then opaque there.
+                        const double scale = alpha > 1.0 ? 1.0 / alpha : 1.0;
+                        alpha *= scale;
+                        for (int c = 0; c < 3; ++c)
+                            colour[3 * size_t(x) + size_t(c)] =
+                                sum[c] * scale + (1.0 - alpha) * colour[3 * size_t(x) + size_t(c)];
+                        coverage[size_t(x)] = alpha + (1.0 - alpha) * coverage[size_t(x)];
+                    }
+                }
+                // Normalised by the weight that arrived: the frame's border and the
+                // holes that nearer layers leave are filled from their surroundings.
+                for (int x = 0; x < width; ++x) {
+                    const size_t p = size_t(y) * size_t(width) + size_t(x);
+                    const double a = coverage[size_t(x)];
+                    for (int c = 0; c < 3; ++c) out_rgb[3 * p + size_t(c)] = a > 0.0 ? float(colour[3 * size_t(x) + size_t(c)] / a) : 0.0f;
+                    out_coverage[p] = float(a);
+                }
+            }
+        });
+    });
+}
+
+}  // namespace lc
