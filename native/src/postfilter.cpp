@@ -154,14 +154,19 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                         // Overlapping kernels may sum past 1: the layer is then opaque there.
                         const double scale = alpha > 1.0 ? 1.0 / alpha : 1.0;
                         alpha *= scale;
-                        for (int c = 0; c < 3; ++c)
-                            colour[3 * size_t(x) + size_t(c)] =
-                                sum[c] * scale + (1.0 - alpha) * colour[3 * size_t(x) + size_t(c)];
-                        coverage[size_t(x)] = alpha + (1.0 - alpha) * coverage[size_t(x)];
+                        // What lies behind, normalised by the weight it received: the
+                        // holes that this layer's own objects left in it (and the frame's
+                        // border) filled from their surroundings, so that a blurred rim
+                        // shows the background round it rather than black.
+                        double* behind = &colour[3 * size_t(x)];
+                        const double behind_weight = coverage[size_t(x)];
+                        const double fill = behind_weight > 0.0 ? 1.0 / behind_weight : 0.0;
+                        for (int c = 0; c < 3; ++c) behind[c] = sum[c] * scale + (1.0 - alpha) * behind[c] * fill;
+                        coverage[size_t(x)] = alpha + (1.0 - alpha) * (behind_weight > 0.0 ? 1.0 : 0.0);
                     }
                 }
-                // Normalised by the weight that arrived: the frame's border and the
-                // holes that nearer layers leave are filled from their surroundings.
+                // Normalised by the weight that arrived: at the frame's border, and
+                // where the nearest layers left a hole with nothing behind it.
                 for (int x = 0; x < width; ++x) {
                     const size_t p = size_t(y) * size_t(width) + size_t(x);
                     const double a = coverage[size_t(x)];
