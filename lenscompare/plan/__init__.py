@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..image import Image
+from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
 from ..scene import MODELS, Scene
 from .effects import EFFECTS, Effect, ideal_camera
@@ -27,6 +28,7 @@ class Plan:
     tolerance_px: float
     tolerance_percent: float
     predicted_seconds: dict[str, float]
+    postfilter_edge_error: dict | None = None  # lenscompare.postfilter.EdgeError, when it was predicted
 
     def to_json(self) -> dict:
         saved = None
@@ -39,6 +41,7 @@ class Plan:
             "tolerance": {"px": self.tolerance_px, "percent": self.tolerance_percent},
             "predicted_seconds": self.predicted_seconds,
             "time_saved_seconds_vs_lens": saved,
+            "postfilter_edge_error": self.postfilter_edge_error,
         }
 
 
@@ -70,8 +73,17 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
             model = e.needed_by
     if model == "lens" and scene.camera.lens is None:  # cannot happen: no prescription, no lens effects
         model = "thin"
+    # The image-based depth of field stands in for the thin lens where its occlusion edges allow.
+    edge_error = None
+    if model == "thin":
+        suffices, edge_error = postfilter_suffices(scene, defocus_needed=needed["defocus"],
+                                                   tolerance_px=tolerance_px, camera=camera, threads=threads)
+        model = "postfilter" if suffices else model
     costs = predicted_seconds(scene, threads=threads) if measure_costs else {}
-    return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs)
+    if "pinhole" in costs:  # its pinhole pass draws fewer samples; the spread costs milliseconds
+        costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
+    return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,
+                edge_error.to_json() if edge_error else None)
 
 
 def predicted_seconds(scene: Scene, *, threads: int | None = None) -> dict[str, float]:

@@ -13,7 +13,8 @@ pixel within ``band_px`` of one.
 
 Predicate (for the planner): the *predicted edge error* is the largest
 difference in blur diameter (eq. 5, px of the scene's film) across any
-occlusion edge of a cheap low-resolution depth buffer. The postfilter's
+occlusion edge of a cheap low-resolution depth buffer (and between each
+sphere and the depth behind it, for spheres too small to be hit). The postfilter's
 artefacts reach about half that difference from the edge, so the planner may
 choose it only when the defocus is needed and the predicted edge error is
 within its own px tolerance: an artefact then no wider than an effect the
@@ -29,12 +30,12 @@ import numpy as np
 from scipy import ndimage
 
 from ..cameras import CameraModel, camera_for
-from ..scene import Scene
+from ..scene import Scene, Sphere
 from .blur import signed_coc_px
 from .depth import depth_buffer_m
 
 __all__ = ["DEPTH_JUMP", "EDGE_JUMP_PX", "BAND_PX", "EdgeError", "occlusion_edges", "edge_band",
-           "postfilter_edge_error", "PREDICTOR_PIXELS"]
+           "postfilter_edge_error", "edge_band_error", "postfilter_suffices", "PREDICTOR_PIXELS"]
 
 DEPTH_JUMP = 0.05       # relative depth step between neighbours that counts as a discontinuity
 EDGE_JUMP_PX = 1.0      # and the blur difference across it (px) that makes it matter
@@ -139,6 +140,61 @@ def postfilter_edge_error(scene: Scene, *, camera: CameraModel | None = None, pi
     depth = depth_buffer_m(small, camera_for(small, "pinhole"), threads=threads)
     coc = signed_coc_px(depth, camera)  # in the scene's own pixels
     _, coc_jump = _neighbour_jumps(depth, coc)
-    return EdgeError(max_coc_jump_px=float(coc_jump.max()) if coc_jump.size else 0.0,
+    worst = float(coc_jump.max()) if coc_jump.size else 0.0
+    # Spheres smaller than a pixel may fall between the pixel centres: each
+    # sphere's blur against the depth behind its centre's pixel, too.
+    spheres = [o for o in scene.objects if isinstance(o, Sphere)]
+    if spheres:
+        xyz = camera.frame.camera_from_world([o.center for o in spheres])
+        ahead = xyz[:, 2] > 0
+        px = camera.project_px(xyz[ahead]) * (small.camera.width_px / w)
+        inside = (px[:, 0] >= 0) & (px[:, 0] < small.camera.width_px) & (px[:, 1] >= 0) & (px[:, 1] < small.camera.height_px)
+        if inside.any():
+            z = xyz[ahead][inside, 2]
+            behind = depth[px[inside, 1].astype(int), px[inside, 0].astype(int)].astype(float)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                apart = np.isinf(behind) | (np.abs(behind - z) > DEPTH_JUMP * np.minimum(behind, z))
+            jumps = np.abs(signed_coc_px(z, camera) - signed_coc_px(behind, camera))
+            worst = max(worst, float(np.max(np.where(apart, jumps, 0.0))))
+    return EdgeError(max_coc_jump_px=worst,
                      edge_fraction=float((coc_jump > EDGE_JUMP_PX).mean()) if coc_jump.size else 0.0,
                      resolution=small.camera.resolution)
+
+
+def edge_band_error(image_true: np.ndarray, image_test: np.ndarray, band: np.ndarray) -> dict:
+    """Relative RMSE of ``image_test`` against ``image_true`` in the edge band
+    and elsewhere: the RMSE over a region's pixels and channels divided by
+    ``image_true``'s mean there (:func:`lenscompare.metrics.relative_rmse`'s
+    definition, per region).
+
+    Returns
+    -------
+    dict
+        ``band_relative_rmse``, ``elsewhere_relative_rmse`` (None for an
+        empty region) and ``band_fraction`` (share of the frame in the band).
+    """
+    true, test = np.asarray(image_true, dtype=float), np.asarray(image_test, dtype=float)
+    band = np.asarray(band, dtype=bool)
+
+    def relative(mask: np.ndarray) -> float | None:
+        if not mask.any():
+            return None
+        t, s = true[mask], test[mask]
+        mean = t.mean()
+        return float(np.sqrt(np.mean((s - t) ** 2)) / mean) if mean > 0 else None
+
+    return {"band_relative_rmse": relative(band), "elsewhere_relative_rmse": relative(~band),
+            "band_fraction": float(band.mean())}
+
+
+def postfilter_suffices(scene: Scene, *, defocus_needed: bool, tolerance_px: float,
+                        camera: CameraModel | None = None, threads: int | None = None) -> tuple[bool, EdgeError | None]:
+    """The planner's predicate: the postfilter may stand in for the thin lens
+    only when defocus is needed (else the pinhole is cheaper still) and its
+    predicted edge error (:func:`postfilter_edge_error`) is within
+    ``tolerance_px``. ``camera``: the thin lens the defocus was sized with. Returns the verdict and the prediction (None when
+    defocus is not needed: nothing is traced)."""
+    if not defocus_needed:
+        return False, None
+    error = postfilter_edge_error(scene, camera=camera, threads=threads)
+    return error.within(tolerance_px), error

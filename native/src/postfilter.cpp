@@ -49,6 +49,23 @@ double vertical_reach(const ApertureShape& shape) {
     return reach;
 }
 
+// Per-axis second moment of the unit aperture over its radius squared: 1/4 for
+// the circle, R^2 (2 + cos(2 pi / N)) / 12 for the N-gon of circumradius R.
+double axis_moment(const ApertureShape& shape) {
+    if (shape.blades == 0) return 0.25;
+    const double r2 = shape.vertex_x[0] * shape.vertex_x[0] + shape.vertex_y[0] * shape.vertex_y[0];
+    return r2 * (2.0 + std::cos(2.0 * 3.14159265358979323846 / shape.blades)) / 12.0;
+}
+
+// The radius a pixel's kernel is drawn with. Box-filtering it over the output
+// pixel adds 1/12 px^2 to its variance on each axis, which the pinhole's own
+// pixel already holds: the kernel shrinks by as much, so that the spread adds
+// exactly the aperture's second moment (a blur under ~1.15 px stays in its pixel).
+double kernel_radius_px(double coc_px, double moment) {
+    const double r = 0.5 * std::fabs(coc_px);
+    return std::sqrt(std::max(r * r - 1.0 / (12.0 * moment), 0.0));
+}
+
 // Rows above and below its own that a pixel's kernel reaches.
 int reach_rows(double radius_px, double reach) { return int(std::ceil(radius_px * reach + 0.5)); }
 
@@ -74,7 +91,7 @@ void add_span(double left, double right, double weight, const float* rgb, int wi
 void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_coverage) {
     const int width = in.width_px, height = in.height_px, layers = in.n_layers, sub_rows = in.sub_rows;
     const size_t pixels = size_t(width) * size_t(height);
-    const double reach = vertical_reach(in.aperture);
+    const double reach = vertical_reach(in.aperture), moment = axis_moment(in.aperture);
 
     // Each layer's pixels by row (compressed rows), in row-major order.
     std::vector<size_t> start(size_t(layers) * size_t(height) + 1, 0);
@@ -89,7 +106,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
     std::vector<int> layer_reach(size_t(layers), 0);
     for (size_t p = 0; p < pixels; ++p) {
         int& r = layer_reach[size_t(in.layer[p])];
-        r = std::max(r, reach_rows(0.5 * std::fabs(in.coc_px[p]), reach));
+        r = std::max(r, reach_rows(kernel_radius_px(in.coc_px[p], moment), reach));
     }
 
     tbb::task_arena arena(in.threads > 0 ? in.threads : tbb::task_arena::automatic);
@@ -99,7 +116,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
         std::vector<double> inverse_area(pixels, 0.0);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t p = range.begin(); p < range.end(); ++p) {
-                const double radius = 0.5 * std::fabs(in.coc_px[p]);
+                const double radius = kernel_radius_px(in.coc_px[p], moment);
                 const bool behind = in.coc_px[p] > 0.0f;
                 const int rows = reach_rows(radius, reach);
                 double area = 0.0;
@@ -133,7 +150,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                                 if (dy == 0) add_span(x, x + 1.0, 1.0, rgb, width, diff.data());
                                 continue;
                             }
-                            const double radius = 0.5 * std::fabs(in.coc_px[p]);
+                            const double radius = kernel_radius_px(in.coc_px[p], moment);
                             if (std::abs(dy) > reach_rows(radius, reach)) continue;
                             const bool behind = in.coc_px[p] > 0.0f;
                             const double weight = inverse_area[p] / sub_rows;
