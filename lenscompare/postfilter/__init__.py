@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from .blur import MAX_PINHOLE_SPP, METHOD, pinhole_pass_spp, signed_coc_px, spread
 from .depth import depth_buffer_m
-from .edges import (EDGE_JUMP_PX, EdgeError, edge_band, edge_band_error, occlusion_edges, postfilter_edge_error,
+from .edges import (BAND_PX, EDGE_JUMP_PX, EdgeError, edge_band, edge_band_error, occlusion_edges, postfilter_edge_error,
                     postfilter_suffices)
 
 __all__ = ["MAX_PINHOLE_SPP", "METHOD", "pinhole_pass_spp", "signed_coc_px", "spread", "depth_buffer_m",
-           "EDGE_JUMP_PX", "EdgeError", "edge_band", "edge_band_error", "occlusion_edges", "postfilter_edge_error", "postfilter_suffices"]
+           "BAND_PX", "EDGE_JUMP_PX", "EdgeError", "edge_band", "edge_band_error", "occlusion_edges", "postfilter_edge_error", "postfilter_suffices"]

@@ -10,18 +10,21 @@ from leaking onto it. Gather is cheaper on a GPU, but it leaks both ways.
 Occlusion: the pixels are sorted into depth layers (by signed blur diameter,
 1 px wide up to 10 px, then 10 % wide), each layer is spread, and the layers
 are composited back to front ("over", after Kraus and Strengert 2007), so a
-nearer layer's spread covers what lies behind it by its own coverage. The
-result is normalised by the coverage that arrived, which fills the frame's
-border and the holes that sharp foreground leaves in a blurred background
-from their surroundings. What a single image cannot hold, the surfaces
-hidden behind a foreground object, is missing: the error at occlusion edges
-(:mod:`.edges`).
+nearer layer's spread covers what lies behind it by its own coverage. Before
+each layer goes over, what lies behind is normalised by the coverage it
+received: the holes that nearer objects left in a blurred background, and the
+frame's border, are filled from their surroundings, and a point's blur keeps
+its flux. What a single image cannot hold, the surfaces hidden behind a
+foreground object, is missing: the error at occlusion edges (:mod:`.edges`).
 
 The spread is exact in each pixel's own diameter (no size classes): its
-kernel is the disk (or N-gon) box-filtered across each row and integrated at
-``SUB_ROWS`` heights per row, normalised to the pixel's colour. A kernel
-smaller than a pixel keeps the pixel whole: a scene in the plane of focus
-comes out as its pinhole image.
+kernel is the disk (or N-gon; upright behind the plane of focus, turned by
+180 degrees in front) box-filtered across each row and integrated at
+``SUB_ROWS`` heights per row, normalised to the pixel's colour. The output
+pixel's box adds 1/12 px² per axis that the pinhole's pixel already holds,
+so the kernel is drawn that much smaller: the spread adds exactly the
+aperture's second moment, and a blur under ~1.15 px keeps the pixel whole (a
+scene in the plane of focus comes out as its pinhole image).
 
 References
 ----------
@@ -52,7 +55,7 @@ edge to 1/16 of a pixel's area, and the spread then averages a defocused
 pixel with its neighbours. A requested spp above 16 is recorded but not drawn
 (``metadata["postfilter"]["pinhole_spp"]`` says what was)."""
 
-METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front, normalised by coverage"
+METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front over hole-filled layers"
 SUB_ROWS = 4          # heights per row at which a kernel is integrated
 LINEAR_LAYERS_PX = 10.0  # layers 1 px wide up to this diameter, then 10 % wide
 

@@ -31,16 +31,23 @@ def depth_buffer_m(scene: Scene, camera: PinholeCamera, *, threads: int | None =
     Returns
     -------
     ndarray, float32, (H, W)
-        Depth from ``camera.frame.origin`` along the view axis, m, of the hit
-        of the ray through each pixel's centre; ``inf`` where it hits nothing.
+        Depth from ``camera.frame.origin`` along the view axis, m, of the
+        nearest surface the pixel sees; ``inf`` where it sees nothing.
 
     Notes
     -----
-    One ray through the pixel centre, not a mean over the film samples of the
+    One ray through each pixel centre; where the depth jumps (by more than
+    5 %) to one of the 8 neighbours, a silhouette, the nearest hit of an 8 x 8
+    grid of rays over the pixel. Not a mean over the film samples of the
     colour pass: a mean would invent, at every silhouette, a depth between
-    the two surfaces that no surface has (and a blur that belongs to neither).
-    A pixel's colour may then mix two surfaces while its depth names one; the
-    error this leaves is part of the edge error :mod:`.edges` measures.
+    the two surfaces that neither has (and a blur that belongs to neither).
+    Not the centre alone either: a pixel half covered by a bright object
+    holds half its light, which must spread with that object's blur (a
+    point source's rim pixels would otherwise spread with the background's
+    and widen its disk by tens of percent). The rest of such a pixel's colour
+    then spreads with the nearer blur: part of the edge error :mod:`.edges`
+    measures. An object smaller than a pixel that no pixel centre hits keeps
+    the depth behind it (a limitation: its light spreads with that blur).
     """
     depth = np.empty((camera.film.height_px, camera.film.width_px), dtype=np.float32)
     threads = min(int(threads or 0), os.cpu_count() or 1)
