@@ -20,11 +20,14 @@ foreground object, is missing: the error at occlusion edges (:mod:`.edges`).
 The spread is exact in each pixel's own diameter (no size classes): its
 kernel is the disk (or N-gon; upright behind the plane of focus, turned by
 180 degrees in front) box-filtered across each row and integrated at
-``SUB_ROWS`` heights per row, normalised to the pixel's colour. The output
-pixel's box adds 1/12 px² per axis that the pinhole's pixel already holds,
-so the kernel is drawn that much smaller: the spread adds exactly the
-aperture's second moment, and a blur under ~1.15 px keeps the pixel whole (a
-scene in the plane of focus comes out as its pinhole image).
+``SUB_ROWS`` heights per row, normalised to the pixel's colour. Drawn on the
+pixel grid a kernel's variance is not its own (under half a pixel it adds
+nothing; far above, it adds the output pixel's box, 1/12 px² per axis, which
+the pinhole's own pixel already holds), so each kernel is drawn at the
+radius whose grid variance is the aperture's (a table, inverted): every blur
+adds exactly its eq.-5 second moment, a 1 px blur spreads a little into the
+neighbours as the thin lens's does, and a blur under 0.01 px keeps the pixel
+bit for bit (a scene in the plane of focus comes out as its pinhole image).
 
 References
 ----------

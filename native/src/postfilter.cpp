@@ -57,15 +57,6 @@ double axis_moment(const ApertureShape& shape) {
     return r2 * (2.0 + std::cos(2.0 * 3.14159265358979323846 / shape.blades)) / 12.0;
 }
 
-// The radius a pixel's kernel is drawn with. Box-filtering it over the output
-// pixel adds 1/12 px^2 to its variance on each axis, which the pinhole's own
-// pixel already holds: the kernel shrinks by as much, so that the spread adds
-// exactly the aperture's second moment (a blur under ~1.15 px stays in its pixel).
-double kernel_radius_px(double coc_px, double moment) {
-    const double r = 0.5 * std::fabs(coc_px);
-    return std::sqrt(std::max(r * r - 1.0 / (12.0 * moment), 0.0));
-}
-
 // Rows above and below its own that a pixel's kernel reaches.
 int reach_rows(double radius_px, double reach) { return int(std::ceil(radius_px * reach + 0.5)); }
 
@@ -86,12 +77,76 @@ void add_span(double left, double right, double weight, const float* rgb, int wi
     }
 }
 
+// The radius each pixel's kernel is drawn with, so that its spread on the
+// pixel grid adds exactly the aperture's second moment (eq. 5's diameter)
+// whatever its size. Drawn on the grid (box-filtered over the output pixels,
+// centred on a pixel centre) a kernel's variance is not its own: under half a
+// pixel it adds nothing, far above it adds 1/12 px^2 per axis, which the
+// pinhole's own pixel already holds. A table of the grid variance against the
+// drawn radius, inverted: a 1 px blur then spreads a little into the
+// neighbours, as the thin lens's does, instead of staying sharp.
+class KernelRadius {
+  public:
+    KernelRadius(const ApertureShape& shape, int sub_rows) : shape_(shape), moment_(axis_moment(shape)) {
+        const double reach = vertical_reach(shape);
+        double previous = 0.0;
+        for (int i = 0; i <= kSteps; ++i) {
+            const double radius = i * kStep;
+            previous = std::max(previous, grid_variance(radius, reach, sub_rows));  // kept monotonic
+            variance_[size_t(i)] = previous;
+        }
+    }
+
+    // Radius to draw for a signed blur diameter; 0 (the pixel kept whole) below kSharpPx.
+    double operator()(double coc_px) const {
+        const double r = 0.5 * std::fabs(coc_px);
+        if (2.0 * r < kSharpPx) return 0.0;
+        const double target = moment_ * r * r;  // the aperture's per-axis variance, px^2
+        if (target >= variance_[kSteps]) return std::sqrt(std::max(target - 1.0 / 12.0, 0.0) / moment_);
+        const double* first = variance_;
+        const size_t i = size_t(std::upper_bound(first, first + kSteps + 1, target) - first);  // variance_[i] > target
+        if (i == 0) return 0.0;
+        const double lo = variance_[i - 1], hi = variance_[i];
+        return ((i - 1) + (hi > lo ? (target - lo) / (hi - lo) : 0.0)) * kStep;
+    }
+
+  private:
+    static constexpr int kSteps = 512;
+    static constexpr double kStep = 1.0 / 64.0;  // radii 0..8 px; beyond, variance = moment r^2 + 1/12
+    static constexpr double kSharpPx = 0.01;      // a blur this small keeps the pixel bit for bit
+
+    // Per-axis variance (mean of x and y) of a kernel of this radius centred on a pixel, on the grid.
+    double grid_variance(double radius, double reach, int sub_rows) const {
+        if (radius <= 0.0) return 0.0;
+        const int rows = reach_rows(radius, reach);
+        std::vector<double> column(2 * size_t(rows) + 3, 0.0);
+        double total = 0.0, sum_yy = 0.0, sum_xx = 0.0;
+        for (int dy = -rows; dy <= rows; ++dy)
+            for (int k = 0; k < sub_rows; ++k) {
+                const Chord c = chord_at(shape_, radius, true, dy + (k + 0.5) / sub_rows - 0.5);
+                if (!(c.right > c.left)) continue;
+                // Coverage of pixel columns i (centre i, the kernel's centre at 0).
+                for (int i = -rows - 1; i <= rows + 1; ++i) {
+                    const double overlap = std::min(c.right, i + 0.5) - std::max(c.left, i - 0.5);
+                    if (overlap <= 0.0) continue;
+                    total += overlap, sum_yy += overlap * dy * dy, sum_xx += overlap * double(i) * i;
+                }
+            }
+        return total > 0.0 ? 0.5 * (sum_xx + sum_yy) / total : 0.0;
+    }
+
+    ApertureShape shape_;
+    double moment_;
+    double variance_[kSteps + 1];
+};
+
 }  // namespace
 
 void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_coverage) {
     const int width = in.width_px, height = in.height_px, layers = in.n_layers, sub_rows = in.sub_rows;
     const size_t pixels = size_t(width) * size_t(height);
-    const double reach = vertical_reach(in.aperture), moment = axis_moment(in.aperture);
+    const double reach = vertical_reach(in.aperture);
+    const KernelRadius kernel_radius_px(in.aperture, sub_rows);
 
     // Each layer's pixels by row (compressed rows), in row-major order.
     std::vector<size_t> start(size_t(layers) * size_t(height) + 1, 0);
@@ -106,7 +161,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
     std::vector<int> layer_reach(size_t(layers), 0);
     for (size_t p = 0; p < pixels; ++p) {
         int& r = layer_reach[size_t(in.layer[p])];
-        r = std::max(r, reach_rows(kernel_radius_px(in.coc_px[p], moment), reach));
+        r = std::max(r, reach_rows(kernel_radius_px(in.coc_px[p]), reach));
     }
 
     tbb::task_arena arena(in.threads > 0 ? in.threads : tbb::task_arena::automatic);
@@ -116,7 +171,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
         std::vector<double> inverse_area(pixels, 0.0);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t p = range.begin(); p < range.end(); ++p) {
-                const double radius = kernel_radius_px(in.coc_px[p], moment);
+                const double radius = kernel_radius_px(in.coc_px[p]);
                 const bool behind = in.coc_px[p] > 0.0f;
                 const int rows = reach_rows(radius, reach);
                 double area = 0.0;
@@ -150,7 +205,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                                 if (dy == 0) add_span(x, x + 1.0, 1.0, rgb, width, diff.data());
                                 continue;
                             }
-                            const double radius = kernel_radius_px(in.coc_px[p], moment);
+                            const double radius = kernel_radius_px(in.coc_px[p]);
                             if (std::abs(dy) > reach_rows(radius, reach)) continue;
                             const bool behind = in.coc_px[p] > 0.0f;
                             const double weight = inverse_area[p] / sub_rows;
