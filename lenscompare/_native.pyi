@@ -171,6 +171,7 @@ def render_depth(
     camera: PinholeCamera,
     threads: int,  # 0: all cores; the buffer does not depend on it
     depth_m: numpy.ndarray,  # float32 (height, width), written: depth along the view axis, m; inf: nothing hit
+    refine: numpy.ndarray | None = None,  # uint8 (height, width): pixels that take the 8x8 grid whatever their neighbours
 ) -> None:
     """Each pixel centre's first hit along the pinhole's ray, as depth along the view axis (m; inf: nothing)."""
 

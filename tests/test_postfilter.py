@@ -13,6 +13,7 @@ import pytest
 from lenscompare import _native
 from lenscompare.cameras import camera_for
 from lenscompare.measure import measure_blur_disks
+from lenscompare.metrics import find_point_sources
 from lenscompare.optics import second_moment_diameter_ratio
 from lenscompare.plan import plan_scene, render_planned
 from lenscompare.postfilter import depth_buffer_m, edge_band, edge_band_error, postfilter_edge_error, signed_coc_px
@@ -194,3 +195,17 @@ def test_it_errs_at_occlusion_edges_more_than_elsewhere():
     errors = edge_band_error(thin, post, edge_band(depth, signed_coc_px(depth, camera_for(scene, "thin"))))
     assert 0.02 < errors["band_fraction"] < 0.4
     assert errors["band_relative_rmse"] > 2.0 * errors["elsewhere_relative_rmse"], errors
+
+
+def test_points_smaller_than_a_pixel_spread_with_their_own_blur():
+    """Spheres ~0.5 px across, which pixel centres may miss: the depth pass
+    refines round their images, so each spreads to its eq.-5 disk (without
+    the refinement they took the background's 16 px blur)."""
+    objects = sphere_text((-0.1, 0.0, 0.5), 0.0004) + sphere_text((0.3, 0.0, 1.6), 0.0013)
+    scene = _scene(camera_scene_text(f_number=1.4, focus_distance=0.8, resolution=(240, 160), objects=objects))
+    post = [d.second_moment_diameter_px for d in find_point_sources(render(scene, model="postfilter", spp=16,
+                                                                           progress=False).pixels)]
+    eq5 = np.abs(signed_coc_px(np.array([0.5, 1.6]), camera_for(scene, "thin")))  # 9.5 and 7.9 px
+    assert len(post) == 2
+    for measured, expected in zip(post, eq5):  # sorted by x: the near point first
+        assert measured == pytest.approx(expected, rel=0.04)

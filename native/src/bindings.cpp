@@ -171,10 +171,13 @@ void bind_camera_functions(nb::module_& m) {
           "The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted).");
 }
 
-void render_depth_py(const Scene& scene, const PinholeCamera& camera, int threads, CArray<float, -1, -1> depth_m) {
+void render_depth_py(const Scene& scene, const PinholeCamera& camera, int threads, CArray<float, -1, -1> depth_m,
+                     std::optional<CArray<const uint8_t, -1, -1>> refine) {
     if (int(depth_m.shape(1)) != camera.film.width_px || int(depth_m.shape(0)) != camera.film.height_px)
         throw std::invalid_argument("depth array does not match the camera's resolution");
-    render_depth(scene, camera, threads, depth_m.data());
+    if (refine && (refine->shape(0) != depth_m.shape(0) || refine->shape(1) != depth_m.shape(1)))
+        throw std::invalid_argument("refine must have the depth array's shape");
+    render_depth(scene, camera, threads, depth_m.data(), refine ? refine->data() : nullptr);
 }
 
 void scatter_py(CArray<const float, -1, -1, 3> rgb, CArray<const float, -1, -1> coc_px,
@@ -307,7 +310,7 @@ NB_MODULE(_native, m) {
     bind_camera_functions<ThickLensCamera>(m);
     bind_camera_functions<LensSystemCamera>(m);
 
-    m.def("render_depth", &render_depth_py, "scene"_a, "camera"_a, "threads"_a, "depth_m"_a,
+    m.def("render_depth", &render_depth_py, "scene"_a, "camera"_a, "threads"_a, "depth_m"_a, "refine"_a = nb::none(),
           nb::call_guard<nb::gil_scoped_release>(),
           "Each pixel centre's first hit along the pinhole's ray, as depth along the view axis (m; inf: nothing).");
     m.def("scatter_depth_of_field", &scatter_py, "rgb"_a, "coc_px"_a, "layer"_a, "n_layers"_a, "aperture_blades"_a,

@@ -30,7 +30,8 @@ bool jumps(float a, float b) {
 
 }  // namespace
 
-void render_depth(const Scene& scene, const PinholeCamera& camera, int threads, float* depth_m) {
+void render_depth(const Scene& scene, const PinholeCamera& camera, int threads, float* depth_m,
+                  const uint8_t* refine) {
     const int width = camera.film.width_px, height = camera.film.height_px;
     std::vector<float> centre(size_t(width) * size_t(height));
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -49,7 +50,7 @@ void render_depth(const Scene& scene, const PinholeCamera& camera, int threads, 
                     const size_t p = size_t(y) * size_t(width) + size_t(x);
                     float depth = centre[p];
                     // 8-neighbours: an object may cover only a pixel's corner.
-                    bool edge = false;
+                    bool edge = refine != nullptr && refine[p] != 0;
                     for (int dy = -1; dy <= 1 && !edge; ++dy)
                         for (int dx = -1; dx <= 1 && !edge; ++dx) {
                             const int nx = x + dx, ny = y + dy;

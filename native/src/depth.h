@@ -3,6 +3,8 @@
 // The image-based depth of field (lenscompare/postfilter) reads it.
 #pragma once
 
+#include <cstdint>
+
 #include "cameras/pinhole.h"
 #include "scene.h"
 
@@ -18,6 +20,9 @@ constexpr int kDepthEdgeGrid = 8;  // finds an object covering 1/64 of the pixel
 // nearest hit of a kDepthEdgeGrid^2 grid of rays over the pixel, so that a
 // pixel partly covered by an object takes that object's depth. Each pixel is
 // computed alone in both passes: any thread count gives the same buffer.
-void render_depth(const Scene& scene, const PinholeCamera& camera, int threads, float* depth_m);
+// refine (optional, height x width): pixels that take the grid whatever their
+// neighbours (objects too small for any pixel centre to hit).
+void render_depth(const Scene& scene, const PinholeCamera& camera, int threads, float* depth_m,
+                  const uint8_t* refine = nullptr);
 
 }  // namespace lc
