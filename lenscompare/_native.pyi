@@ -183,6 +183,29 @@ def generate_rays(
 ) -> None:
     """The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted)."""
 
+def render_depth(
+    scene: Scene,
+    camera: PinholeCamera,
+    threads: int,  # 0: all cores; the buffer does not depend on it
+    depth_m: numpy.ndarray,  # float32 (height, width), written: depth along the view axis, m; inf: nothing hit
+    refine: numpy.ndarray | None = None,  # uint8 (height, width): pixels that take the 8x8 grid whatever their neighbours
+) -> None:
+    """Each pixel centre's first hit along the pinhole's ray, as depth along the view axis (m; inf: nothing)."""
+
+def scatter_depth_of_field(
+    rgb: numpy.ndarray,  # float32 (height, width, 3): the pinhole image
+    coc_px: numpy.ndarray,  # float32 (height, width): signed blur diameter, px; > 0 behind the plane of focus
+    layer: numpy.ndarray,  # int32 (height, width): 0 the farthest layer ... n_layers - 1 the nearest
+    n_layers: int,
+    aperture_blades: int,  # 0: circle; 3..32: regular N-gon of the circle's area
+    aperture_rotation_deg: float,
+    sub_rows: int,  # heights per output row at which the kernel is integrated, 1..64
+    threads: int,  # 0: all cores; the image does not depend on it
+    out: numpy.ndarray,  # float32 (height, width, 3), written
+    coverage: numpy.ndarray,  # float32 (height, width), written: the composited weight before normalisation
+) -> None:
+    """Spreads each pixel over its signed blur diameter, layers composited back to front."""
+
 class _Diagnostics(types.ModuleType):
     """Hooks for lenscompare's tests and benchmarks only.
 

@@ -22,11 +22,12 @@ from .errors import ExternalError, InputError
 from .image import Image
 from .limits import MAX_SEED, MAX_SPP, check_render_budget
 from .native_scene import build_native_scene
+from .postfilter import depth_buffer_m, pinhole_pass_spp, spread
 from .progress import progress_bar
-from .scene import MODELS, SAMPLERS, Scene
+from .scene import RENDER_MODELS, SAMPLERS, Scene
 
 # Beyond the scene file's models: the composite of chosen effects (cameras/composite.py).
-RENDER_MODELS = MODELS + ("composite",)
+RENDERABLE_MODELS = RENDER_MODELS + ("composite",)
 
 __all__ = ["render", "SAMPLER_CODES"]
 
@@ -49,10 +50,16 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     ----------
     scene : Scene
         A loaded scene (:func:`lenscompare.scene.load_scene`).
-    model : {'pinhole', 'thin', 'thick', 'lens', 'composite'}, optional
+    model : {'pinhole', 'thin', 'thick', 'lens', 'composite', 'postfilter'}, optional
         Camera model; default the scene's ``camera.model``, or ``composite``
         when the scene has ``[render] effects``. (``--model auto`` is the
         planner's: :func:`lenscompare.plan.render_planned`.)
+        ``postfilter`` renders the pinhole with at most
+        :data:`~lenscompare.postfilter.MAX_PINHOLE_SPP` film samples and
+        spreads it by its depth buffer into the thin lens's defocus
+        (:mod:`lenscompare.postfilter`); ``seconds`` includes the depth
+        buffer and the spread, ``metadata["postfilter"]`` says what was drawn
+        and what the spread cost, and ``image.camera`` is the thin lens.
     effects : sequence of str, optional
         Render exactly these effects with a composite of cheap parts
         (:class:`lenscompare.cameras.CompositeCamera`; ``--effects``);
@@ -91,8 +98,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if camera is None and model is None and scene.render.effects is not None:
         model = "composite"
     model = camera.model if camera is not None else (model or scene.camera.model)
-    if model not in RENDER_MODELS:
-        raise InputError("--model", f"expected one of {', '.join(MODELS)}, got {model!r}")
+    if model not in RENDERABLE_MODELS:
+        raise InputError("--model", f"expected one of {', '.join(RENDERABLE_MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
@@ -109,13 +116,19 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     # Before anything is allocated: too many samples, or more memory than the machine has.
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
-    camera = camera or camera_for(scene, model, effects=effects)
+    postfilter = model == "postfilter"
+    # The postfilter imitates the thin lens (its image carries that camera) from a pinhole pass.
+    camera = camera or camera_for(scene, "thin" if postfilter else model, effects=effects)
     if "diffraction" in getattr(camera, "effects", ()) and diffraction is None:  # the post-filter part
         scene = scene.with_render(diffraction=True)
         settings = scene.render
     # Before the render: a scene that cannot diffract is refused at once.
     aperture = diffraction_aperture(scene, camera) if settings.diffraction else None
-    native_camera = camera.native(disk_mapping=settings.disk_mapping)
+    requested_spp = settings.spp
+    if postfilter:
+        settings = scene.with_render(spp=pinhole_pass_spp(settings.spp)).render
+        pinhole = camera_for(scene, "pinhole")
+    native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
 
     start = time.perf_counter()
@@ -132,6 +145,15 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                                          row_end, pixels, variance),
                 height, width * settings.spp, bar)
         adaptive_info = None
+    if postfilter:
+        pass_seconds = time.perf_counter() - start
+        depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+        depth_seconds = time.perf_counter() - start - pass_seconds
+        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
+        postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
+                           "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),
+                           **postfilter_info}
+        variance = None  # the spread mixes pixels: no per-pixel variance of the mean
     seconds = time.perf_counter() - start
     if not np.isfinite(pixels).all():  # the schema's bounds promise a finite image; never hand on NaN
         raise ExternalError(f"the native render of {scene.source} gave non-finite pixels (a bug: please report it "
@@ -140,7 +162,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     metadata = {
         "scene": scene.name,
         "model": model,
-        "spp": settings.spp,
+        "spp": requested_spp,
         "sampler": settings.sampler,
         "disk_mapping": settings.disk_mapping,
         "seed": settings.seed,
@@ -157,6 +179,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         metadata["adaptive"] = adaptive_info
     if model == "composite":
         metadata["effects"] = list(camera.effects)
+    if postfilter:
+        metadata["postfilter"] = postfilter_info
     if aperture is not None:
         pixels, variance, metadata["diffraction"] = diffract(pixels, variance, aperture)
     return Image(pixels, metadata, camera=camera, variance=variance)

@@ -40,7 +40,8 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "EFFECT_NAMES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "MODELS", "RENDER_MODELS", "EFFECT_NAMES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS",
+    "MAX_APERTURE_BLADES", "Camera",
     "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
     "PointLight", "Scene",
     "load_scene", "parse_scene",
@@ -48,7 +49,10 @@ __all__ = [
 
 Vec3 = tuple[float, float, float]
 
-MODELS = ("pinhole", "thin", "thick", "lens")
+MODELS = ("pinhole", "thin", "thick", "lens")  # the camera models (what reports, costs and sweeps compare)
+# What the native renderer takes: the camera models, and the image-based depth of
+# field (lenscompare.postfilter: a pinhole pass spread by its depth buffer).
+RENDER_MODELS = MODELS + ("postfilter",)
 # The effects of DESIGN.md's table, in its order: `[render] effects` and `--effects` name them.
 EFFECT_NAMES = ("defocus", "aberrations", "distortion", "vignetting", "lateral_color", "longitudinal_color",
                 "motion_blur", "diffraction")
@@ -306,7 +310,7 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         raise t.error("focus_distance", f"{focus_distance_m:g} m is not beyond the focal length "
                       f"{focal_length_mm:g} mm (nothing can be focused there)")
     return Camera(
-        model=t.string("model", choices=MODELS),
+        model=t.string("model", choices=RENDER_MODELS),
         position=position,
         look_at=look_at,
         up=up,

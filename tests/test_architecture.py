@@ -23,7 +23,7 @@ LAYERS = [
     {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
     {"cameras", "native_scene"},
-    {"image", "flat_geometry", "diffraction"},
+    {"image", "flat_geometry", "diffraction", "postfilter"},
     {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},

@@ -25,7 +25,8 @@ CAMERA_TYPES = {cls.model: cls for cls in (PinholeCamera, ThinLensCamera, ThickL
 
 
 def camera_for(scene, model: str | None = None, *, effects=None) -> CameraModel:
-    """The camera value of ``scene`` seen through ``model`` (default: the scene's).
+    """The camera value of ``scene`` seen through ``model`` (default: the scene's);
+    ``postfilter`` gives the thin lens it imitates.
 
     ``effects`` (model ``composite`` only): the effects to simulate, as
     ``--effects`` gave them (default: the scene's ``[render] effects``).
@@ -37,6 +38,8 @@ def camera_for(scene, model: str | None = None, *, effects=None) -> CameraModel:
         cannot do what the scene asks (focus, f-number).
     """
     model = model or scene.camera.model
+    if model == "postfilter":  # the image-based depth of field (lenscompare.postfilter) imitates the thin lens
+        model = "thin"
     try:
         kind = CAMERA_TYPES[model]
     except KeyError:

@@ -8,7 +8,7 @@ from ..errors import InputError
 from ..image import write_exr
 from ..plan import render_planned
 from ..render import render
-from ..scene import MODELS, SAMPLERS, load_scene
+from ..scene import RENDER_MODELS, SAMPLERS, load_scene
 from ._options import NON_NEGATIVE, SEED, SPP, THREADS, check_output_suffix, effect_list, with_lens_option
 
 __all__ = ["add_parser", "run"]
@@ -19,8 +19,9 @@ def add_parser(subparsers) -> None:
                               description="Render SCENE with the native tracer into a linear float EXR.")
     p.add_argument("scene", metavar="SCENE.toml")
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
-    p.add_argument("--model", choices=MODELS + ("auto",),
-                   help="camera model (default: the scene's); auto: the cheapest within tolerance (see plan)")
+    p.add_argument("--model", choices=RENDER_MODELS + ("auto",),
+                   help="camera model (default: the scene's); postfilter: a pinhole render spread by its depth "
+                        "buffer (at most 16 spp drawn); auto: the cheapest within tolerance (see plan)")
     p.add_argument("--effects", type=effect_list, metavar="A,B,...",
                    help="render exactly these effects with a composite of cheap parts (defocus, distortion, "
                         "vignetting; diffraction as a post-filter); others need --model lens")

@@ -7,7 +7,9 @@ Effects are the unit: each effect names the cheapest part that simulates it
 thin lens for defocus alone, the composite of the needed effects when one of
 them is a composite part (distortion, vignetting), and the full lens system
 when a needed effect has no part (or the composite cannot stand in for the
-lens on this film). Post-filter effects (diffraction) go on any render."""
+lens on this film). Post-filter effects (diffraction) go on any render. The
+image-based depth of field (``postfilter``) stands in for the thin lens when
+the blur jump across the scene's occlusion edges is within tolerance."""
 
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..cameras import COMPOSITE_EFFECTS, camera_for
 from ..image import Image
+from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
 from ..scene import MODELS, Scene
 from .effects import EFFECTS, Effect, ideal_camera
@@ -35,7 +38,7 @@ class Plan:
     Attributes
     ----------
     model : str
-        ``pinhole``, ``thin``, ``thick``, ``composite`` or ``lens``.
+        ``pinhole``, ``postfilter``, ``thin``, ``thick``, ``composite`` or ``lens``.
     effects : dict of str to Effect
         Every effect's predicted size.
     needed : dict of str to bool
@@ -44,6 +47,9 @@ class Plan:
         The effects the chosen render simulates (post-filters included when applied).
     composite_effects : tuple of str
         The composite's parts (empty unless ``model`` is ``composite``).
+    postfilter_edge_error : dict or None
+        The predicted blur jump across occlusion edges
+        (:class:`lenscompare.postfilter.EdgeError`), when defocus alone was needed.
     """
 
     model: str
@@ -55,6 +61,7 @@ class Plan:
     simulated: tuple[str, ...] = ()
     composite_effects: tuple[str, ...] = ()
     note: str = ""
+    postfilter_edge_error: dict | None = None
 
     def to_json(self) -> dict:
         saved = None
@@ -68,6 +75,7 @@ class Plan:
             "tolerance": {"px": self.tolerance_px, "percent": self.tolerance_percent},
             "predicted_seconds": self.predicted_seconds,
             "time_saved_seconds_vs_lens": saved,
+            "postfilter_edge_error": self.postfilter_edge_error,
         }
         if self.note:
             data["note"] = self.note
@@ -92,6 +100,8 @@ def _choose(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -
 
 def _simulated(model: str, parts: tuple[str, ...], effects: dict[str, Effect], needed: dict[str, bool]) -> tuple:
     """The effects the chosen render simulates, post-filters (applied when needed) included."""
+    if model == "postfilter":  # the thin lens's defocus, from an image
+        model = "thin"
     if model == "composite":
         inside = set(parts)
     elif model == "lens":  # every geometric effect
@@ -126,10 +136,19 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
     limit = {"px": tolerance_px, "%": tolerance_percent}
     needed = {name: e.magnitude > limit[e.unit] for name, e in effects.items()}
     model, parts, note = _choose(scene, effects, needed)
+    # The image-based depth of field stands in for the thin lens where its occlusion edges allow.
+    edge_error = None
+    if model == "thin":
+        suffices, edge_error = postfilter_suffices(scene, defocus_needed=needed["defocus"],
+                                                   tolerance_px=tolerance_px, camera=camera, threads=threads)
+        model = "postfilter" if suffices else model
     costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None) \
         if measure_costs else {}
+    if "pinhole" in costs:  # its pinhole pass draws fewer samples; the spread costs milliseconds
+        costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
     return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,
-                simulated=_simulated(model, parts, effects, needed), composite_effects=parts, note=note)
+                simulated=_simulated(model, parts, effects, needed), composite_effects=parts, note=note,
+                postfilter_edge_error=edge_error.to_json() if edge_error else None)
 
 
 def predicted_seconds(scene: Scene, *, threads: int | None = None,

@@ -9,6 +9,7 @@
 #include <nanobind/stl/tuple.h>
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <algorithm>
 #include <memory>
@@ -27,6 +28,8 @@
 #include "cameras/pinhole.h"
 #include "cameras/thick_lens.h"
 #include "cameras/thin_lens.h"
+#include "depth.h"
+#include "postfilter.h"
 #include "render.h"
 #include "samplers.h"
 #include "scene.h"
@@ -187,6 +190,37 @@ RadialTable radial_table(CArray<const double, -1> values, double radius_step_mm,
     return table;
 }
 
+void render_depth_py(const Scene& scene, const PinholeCamera& camera, int threads, CArray<float, -1, -1> depth_m,
+                     std::optional<CArray<const uint8_t, -1, -1>> refine) {
+    if (int(depth_m.shape(1)) != camera.film.width_px || int(depth_m.shape(0)) != camera.film.height_px)
+        throw std::invalid_argument("depth array does not match the camera's resolution");
+    if (refine && (refine->shape(0) != depth_m.shape(0) || refine->shape(1) != depth_m.shape(1)))
+        throw std::invalid_argument("refine must have the depth array's shape");
+    render_depth(scene, camera, threads, depth_m.data(), refine ? refine->data() : nullptr);
+}
+
+void scatter_py(CArray<const float, -1, -1, 3> rgb, CArray<const float, -1, -1> coc_px,
+                CArray<const int32_t, -1, -1> layer, int n_layers, int aperture_blades, double aperture_rotation_deg,
+                int sub_rows, int threads, CArray<float, -1, -1, 3> out, CArray<float, -1, -1> coverage) {
+    const size_t h = rgb.shape(0), w = rgb.shape(1);
+    for (size_t dim = 0; dim < 2; ++dim) {
+        const size_t n = dim == 0 ? h : w;
+        if (coc_px.shape(dim) != n || layer.shape(dim) != n || out.shape(dim) != n || coverage.shape(dim) != n)
+            throw std::invalid_argument("blur diameters, layers and outputs must have the image's shape");
+    }
+    if (n_layers < 1 || sub_rows < 1 || sub_rows > 64) throw std::invalid_argument("n_layers or sub_rows out of range");
+    for (size_t i = 0; i < h * w; ++i) {
+        if (layer.data()[i] < 0 || layer.data()[i] >= n_layers) throw std::invalid_argument("layer out of range");
+        if (!std::isfinite(coc_px.data()[i])) throw std::invalid_argument("blur diameters must be finite");
+    }
+    ScatterInput in;
+    in.width_px = int(w), in.height_px = int(h);
+    in.rgb = rgb.data(), in.coc_px = coc_px.data(), in.layer = layer.data(), in.n_layers = n_layers;
+    in.aperture = ApertureShape::of(aperture_blades, aperture_rotation_deg);
+    in.sub_rows = sub_rows, in.threads = threads;
+    scatter_depth_of_field(in, out.data(), coverage.data());
+}
+
 }  // namespace
 
 NB_MODULE(_native, m) {
@@ -313,6 +347,15 @@ NB_MODULE(_native, m) {
     bind_camera_functions<ThickLensCamera>(m);
     bind_camera_functions<LensSystemCamera>(m);
     bind_camera_functions<CompositeCamera>(m);
+
+    m.def("render_depth", &render_depth_py, "scene"_a, "camera"_a, "threads"_a, "depth_m"_a, "refine"_a = nb::none(),
+          nb::call_guard<nb::gil_scoped_release>(),
+          "Each pixel centre's first hit along the pinhole's ray, as depth along the view axis (m; inf: nothing).");
+    m.def("scatter_depth_of_field", &scatter_py, "rgb"_a, "coc_px"_a, "layer"_a, "n_layers"_a, "aperture_blades"_a,
+          "aperture_rotation_deg"_a, "sub_rows"_a, "threads"_a, "out"_a, "coverage"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "Spreads each pixel over its signed blur diameter (px, > 0 behind focus), layers composited back to "
+          "front (0 the farthest); the image into out, the composited weight into coverage.");
 
     nb::module_ diagnostics = m.def_submodule("diagnostics", "Hooks for lenscompare's tests and benchmarks only.");
     bind_diagnostics(diagnostics);
