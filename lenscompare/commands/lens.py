@@ -66,4 +66,8 @@ def _table(info: dict) -> str:
         value = info[key]
         shown = "n/a" if value is None else _number(value, unit)
         lines.append(f"  {label:<{width}}  {shown:>10} {unit}".rstrip())
+    if info["glasses"]:
+        lines.append("glass (medium after each surface): " + ", ".join(
+            f"{g['surface']} {g['glass']} ({g['catalogue']})" if "glass" in g else f"{g['surface']} V_d {g['abbe_v_d']:g}"
+            for g in info["glasses"]))
     return "\n".join(lines)
