@@ -68,7 +68,13 @@ def zemax_to_lens_text(path: str | os.PathLike) -> str:
     records = _surface_records(text)
     if not records:
         raise InputError(source, "no SURF records: not a Zemax OpticStudio lens file")
-    model = _read_with_rayoptics(text, source)
+    # Refused on the file's own records first: rayoptics may fail on what it cannot model.
+    last = max(records)
+    for index in sorted(records):
+        if 0 < index < last:
+            _check_representable(None, records[index], source, f"surface {index}")
+    stops = [index for index, record in records.items() if "STOP" in record]
+    model = _read_with_rayoptics(text, source, stop=stops[0] if stops else None)
     rows = _rows(model, records, source)
     name = _title(text) or os.path.basename(source)
     header = [f"# {name}", f"# Imported from {os.path.basename(source)} by lenscompare lens import "
@@ -120,8 +126,8 @@ def _surface_records(text: str) -> dict[int, dict[str, list[str]]]:
     return records
 
 
-def _read_with_rayoptics(text: str, source: str):
-    """rayoptics' OpticalModel of the file; its chatter silenced."""
+def _read_with_rayoptics(text: str, source: str, *, stop: int | None):
+    """rayoptics' OpticalModel of the file, ``stop`` its STOP surface; its chatter silenced."""
     from rayoptics.zemax import zmxread  # slow to import (Qt, plotting): only lens import needs it
 
     quiet = io.StringIO()
@@ -132,6 +138,11 @@ def _read_with_rayoptics(text: str, source: str):
             # No file name: rayoptics would otherwise read (and eval) a .smx file
             # beside the input, and write one when a glass is missing.
             model, _ = zmxread.read_lens(None, text)
+            sm = model["seq_model"]
+            if stop is not None and sm.stop_surface != stop and 0 < stop < len(sm.ifcs) - 1:
+                # rayoptics 0.9.8 drops a STOP on surface 1 (read before surface 2 exists).
+                sm.set_stop(stop)
+                model.update_model()
     except Exception as error:  # any failure inside the reader is a bad file
         raise InputError(source, f"rayoptics cannot read this Zemax file: "
                          f"{type(error).__name__}: {error}") from None
@@ -175,6 +186,9 @@ def _rows(model, records: dict, source: str) -> list[str]:
 
 
 def _check_representable(ifc, record: dict, source: str, key: str) -> None:
+    """Refuse what a lens file cannot hold; ``ifc`` None checks the records alone."""
+    if ifc is None:
+        ifc = _NO_INTERFACE
     surface_type = getattr(ifc, "z_type", None) or (record.get("TYPE") or ["STANDARD"])[0]
     if surface_type == "COORDBRK":
         raise InputError(source, "a coordinate break (tilt or decentre) cannot be imported", key=key)
@@ -183,14 +197,33 @@ def _check_representable(ifc, record: dict, source: str, key: str) -> None:
                          f"and planes (no aspheres, toroids, gradient index, gratings)", key=key)
     if ifc.interact_mode == "reflect" or (record.get("GLAS") or [""])[0] == "MIRROR":
         raise InputError(source, "a mirror cannot be imported: lens files hold refracting surfaces only", key=key)
-    conic = float(getattr(ifc.profile, "cc", 0.0) or 0.0)
-    if conic != 0.0 or (record.get("CONI") and float(record["CONI"][0]) != 0.0):
-        raise InputError(source, f"conic constant {conic or float(record['CONI'][0]):g}: only spheres "
-                         f"(conic 0) can be imported", key=key)
-    if getattr(ifc, "decenter", None) is not None or any(k in record for k in ("DECX", "DECY", "TILX", "TILY")):
+    conic = float(getattr(ifc.profile, "cc", 0.0) or 0.0) or _record_number(record, "CONI")
+    if conic != 0.0:
+        raise InputError(source, f"conic constant {conic:g}: only spheres (conic 0) can be imported", key=key)
+    if getattr(ifc, "decenter", None) is not None or any(_record_number(record, k) for k in ("DECX", "DECY", "TILX", "TILY")):
         raise InputError(source, "a tilted or decentred surface cannot be imported", key=key)
     if getattr(ifc, "phase_element", None) is not None:
         raise InputError(source, "a diffractive surface cannot be imported", key=key)
+
+
+class _NoInterface:
+    """Stands for rayoptics' interface while only the file's records are checked."""
+
+    z_type = None
+    interact_mode = "transmit"
+    profile = None
+    decenter = None
+    phase_element = None
+
+
+_NO_INTERFACE = _NoInterface()
+
+
+def _record_number(record: dict, name: str) -> float:
+    try:
+        return float(record[name][0])
+    except (KeyError, IndexError, ValueError):
+        return 0.0
 
 
 def _medium_index(medium) -> float:
