@@ -80,6 +80,9 @@ def rayoptics_first_order(path: Path):
     """rayoptics' own reading of the file: (first-order data, paraxial rays, total track)."""
     from rayoptics.zemax import zmxread
 
+    from lenscompare.lenses.zemax import _no_log_file
+
+    _no_log_file(zmxread)  # no zmx_read_lens.log in the working folder
     opm, _ = zmxread.read_lens(None, path.read_text())
     parax = opm["analysis_results"]["parax_data"]
     sm = opm["seq_model"]
@@ -166,6 +169,13 @@ def test_what_a_lens_file_cannot_hold_is_refused_naming_the_surface(tmp_path, ma
     assert f"{zmx}: " in line and words in line, line
     assert out.read_text() == "a good old file\n"  # never overwritten by a failed run
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.zmx", "out.dat"]  # no temporary left
+
+
+def test_no_log_file_is_left_in_the_working_folder(tmp_path, monkeypatch, main):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.zmx").write_text(tiny(extra="  FOOB 1\n"))  # an unknown record: rayoptics logs it
+    assert main(["lens", "import", "t.zmx", "-o", "t.dat"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t.dat", "t.zmx"]
 
 
 def test_a_missing_or_binary_file_is_exit_2(tmp_path, main, capsys):

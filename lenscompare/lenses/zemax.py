@@ -131,7 +131,7 @@ def _read_with_rayoptics(text: str, source: str, *, stop: int | None):
     from rayoptics.zemax import zmxread  # slow to import (Qt, plotting): only lens import needs it
 
     quiet = io.StringIO()
-    logging.getLogger("rayoptics").setLevel(logging.ERROR)
+    _no_log_file(zmxread)
     try:
         with warnings.catch_warnings(), contextlib.redirect_stdout(quiet):
             warnings.simplefilter("ignore")
@@ -147,6 +147,15 @@ def _read_with_rayoptics(text: str, source: str, *, stop: int | None):
         raise InputError(source, f"rayoptics cannot read this Zemax file: "
                          f"{type(error).__name__}: {error}") from None
     return model
+
+
+def _no_log_file(zmxread) -> None:
+    """rayoptics' reader logs to ``zmx_read_lens.log`` in the working folder: not from us."""
+    for handler in list(zmxread.logger.handlers):
+        if isinstance(handler, logging.FileHandler):
+            zmxread.logger.removeHandler(handler)
+            handler.close()
+    zmxread.logger.setLevel(logging.ERROR)
 
 
 def _rows(model, records: dict, source: str) -> list[str]:
