@@ -157,6 +157,8 @@ def test_semi_diameters_missing_from_the_file_are_computed(tmp_path, main, capsy
     ("gradient index", tiny(type="GRINSUR1"), "surface 2: surface type GRINSUR1 cannot be imported"),
     ("unknown glass", tiny(glass="N-BK8"), "surface 2: glass 'N-BK8' is not in the Schott"),
     ("not zemax", "hello\n", "no SURF records"),
+    ("surfaces cross", tiny().replace("DISZ 6", "DISZ 0.1"), "surface 2: not representable as a lens file: this "
+     "surface and the next one (surface 3) cross"),
     ("non-sequential", "MODE NSC\nSURF 0\n", "non-sequential"),
 ])
 def test_what_a_lens_file_cannot_hold_is_refused_naming_the_surface(tmp_path, main, capsys, kind, text, words):

@@ -84,7 +84,11 @@ def zemax_to_lens_text(path: str | os.PathLike) -> str:
     try:
         parse_prescription(lens_text.encode(), source="converted lens", name="converted")
     except InputError as error:
-        raise InputError(source, f"the converted lens is not valid: {error}") from None
+        # Row k of the lens file is Zemax surface k: name the surface, not the line.
+        line = int(error.key.split()[1]) if error.key and error.key.startswith("line ") else None
+        key = f"surface {line - len(header)}" if line else None
+        problem = re.sub(r"line (\d+)", lambda m: f"surface {int(m.group(1)) - len(header)}", error.problem)
+        raise InputError(source, f"not representable as a lens file: {problem}", key=key) from None
     return lens_text
 
 
