@@ -40,7 +40,9 @@ def rayoptics_model(path: Path, *, wavelength_nm: float):
     """
     from opticalglass import glassfactory
     from opticalglass.opticalmedium import ConstantIndex
-    from rayoptics.environment import FieldSpec, OpticalModel, PupilSpec, WvlSpec
+    # Not rayoptics.environment: it imports the Qt GUI (seconds).
+    from rayoptics.optical.opticalmodel import OpticalModel
+    from rayoptics.raytr.opticalspec import FieldSpec, PupilSpec, WvlSpec
 
     opm = OpticalModel()
     sm, osp = opm["seq_model"], opm["optical_spec"]
