@@ -500,3 +500,24 @@ def test_povray_renders_a_scene_with_hostile_strings_and_writes_nothing_else(tmp
     out = tmp_path / "out.exr"
     assert main(["povray", str(scene), "-o", str(out), "--spp", "4"]) == 0, capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["evil.toml", "out.exr"]
+
+
+@pytest.mark.parametrize("fifth, words", [
+    ("N-BK7", "line 2: n_d 1.600000 disagrees with N-BK7 (Schott)'s catalogue n_d 1.516800"),
+    ("N-BK77", "line 2: unknown glass 'N-BK77'"),
+    ("7-up", "line 2: 5th column '7-up' is neither an Abbe number nor a glass name"),
+    ("-inf", "line 2: abbe_v_d must be finite and >= 0"),
+    ("x" * 41, "line 2: 5th column"),
+])
+def test_a_bad_glass_column_is_exit_2_naming_the_line(tmp_path, main, capsys, minimal_scene_text, fifth, words):
+    """Issue 15: the 5th lens-file column, through lens info and a render's --lens."""
+    lens = tmp_path / "g.dat"
+    lens.write_text(f"# glass\n50 5 1.6 20 {fifth}\n-50 0 1 20\n0 5 0 10\n")
+    assert main(["lens", "info", str(lens)]) == 2
+    line = one_error_line(capsys.readouterr().err)
+    assert f"{lens}: {words}" in line, line
+    (tmp_path / "s.toml").write_text(minimal_scene_text)
+    assert main(["render", str(tmp_path / "s.toml"), "-o", str(tmp_path / "o.exr"), "--lens", str(lens),
+                 "--model", "lens"]) == 2
+    assert words in one_error_line(capsys.readouterr().err)
+    assert not (tmp_path / "o.exr").exists()

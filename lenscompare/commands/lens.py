@@ -1,4 +1,5 @@
-"""``lenscompare lens info LENS [--json]``: first-order data of a lens system.
+"""``lenscompare lens info LENS [--json]``: first-order data of a lens system;
+``lenscompare lens import FILE.zmx -o OUT.dat``: a Zemax lens as a lens file.
 
 LENS is a shipped name (``dgauss.50mm``) or the path of a pbrt lens file.
 Values are for an object at infinity in n_d light, wide open; axial positions
@@ -10,8 +11,10 @@ from __future__ import annotations
 import json
 import math
 
+from ..atomic import atomic_output, check_output_file
 from ..lenses import load_prescription, shipped_lens_names
 from ..lenses.info import LENS_INFO_FIELDS, lens_info
+from ..lenses.zemax import zemax_to_lens_text
 
 __all__ = ["add_parser", "run"]
 
@@ -21,7 +24,7 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "lens", help="inspect lens prescriptions",
         description="Inspect lens prescriptions (pbrt format).")
-    commands = parser.add_subparsers(dest="lens_command", metavar="info", required=True)
+    commands = parser.add_subparsers(dest="lens_command", metavar="{info,import}", required=True)
     info = commands.add_parser(
         "info", help="first-order data of a lens",
         description="First-order (paraxial) data of a lens, object at infinity, n_d light. "
@@ -30,6 +33,14 @@ def add_parser(subparsers) -> None:
     info.add_argument("lens", metavar="LENS", help="shipped lens name or path of a lens file")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.set_defaults(run=run)
+    convert = commands.add_parser(
+        "import", help="convert a Zemax OpticStudio .zmx lens to a lens file",
+        description="Convert a sequential Zemax OpticStudio lens (.zmx) to a lens file, glass names "
+        "kept. Mirrors, aspheres and conics, tilts and coordinate breaks, gradient index and other "
+        "non-standard surfaces are refused, naming the surface.")
+    convert.add_argument("zmx", metavar="FILE.zmx", help="the Zemax file")
+    convert.add_argument("-o", "--output", required=True, metavar="OUT.dat", help="lens file to write")
+    convert.set_defaults(run=run_import)
 
 
 def run(args) -> int:
@@ -39,6 +50,16 @@ def run(args) -> int:
         print(json.dumps(_json_safe(info), allow_nan=False))
     else:
         print(_table(info))
+    return 0
+
+
+def run_import(args) -> int:
+    """Write the Zemax file as a lens file (atomically); return 0."""
+    output = check_output_file(args.output)
+    text = zemax_to_lens_text(args.zmx)
+    with atomic_output(output, final=True) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    print(f"wrote {output}")
     return 0
 
 
@@ -66,4 +87,8 @@ def _table(info: dict) -> str:
         value = info[key]
         shown = "n/a" if value is None else _number(value, unit)
         lines.append(f"  {label:<{width}}  {shown:>10} {unit}".rstrip())
+    if info["glasses"]:
+        lines.append("glass (medium after each surface): " + ", ".join(
+            f"{g['surface']} {g['glass']} ({g['catalogue']})" if "glass" in g else f"{g['surface']} V_d {g['abbe_v_d']:g}"
+            for g in info["glasses"]))
     return "\n".join(lines)

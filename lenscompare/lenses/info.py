@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from ..errors import InputError
 from .focus import closest_focus_distance_m
-from .paraxial import paraxial_data
+from .glass import CatalogueGlass
+from .paraxial import chromatic_focal_shift_mm, paraxial_data
 from .prescription import Prescription
 
 __all__ = ["LENS_INFO_FIELDS", "lens_info"]
@@ -29,6 +30,7 @@ LENS_INFO_FIELDS = (
     ("exit_pupil_diameter_mm", "exit pupil diameter", "mm"),
     ("f_number", "paraxial f-number", ""),
     ("total_track_mm", "total track (first to last vertex)", "mm"),
+    ("chromatic_focal_shift_mm", "chromatic focal shift (BFL at F minus at C)", "mm"),
     ("closest_focus_m", "closest focus (beyond, from entrance pupil)", "m"),
 )
 
@@ -41,6 +43,10 @@ def lens_info(prescription: Prescription) -> dict:
     :class:`~lenscompare.lenses.paraxial.ParaxialData` ending in ``_mm`` and
     ``f_number``, and ``closest_focus_m`` (None when the lens forms no real
     image).  Pupils at infinity read ``inf`` here and ``null`` in JSON.
+    ``chromatic_focal_shift_mm`` is 0 for a lens that does not disperse;
+    ``glasses`` lists the dispersing media, one dict per surface with
+    ``surface`` (1-based), ``line`` and either ``glass`` and ``catalogue`` or
+    ``abbe_v_d``.
     """
     data = paraxial_data(prescription)
     try:
@@ -54,6 +60,26 @@ def lens_info(prescription: Prescription) -> dict:
         "surfaces": len(prescription.surfaces),
         "stop_surface": data.stop_index + 1,
     }
+    extra = {"closest_focus_m": closest_m, "chromatic_focal_shift_mm": _focal_shift_or_none(prescription)}
     for key, _, _ in LENS_INFO_FIELDS:
-        info[key] = closest_m if key == "closest_focus_m" else getattr(data, key)
+        info[key] = extra[key] if key in extra else getattr(data, key)
+    info["glasses"] = [_glass_entry(index, surface) for index, surface in enumerate(prescription.surfaces)
+                       if surface.glass is not None]
     return info
+
+
+def _focal_shift_or_none(prescription: Prescription) -> float | None:
+    try:
+        return chromatic_focal_shift_mm(prescription)
+    except InputError:  # afocal at F or C: no back focal length there
+        return None
+
+
+def _glass_entry(index: int, surface) -> dict:
+    glass = surface.glass
+    entry = {"surface": index + 1, "line": surface.line}
+    if isinstance(glass, CatalogueGlass):
+        entry.update(glass=glass.name, catalogue=glass.catalogue)
+    else:
+        entry.update(abbe_v_d=glass.abbe_v_d)
+    return entry

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .glass import C_NM, F_NM
 from .prescription import Prescription
 
 __all__ = [
@@ -40,6 +41,7 @@ __all__ = [
     "aperture_stop_index",
     "stop_semi_aperture_for_f_number",
     "stopped_down",
+    "chromatic_focal_shift_mm",
 ]
 
 
@@ -193,6 +195,25 @@ def paraxial_data(prescription: Prescription) -> ParaxialData:
         total_track_mm=track,
         stop_index=stop,
     )
+
+
+def chromatic_focal_shift_mm(prescription: Prescription) -> float:
+    """Paraxial back focal length at F (486.13 nm) minus at C (656.27 nm), mm.
+
+    Object at infinity (DESIGN.md, "Glass and dispersion").  Negative when
+    blue focuses nearer the lens (an undercorrected singlet); 0 for a lens
+    whose media do not disperse.
+
+    Raises
+    ------
+    InputError
+        When the lens is afocal at F or C.
+    """
+    if not prescription.disperses:
+        return 0.0
+    blue = paraxial_data(prescription.at_wavelength(F_NM)).back_focal_length_mm
+    red = paraxial_data(prescription.at_wavelength(C_NM)).back_focal_length_mm
+    return blue - red
 
 
 F_NUMBER_RELATIVE_TOLERANCE = 1e-4

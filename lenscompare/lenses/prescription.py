@@ -3,14 +3,17 @@
 One surface per line, from the scene side to the film side, columns separated
 by white space, ``#`` starts a comment::
 
-    radius_mm  thickness_mm  n_d  aperture_diameter_mm  [abbe_v_d]
+    radius_mm  thickness_mm  n_d  aperture_diameter_mm  [abbe_v_d | glass]
 
 - ``radius_mm`` > 0: centre of curvature toward the film; ``0``: the aperture
   stop (a plane in air); ``inf``: a planar refracting surface.
 - ``thickness_mm``: axial distance to the next surface; the last row's value is
   ignored (focusing sets the film).
 - ``n_d``: index of the medium after the surface; ``0`` or ``1`` is air.
-- ``abbe_v_d`` (optional): Abbe number of that medium (``0`` for air).
+- 5th column (optional): the Abbe number V_d of that medium (``0`` for air),
+  or a catalogue glass name (``N-BK7``, ``S-LAH66``) whose n_d must agree with
+  the ``n_d`` column within :data:`N_D_TOLERANCE`; see :mod:`.glass`.  Without
+  it the medium does not disperse.
 
 Everything is checked here, at the edge; the :class:`Prescription` handed on is
 known to be physically sensible (see :func:`parse_prescription` for the list).
@@ -29,6 +32,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..limits import read_input_bytes
+from .glass import D_NM, AbbeGlass, CatalogueGlass, find_catalogue_glass, near_glass_names
 
 __all__ = [
     "Surface",
@@ -37,13 +41,19 @@ __all__ = [
     "load_prescription",
     "parse_prescription",
     "sag_mm",
+    "N_D_TOLERANCE",
 ]
+
+N_D_TOLERANCE = 1e-4
+"""Largest difference between a file's n_d and its named glass's catalogue n_d."""
 
 _COLUMNS = ("radius_mm", "thickness_mm", "n_d", "aperture_diameter_mm", "abbe_v_d")
 _NUMBER = re.compile(
     r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?)\Z", re.IGNORECASE
 )
 _NAN = re.compile(r"[+-]?nan\Z", re.IGNORECASE)
+# A glass name: a letter first (so a mistyped number is not taken for one).
+_GLASS_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.+/-]{0,39}\Z")
 
 
 @dataclass(frozen=True)
@@ -62,12 +72,14 @@ class Surface:
     semi_aperture_mm : float
         Clear semi-aperture (radius of the opening), mm.
     abbe_v_d : float or None
-        Abbe number of the medium after the surface; None for air or when the
-        file gives none.
+        Abbe number of the medium after the surface when the 5th column gives
+        one; None for air, a glass name or no 5th column.
     is_stop : bool
         True for the aperture stop (a plane with no refraction).
     line : int
         Line of the lens file this surface came from, for messages.
+    glass : AbbeGlass or CatalogueGlass or None
+        Dispersion of the medium after the surface; None: it does not disperse.
     """
 
     radius_mm: float
@@ -77,6 +89,7 @@ class Surface:
     abbe_v_d: float | None
     is_stop: bool
     line: int
+    glass: AbbeGlass | CatalogueGlass | None = None
 
     @property
     def curvature_per_mm(self) -> float:
@@ -97,13 +110,44 @@ class Prescription:
     surfaces : tuple of Surface
         The surfaces in order; the medium in front of the first is air.
     sha256 : str
-        Hex SHA-256 of the file bytes, for provenance.
+        Hex SHA-256 of the file bytes, for provenance (with the glass names
+        and Abbe numbers, the file names the dispersion too).
+    wavelength_nm : float or None
+        None: indices are the file's n_d (every first-order value of
+        DESIGN.md).  A number: indices at that wavelength (see
+        :meth:`at_wavelength`).
     """
 
     name: str
     source: str
     surfaces: tuple[Surface, ...]
     sha256: str
+    wavelength_nm: float | None = None
+
+    @property
+    def disperses(self) -> bool:
+        """True when some medium has a glass (an Abbe number or a catalogue name)."""
+        return any(surface.glass is not None for surface in self.surfaces)
+
+    def at_wavelength(self, wavelength_nm: float) -> Prescription:
+        """The same lens with every index at ``wavelength_nm`` (nm).
+
+        Media without a glass keep their n_d.  Every paraxial and real-ray
+        function then works at that wavelength unchanged.  A catalogue glass
+        gives the catalogue's index, which may differ from the file's n_d by
+        up to :data:`N_D_TOLERANCE` at the d line.
+
+        Raises
+        ------
+        ValueError
+            When ``wavelength_nm`` is not a positive finite number.
+        """
+        if not (math.isfinite(wavelength_nm) and wavelength_nm > 0):
+            raise ValueError(f"wavelength must be a positive number of nm, got {wavelength_nm}")
+        surfaces = tuple(surface if surface.glass is None else
+                         dataclasses.replace(surface, n_after=surface.glass.index_at(wavelength_nm))
+                         for surface in self.surfaces)
+        return dataclasses.replace(self, surfaces=surfaces, wavelength_nm=float(wavelength_nm))
 
     @property
     def vertex_z_mm(self) -> tuple[float, ...]:
@@ -255,18 +299,25 @@ def parse_prescription(data: bytes, *, source: str, name: str) -> Prescription:
 
 
 def _parse_row(line: str, source: str, number: int) -> list[float] | None:
-    """Numbers of one line, or None for a blank or comment line."""
+    """Values of one line (numbers, and a glass name in the 5th column), or
+    None for a blank or comment line."""
     tokens = line.split("#", 1)[0].split()
     if not tokens:
         return None
     key = f"line {number}"
     if len(tokens) not in (4, 5):
         raise InputError(source, f"expected 4 or 5 columns (radius_mm thickness_mm n_d "
-                         f"aperture_diameter_mm [abbe_v_d]), found {len(tokens)}", key=key)
+                         f"aperture_diameter_mm [abbe_v_d | glass]), found {len(tokens)}", key=key)
     values = []
     for column, token in zip(_COLUMNS, tokens):
         if _NAN.match(token):
             raise InputError(source, f"{column} is NaN", key=key)
+        if column == "abbe_v_d" and not _NUMBER.match(token):
+            if not _GLASS_NAME.match(token):
+                raise InputError(source, f"5th column {token!r} is neither an Abbe number nor a "
+                                 f"glass name", key=key)
+            values.append(token)
+            continue
         if not _NUMBER.match(token):
             raise InputError(source, f"{column} {token!r} is not a number", key=key)
         values.append(float(token))
@@ -277,7 +328,8 @@ def _make_surface(values: list[float], source: str, number: int, *, is_last: boo
     """Check one row's values and turn them into a Surface."""
     key = f"line {number}"
     radius, thickness, n, aperture = values[:4]
-    abbe = values[4] if len(values) == 5 else None
+    fifth = values[4] if len(values) == 5 else None
+    abbe = fifth if isinstance(fifth, float) else None
 
     # The last thickness is ignored (the film position comes from focusing).
     if is_last:
@@ -300,15 +352,39 @@ def _make_surface(values: list[float], source: str, number: int, *, is_last: boo
     if not is_stop and math.isfinite(radius) and abs(radius) < semi_aperture:
         raise InputError(source, f"|radius| {abs(radius):g} mm is smaller than the "
                          f"semi-aperture {semi_aperture:g} mm", key=key)
+    n_after = 1.0 if n == 0 else n
+    if isinstance(fifth, str):
+        glass = _catalogue_glass(fifth, n_after, source, key)
+    else:
+        # Air (n 1) has n_F - n_C = 0 whatever the column says.
+        glass = AbbeGlass(n_d=n_after, abbe_v_d=abbe) if abbe and n_after != 1.0 else None
     return Surface(
         radius_mm=math.inf if is_stop else radius,
         thickness_mm=thickness,
-        n_after=1.0 if n == 0 else n,
+        n_after=n_after,
         semi_aperture_mm=semi_aperture,
         abbe_v_d=abbe if abbe else None,
         is_stop=is_stop,
         line=number,
+        glass=glass,
     )
+
+
+def _catalogue_glass(name: str, n_d: float, source: str, key: str) -> CatalogueGlass:
+    """The named catalogue glass, checked against the row's n_d."""
+    if n_d == 1.0:
+        raise InputError(source, f"glass {name!r} on a row whose medium is air (n_d 0 or 1)", key=key)
+    glass = find_catalogue_glass(name)
+    if glass is None:
+        near = near_glass_names(name)
+        hint = f"; near names: {', '.join(near)}" if near else ""
+        raise InputError(source, f"unknown glass {name!r} (not in the Schott, Ohara, Hoya, CDGM, "
+                         f"Hikari or Sumita catalogues){hint}", key=key)
+    n_catalogue = glass.index_at(D_NM)
+    if not abs(n_d - n_catalogue) <= N_D_TOLERANCE:
+        raise InputError(source, f"n_d {n_d:.6f} disagrees with {glass.label}'s catalogue n_d "
+                         f"{n_catalogue:.6f} by more than {N_D_TOLERANCE:g}", key=key)
+    return glass
 
 
 def _check_stop(surfaces: tuple[Surface, ...], source: str) -> None:
