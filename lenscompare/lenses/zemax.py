@@ -29,7 +29,7 @@ import os
 import re
 import warnings
 
-from ..errors import InputError
+from ..errors import ExternalError, InputError
 from ..limits import read_input_bytes
 from .glass import find_catalogue_glass, near_glass_names
 from .prescription import parse_prescription
@@ -132,7 +132,11 @@ def _surface_records(text: str) -> dict[int, dict[str, list[str]]]:
 
 def _read_with_rayoptics(text: str, source: str, *, stop: int | None):
     """rayoptics' OpticalModel of the file, ``stop`` its STOP surface; its chatter silenced."""
-    from rayoptics.zemax import zmxread  # slow to import (Qt, plotting): only lens import needs it
+    try:  # slow to import (Qt, plotting), and an optional extra: only lens import needs it
+        from rayoptics.zemax import zmxread
+    except ImportError:
+        raise ExternalError("lens import needs rayoptics, which is not installed: "
+                            "pip install 'lenscompare[zemax]' (or rayoptics>=0.9.8)") from None
 
     quiet = io.StringIO()
     _no_log_file(zmxread)
