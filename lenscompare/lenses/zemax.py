@@ -132,8 +132,8 @@ def _surface_records(text: str) -> dict[int, dict[str, list[str]]]:
 
 def _read_with_rayoptics(text: str, source: str, *, stop: int | None):
     """rayoptics' OpticalModel of the file, ``stop`` its STOP surface; its chatter silenced."""
-    try:  # slow to import (Qt, plotting), and an optional extra: only lens import needs it
-        from rayoptics.zemax import zmxread
+    try:
+        from rayoptics.zemax import zmxread  # slow to import (Qt), an optional extra: only lens import needs it
     except ImportError:
         raise ExternalError("lens import needs rayoptics, which is not installed: "
                             "pip install 'lenscompare[zemax]' (or rayoptics>=0.9.8)") from None
