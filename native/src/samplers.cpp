@@ -13,6 +13,7 @@ namespace {
 constexpr uint64_t kFilmStream = 0;
 constexpr uint64_t kLensStream = 1;
 constexpr uint64_t kShuffleStream = 2;
+constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
 
 void fill_random(Pcg32& rng, int spp, Point2f* out) {
     for (int i = 0; i < spp; ++i) out[i] = {rng.next_float(), rng.next_float()};
@@ -72,6 +73,25 @@ void fill_regular(int spp, Point2f* film, Point2f* lens) {
         }
 }
 
+// Time for the non-sobol samplers: one uniform point in each of the spp
+// intervals [k/spp, (k+1)/spp), in random order (random: independent points).
+void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, float* time) {
+    if (kind == SamplerKind::Regular) {
+        // The interval centres, sample i in interval a i mod spp (a coprime to
+        // spp near spp / golden ratio): neighbouring film cells get distant times.
+        const int64_t a = golden_multiplier(spp);
+        for (int i = 0; i < spp; ++i) time[i] = (float((a * i) % spp) + 0.5f) / float(spp);
+        return;
+    }
+    Pcg32 rng(seed, pixel_index, kTimeStream);
+    if (kind == SamplerKind::Random) {
+        for (int i = 0; i < spp; ++i) time[i] = rng.next_float();
+        return;
+    }
+    for (int k = 0; k < spp; ++k) time[k] = std::fmin((float(k) + rng.next_float()) / float(spp), kOneMinusEpsilon);
+    for (int i = spp - 1; i > 0; --i) std::swap(time[i], time[rng.next_below(uint32_t(i + 1))]);
+}
+
 }  // namespace
 
 void jittered_strata(int spp, int* nx, int* ny) {
@@ -83,7 +103,7 @@ void jittered_strata(int spp, int* nx, int* ny) {
 }
 
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
-                        Point2f* film, Point2f* lens) {
+                        Point2f* film, Point2f* lens, float* time) {
     if (spp <= 0) return;
     switch (kind) {
         case SamplerKind::Random: {
@@ -107,12 +127,16 @@ void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, i
             fill_poisson(seed, pixel_index, spp, film, lens);
             break;
         case SamplerKind::Sobol:
-            fill_sobol(seed, pixel_index, spp, true, film, lens);
-            break;
+            fill_sobol(seed, pixel_index, spp, true, film, lens, time);
+            return;  // time from the same net
         case SamplerKind::SobolUnscrambled:
-            fill_sobol(seed, pixel_index, spp, false, film, lens);
-            break;
+            fill_sobol(seed, pixel_index, spp, false, film, lens, time);
+            return;
+        case SamplerKind::SobolPadded:
+            fill_sobol_padded(seed, pixel_index, spp, film, lens, time);
+            return;
     }
+    if (time) fill_time(kind, seed, pixel_index, spp, time);
 }
 
 PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping) {
