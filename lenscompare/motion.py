@@ -14,12 +14,14 @@ image, bit for bit.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from .scene import Scene, SceneObject
+from .scene import Box, Rectangle, Scene, SceneObject, Sphere
 
 __all__ = ["moves", "samples_time", "anything_has_velocity", "object_offset_m", "camera_offset_m",
-           "camera_at_s", "subframe_times_s"]
+           "camera_at_s", "subframe_times_s", "geometry_at_s"]
 
 
 def _nonzero(velocity) -> bool:
@@ -76,3 +78,27 @@ def subframe_times_s(shutter_s: tuple[float, float], count: int) -> np.ndarray:
     """
     open_s, close_s = (float(t) for t in shutter_s)
     return open_s + (np.arange(count) + 0.5) / count * (close_s - open_s)
+
+
+def _moved(obj: SceneObject, offset: np.ndarray) -> SceneObject:
+    """``obj`` translated by ``offset`` (m), its velocity kept."""
+    add = lambda p: tuple(float(c) for c in np.asarray(p, dtype=float) + offset)  # noqa: E731
+    if isinstance(obj, Sphere):
+        return replace(obj, center=add(obj.center))
+    if isinstance(obj, Box):
+        return replace(obj, min=add(obj.min), max=add(obj.max))
+    if isinstance(obj, Rectangle):
+        return replace(obj, corner=add(obj.corner))
+    vertices = obj.vertices_m + offset
+    vertices.flags.writeable = False
+    return replace(obj, translate=add(obj.translate), vertices_m=vertices)
+
+
+def geometry_at_s(scene: Scene, time_s: float) -> Scene:
+    """A still snapshot of ``scene``'s geometry at ``time_s``: every object and
+    the camera where they are then, no velocities, no shutter. For questions
+    of geometry (bounds, distances, projections); a checker on a moving object
+    would stay behind in it, so render the moving scene itself instead."""
+    objects = tuple(replace(_moved(o, object_offset_m(o, time_s)), velocity=(0.0, 0.0, 0.0)) for o in scene.objects)
+    moved = replace(camera_at_s(scene, time_s), objects=objects)
+    return replace(moved.with_camera(velocity=(0.0, 0.0, 0.0)), render=replace(scene.render, shutter_s=(0.0, 0.0)))
