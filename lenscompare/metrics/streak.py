@@ -34,7 +34,11 @@ class Streak:
     start_px, end_px : (float, float)
         The two crossings, raster coordinates (x right, y down).
     plateau : float
-        Median luminance of the profile where it is at least half its maximum.
+        Median luminance of the profile where it rises at least half way from
+        its surroundings (the outer halves of the margins) to its maximum.
+    background : float
+        The surroundings' median luminance; the length is measured between
+        the crossings half way from it to the plateau.
     unevenness : float
         Standard deviation over mean of the profile on the middle half of the
         streak (0 for a perfectly flat streak).
@@ -47,6 +51,7 @@ class Streak:
     start_px: tuple[float, float]
     end_px: tuple[float, float]
     plateau: float
+    background: float
     unevenness: float
     tilt: float
 
@@ -95,11 +100,16 @@ def measure_streak(image, *, start_px, end_px, margin_px: float = 8.0, step_px: 
     Streak
     """
     s, values = streak_profile(image, start_px=start_px, end_px=end_px, margin_px=margin_px, step_px=step_px)
+    # What lies behind the streak: the outer halves of both margins. The
+    # streak is what rises above it (a moving lamp in front of a lit wall).
+    length = float(s[-1] - s[0]) - 2 * margin_px
+    outside = (s <= s[0] + margin_px / 2) | (s >= s[0] + 1.5 * margin_px + length)
+    base = float(np.median(values[outside])) if outside.any() else 0.0
     peak = float(values.max())
-    if not peak > 0:
-        raise ValueError("no streak along the line: the image is black there")
-    plateau = float(np.median(values[values >= 0.5 * peak]))
-    level = 0.5 * plateau
+    if not peak > base:
+        raise ValueError("no streak along the line: nothing there rises above its surroundings")
+    plateau = float(np.median(values[values >= base + 0.5 * (peak - base)]))
+    level = base + 0.5 * (plateau - base)
     above = np.nonzero(values >= level)[0]
     first, last = int(above[0]), int(above[-1])
 
@@ -112,7 +122,7 @@ def measure_streak(image, *, start_px, end_px, margin_px: float = 8.0, step_px: 
     s_end = crossing(last + 1, last) if last + 1 < len(s) else float(s[-1])
     a, b = np.asarray(start_px, dtype=float), np.asarray(end_px, dtype=float)
     direction = (b - a) / np.linalg.norm(b - a)
-    middle = values[(s >= s_start + 0.25 * (s_end - s_start)) & (s <= s_end - 0.25 * (s_end - s_start))]
+    middle = values[(s >= s_start + 0.25 * (s_end - s_start)) & (s <= s_end - 0.25 * (s_end - s_start))] - base
     mean = float(middle.mean()) if middle.size else float("nan")
     quarter = max(1, middle.size // 4)
     return Streak(
@@ -120,6 +130,7 @@ def measure_streak(image, *, start_px, end_px, margin_px: float = 8.0, step_px: 
         start_px=tuple(float(c) for c in a + s_start * direction),
         end_px=tuple(float(c) for c in a + s_end * direction),
         plateau=plateau,
+        background=base,
         unevenness=float(middle.std() / mean) if middle.size else float("nan"),
         tilt=float((middle[-quarter:].mean() - middle[:quarter].mean()) / mean) if middle.size else float("nan"),
     )
