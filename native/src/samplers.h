@@ -28,7 +28,8 @@
 // Time, for the others: a stratified 1-D set of spp points (one per interval
 // [k/spp, (k+1)/spp)), paired with the film and lens samples by a per-pixel
 // random permutation (random: independent uniform times; regular: interval
-// centres in a fixed golden-ratio order, the same in every pixel). Each
+// centres in a fixed order from Roberts' R2 lattice over the film cells, the
+// same in every pixel; samplers.cpp). Each
 // dimension is stratified on its own and the pairing decorrelates them; only
 // sobol stratifies time jointly with film and lens. Drawing times never
 // changes a pixel's film and lens points: the time streams are their own.
