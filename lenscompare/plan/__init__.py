@@ -104,6 +104,10 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     :func:`lenscompare.render.render`.
     """
     plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
+    open_s, close_s = scene.render.shutter_s
+    if not plan.needed["motion_blur"] and close_s > open_s:
+        # Streaks under tolerance: the instant in the middle of the shutter, without sampling time.
+        scene = scene.with_render(shutter_s=(0.5 * (open_s + close_s),) * 2)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
     image = render(scene, model=plan.model, **render_options)
