@@ -7,7 +7,9 @@ Prints one JSON object with two studies on showcase.toml (thin lens, f/2.8):
   shutter 1/20 s) against the same scene still, same model, spp, sampler and
   threads; best of ``--repeats`` runs of each, interleaved (the machine is
   shared). Goal: ratio >= 0.8.
-- ``joint_stratification``: RMSE at 64 spp against a high-spp reference of
+- ``joint_stratification`` (showcase) and ``joint_stratification_streaks``
+  (only motion and defocus: five small lamps before, at and behind focus,
+  each moving its own way, on black): RMSE at 64 spp against a high-spp reference of
   the same moving scene (defocus and motion), for the sobol sampler (film,
   lens and time from one Owen-scrambled Sobol' sequence, dimensions 0-4)
   against padding (film, lens and time each from their own scrambled Sobol'
@@ -44,6 +46,16 @@ def moving(scene):
     velocities = {1: (2.0, 0.0, 0.0), 2: (0.0, 0.5, -2.0), 3: (-3.0, 0.0, 0.0)}
     objects = tuple(replace(o, velocity=velocities.get(i, (0.0, 0.0, 0.0))) for i, o in enumerate(scene.objects))
     return replace(scene, objects=objects).with_camera(velocity=(0.0, 0.2, 0.0)).with_render(shutter_s=SHUTTER_S)
+
+
+def streaks(still):
+    """Five lamps (before, at and behind the 3 m focus) moving on black, through the showcase camera."""
+    from lenscompare.scene import EmissiveMaterial, Sphere
+    lamps = [((-0.8, 0.5, 1.5), (3.0, 1.0, 0.0)), ((0.2, 0.3, 2.0), (-2.0, 2.0, 1.0)), ((0.0, 0.35, 3.0), (4.0, 0.0, 0.0)),
+             ((0.9, 0.9, 6.0), (0.0, -5.0, 0.0)), ((-1.2, 1.2, 9.0), (6.0, 3.0, -4.0))]
+    objects = tuple(Sphere(c, 0.06, "lamp", velocity=v) for c, v in lamps)
+    return replace(still, objects=objects, lights=(), background=(0.0, 0.0, 0.0),
+                   materials={"lamp": EmissiveMaterial("lamp", (4.0, 3.2, 1.8))}).with_render(shutter_s=SHUTTER_S)
 
 
 def speed(still, moved, *, spp: int, threads: int, repeats: int) -> dict:
@@ -102,6 +114,9 @@ def main():
         "speed": speed(still, moved, spp=args.spp, threads=args.threads, repeats=args.repeats),
         "joint_stratification": joint_stratification(small, spp=args.spp, seeds=args.seeds,
                                                      reference_spp=args.reference_spp, threads=args.threads),
+        "joint_stratification_streaks": joint_stratification(streaks(still.with_camera(resolution=(180, 120))),
+                                                             spp=args.spp, seeds=args.seeds,
+                                                             reference_spp=args.reference_spp, threads=args.threads),
     }
     print(json.dumps(result, indent=2))
 
