@@ -47,8 +47,14 @@ class Scene:
         triangle_vertices: numpy.ndarray,  # float32 (v, 3): every mesh's vertices, m
         triangles: numpy.ndarray,  # int32 (t, 3): vertex indices of each triangle
         triangle_material: numpy.ndarray,  # int32 (t,)
+        sphere_velocity: numpy.ndarray | None = None,  # float32 (n, 3), m/s; None: nothing moves
+        quad_velocity: numpy.ndarray | None = None,  # float32 (q, 3), m/s
+        vertex_velocity: numpy.ndarray | None = None,  # float32 (v, 3), m/s: each mesh vertex's
+        shutter_s: tuple[float, float] = (0.0, 0.0),  # open <= close, s
+        camera_velocity: Vec3 = (0.0, 0.0, 0.0),  # m/s: every camera ray's origin moves by v t
     ) -> None:
-        """Builds the BVH; the arrays are copied and may go once this returns."""
+        """Builds the BVH (moving primitives with two Embree time steps, open and close); the arrays are
+        copied and may go once this returns."""
 
 class PinholeCamera:
     """Pinhole camera: every ray through the origin."""
@@ -215,6 +221,7 @@ class _Diagnostics(types.ModuleType):
     """
 
     SAMPLER_SOBOL_UNSCRAMBLED: int = 5  # the bare Sobol' points, same in every pixel: tests only
+    SAMPLER_SOBOL_PADDED: int = 6  # film, lens and time each stratified alone, paired at random: the study only
     @staticmethod
     def pixel_samples(
         sampler: int,  # a SAMPLER_* code, or SAMPLER_SOBOL_UNSCRAMBLED
@@ -222,8 +229,10 @@ class _Diagnostics(types.ModuleType):
         pixel_index: int,  # row-major over the image
         film: numpy.ndarray,  # float32 (spp, 2), written
         lens: numpy.ndarray,  # float32 (spp, 2), written
+        time: numpy.ndarray | None = None,  # float32 (spp,), written: shutter times in [0, 1)
     ) -> None:
-        """Fills film and lens (spp x 2) with one pixel's samples, as the render draws them."""
+        """Fills film and lens (spp x 2), and time (spp) when given, with one pixel's samples, as the render
+        draws them."""
 
     @staticmethod
     def map_to_disk(

@@ -15,7 +15,7 @@ from .errors import InputError
 
 __all__ = [
     "MAX_SPP", "MAX_SEED", "MAX_SIDE_PX", "MAX_PIXELS", "MAX_SAMPLES", "MAX_THREADS", "MAX_COLOR",
-    "MAX_LENGTH_M", "MIN_CHECKER_M", "MIN_F_NUMBER", "MIN_FOCAL_LENGTH_MM", "MAX_FOCAL_LENGTH_MM",
+    "MAX_LENGTH_M", "MAX_SPEED_M_PER_S", "MAX_SHUTTER_S", "MIN_CHECKER_M", "MIN_F_NUMBER", "MIN_FOCAL_LENGTH_MM", "MAX_FOCAL_LENGTH_MM",
     "MIN_FILM_MM", "MAX_FILM_MM", "MAX_LIGHTS", "MAX_NAME_CHARS", "MAX_FILE_BYTES", "MAX_TOML_DEPTH",
     "RENDER_BYTES_PER_PIXEL", "ADAPTIVE_BYTES_PER_PIXEL", "read_input_bytes", "available_memory_bytes",
     "check_render_budget", "format_bytes",
@@ -37,6 +37,11 @@ MAX_COLOR = 1e6
 """Every colour component (radiance, albedo, intensity): products of two stay far inside float32."""
 MAX_LENGTH_M = 1e9
 """Every scene coordinate and size, m: Embree computes in float32."""
+MAX_SPEED_M_PER_S = 299_792_458.0
+"""Every velocity component (camera and objects), m/s: nothing outruns light. Each
+moving thing must also stay within MAX_LENGTH_M over the shutter (scene.py)."""
+MAX_SHUTTER_S = 86_400.0
+"""``render.shutter`` times, s: a day, longer than any long exposure."""
 MIN_CHECKER_M = 1e-6
 """Checker cube size, m: p / size stays below 2^63 for every point within MAX_LENGTH_M."""
 MIN_F_NUMBER = 0.5

@@ -3,6 +3,12 @@
 Spheres stay exact (Embree sphere points); a box becomes its six faces and a
 rectangle one quad; meshes go in as one Embree triangle geometry (all meshes'
 vertices in one buffer, indices offset).
+
+Motion: when anything has a velocity, each primitive's velocity (and each
+mesh vertex's) goes along with the shutter and the camera's velocity; the
+native scene then gives moving primitives Embree time steps
+(native/src/scene.cpp). A scene where nothing moves passes no velocities at
+all, so its Embree scene is the static one, bit for bit.
 """
 
 from __future__ import annotations
@@ -10,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _native
+from .motion import anything_has_velocity
 from .scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
 __all__ = ["build_native_scene", "box_quads", "rectangle_quad"]
@@ -39,21 +46,26 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
     index = {name: i for i, name in enumerate(names)}
     spheres, sphere_material, quads, quad_material = [], [], [], []
     mesh_vertices, mesh_triangles, triangle_material, n_vertices = [], [], [], 0
+    sphere_velocity, quad_velocity, vertex_velocity = [], [], []
     for obj in scene.objects:
         if isinstance(obj, Sphere):
             spheres.append([*obj.center, obj.radius])
             sphere_material.append(index[obj.material])
+            sphere_velocity.append(obj.velocity)
         elif isinstance(obj, Box):
             faces = box_quads(obj.min, obj.max)
             quads.extend(faces)
             quad_material.extend([index[obj.material]] * len(faces))
+            quad_velocity.extend([obj.velocity] * len(faces))
         elif isinstance(obj, Rectangle):
             quads.append(rectangle_quad(obj.corner, obj.edge1, obj.edge2))
             quad_material.append(index[obj.material])
+            quad_velocity.append(obj.velocity)
         elif isinstance(obj, Mesh):
             mesh_vertices.append(obj.vertices_m)
             mesh_triangles.append(obj.triangles + n_vertices)
             triangle_material.append(np.full(len(obj.triangles), index[obj.material], dtype=np.int32))
+            vertex_velocity.append(np.broadcast_to(np.asarray(obj.velocity, dtype=float), obj.vertices_m.shape))
             n_vertices += len(obj.vertices_m)
 
     kinds, colors, emissions, checker_colors, checker_sizes = [], [], [], [], []
@@ -78,6 +90,13 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
     def i32(values):
         return np.ascontiguousarray(np.asarray(values, dtype=np.int32).reshape(-1))
 
+    # Nothing moving: no velocities at all, the static scene's exact arrays.
+    motion = {}
+    if anything_has_velocity(scene):
+        motion = dict(sphere_velocity=f32(sphere_velocity, (-1, 3)), quad_velocity=f32(quad_velocity, (-1, 3)),
+                      vertex_velocity=f32(np.concatenate(vertex_velocity) if vertex_velocity else [], (-1, 3)),
+                      shutter_s=tuple(float(t) for t in scene.render.shutter_s),
+                      camera_velocity=tuple(float(v) for v in scene.camera.velocity))
     return _native.Scene(
         f32(spheres, (-1, 4)), i32(sphere_material),
         f32(quads, (-1, 4, 3)), i32(quad_material),
@@ -89,4 +108,5 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
         f32(np.concatenate(mesh_vertices) if mesh_vertices else [], (-1, 3)),
         np.ascontiguousarray(np.concatenate(mesh_triangles) if mesh_triangles else np.zeros((0, 3)), dtype=np.int32),
         i32(np.concatenate(triangle_material) if triangle_material else []),
+        **motion,
     )

@@ -21,6 +21,7 @@ from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
 from .limits import MAX_SEED, MAX_SPP, check_render_budget
+from .motion import moves, samples_time
 from .native_scene import build_native_scene
 from .postfilter import depth_buffer_m, pinhole_pass_spp, spread
 from .progress import progress_bar
@@ -175,6 +176,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         "renderer": f"lenscompare {__version__} native (Embree 3)",
         "machine": platform.machine(),
     }
+    if moves(scene):  # what the image integrates over; a still scene's metadata stays as it was
+        metadata["motion"] = {"shutter_s": list(settings.shutter_s), "samples_time": samples_time(scene),
+                              "camera_velocity_m_per_s": list(scene.camera.velocity)}
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
     if model == "composite":

@@ -29,7 +29,9 @@ from .limits import (
     MAX_NAME_CHARS,
     MAX_PIXELS,
     MAX_SEED,
+    MAX_SHUTTER_S,
     MAX_SIDE_PX,
+    MAX_SPEED_M_PER_S,
     MAX_SPP,
     MIN_CHECKER_M,
     MIN_F_NUMBER,
@@ -80,6 +82,7 @@ class Camera:
     principal_plane_gap_mm: float | None = None
     aperture_blades: int = 0            # 0: circular; N >= 3: regular N-gon of the circle's area
     aperture_rotation_deg: float = 0.0  # counter-clockwise seen from behind the lens; a vertex up at 0
+    velocity: Vec3 = (0.0, 0.0, 0.0)    # m/s: the whole camera moves by velocity * t during the shutter
 
     @property
     def focus_distance_mm(self) -> float:
@@ -105,6 +108,7 @@ class RenderSettings:
     adaptive: bool = False  # spp is then the image's mean (lenscompare.adaptive)
     diffraction: bool = False  # the aperture's diffraction PSF applied to the image (lenscompare.diffraction)
     effects: tuple[str, ...] | None = None  # a composite render of exactly these (lenscompare.cameras.composite)
+    shutter_s: tuple[float, float] = (0.0, 0.0)  # open, close (s); equal: no motion blur (lenscompare.motion)
 
 
 @dataclass(frozen=True)
@@ -135,6 +139,7 @@ class Sphere:
     center: Vec3
     radius: float
     material: str
+    velocity: Vec3 = (0.0, 0.0, 0.0)  # m/s, from the position at t = 0
 
 
 @dataclass(frozen=True)
@@ -142,6 +147,7 @@ class Box:
     min: Vec3
     max: Vec3
     material: str
+    velocity: Vec3 = (0.0, 0.0, 0.0)  # m/s, from the position at t = 0
 
 
 @dataclass(frozen=True)
@@ -150,6 +156,7 @@ class Rectangle:
     edge1: Vec3
     edge2: Vec3
     material: str
+    velocity: Vec3 = (0.0, 0.0, 0.0)  # m/s, from the position at t = 0
 
 
 @dataclass(frozen=True)
@@ -166,6 +173,7 @@ class Mesh:
     material: str
     vertices_m: np.ndarray = field(compare=False, repr=False)
     triangles: np.ndarray = field(compare=False, repr=False)
+    velocity: Vec3 = (0.0, 0.0, 0.0)  # m/s, the whole mesh
 
     @property
     def polygons(self) -> np.ndarray:
@@ -248,15 +256,17 @@ def parse_scene(text: str, *, source: str = "<scene>", base_dir: Path | None = N
                      "lights"])
 
     materials = _read_materials(root.table("materials"))
-    objects = tuple(_read_object(t, materials, base_dir=base_dir) for t in root.tables("objects"))
+    render = _read_render(root.table("render"))
+    objects = tuple(_read_object(t, materials, base_dir=base_dir, shutter_s=render.shutter_s)
+                    for t in root.tables("objects"))
     lights = tuple(_read_light(t) for t in root.tables("lights"))
     if len(lights) > MAX_LIGHTS:
         raise root.error("lights", f"{len(lights)} lights, more than the limit {MAX_LIGHTS:,}")
     background = root.table("background")
     background.check_keys(["color"])
     return Scene(
-        camera=_read_camera(root.table("camera", required=True), base_dir=base_dir),
-        render=_read_render(root.table("render")),
+        camera=_read_camera(root.table("camera", required=True), base_dir=base_dir, shutter_s=render.shutter_s),
+        render=render,
         background=background.vector("color", 3, default=(0.0, 0.0, 0.0), non_negative=True, maximum=MAX_COLOR),
         materials=materials,
         objects=objects,
@@ -276,10 +286,29 @@ def _read_measure(root: Table) -> tuple[str, ...]:
     return tuple(dict.fromkeys(value))
 
 
-def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
+def _read_velocity(t: Table, points_max_abs_m: float, shutter_s: tuple[float, float]) -> Vec3:
+    """``velocity`` (m/s), bounded so that what moves stays inside the scene's
+    bounds (float32 for Embree) at every time of the shutter."""
+    velocity = t.vector("velocity", 3, default=(0.0, 0.0, 0.0), max_abs=MAX_SPEED_M_PER_S)
+    reach_m = points_max_abs_m + max(abs(v) for v in velocity) * max(abs(s) for s in shutter_s)
+    if not reach_m <= MAX_LENGTH_M:
+        raise t.error("velocity", f"{list(velocity)} m/s over the shutter {list(shutter_s)} s moves it "
+                      f"{reach_m:.3g} m from the origin, beyond the limit {MAX_LENGTH_M:g} m")
+    return velocity
+
+
+def _read_shutter(t: Table) -> tuple[float, float]:
+    shutter = t.vector("shutter", 2, default=(0.0, 0.0), non_negative=True, maximum=MAX_SHUTTER_S)
+    if shutter[1] < shutter[0]:
+        raise t.error("shutter", f"closes at {shutter[1]:g} s before it opens at {shutter[0]:g} s "
+                      "(expected [open, close] with open <= close)")
+    return shutter
+
+
+def _read_camera(t: Table, *, base_dir: Path | None, shutter_s: tuple[float, float] = (0.0, 0.0)) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
                   "film_mm", "resolution", "lens", "principal_plane_gap_mm", "aperture_blades",
-                  "aperture_rotation_deg"])
+                  "aperture_rotation_deg", "velocity"])
     position = t.vector("position", 3)
     look_at = t.vector("look_at", 3)
     up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
@@ -323,6 +352,7 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None, max_abs=MAX_FOCAL_LENGTH_MM),
         aperture_blades=_read_aperture_blades(t),
         aperture_rotation_deg=t.number("aperture_rotation_deg", default=0.0, max_abs=1e6),
+        velocity=_read_velocity(t, max(abs(c) for c in position), shutter_s),
     )
 
 
@@ -343,7 +373,7 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects", "shutter"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -353,6 +383,7 @@ def _read_render(t: Table) -> RenderSettings:
         adaptive=t.boolean("adaptive", default=defaults.adaptive),
         diffraction=t.boolean("diffraction", default=defaults.diffraction),
         effects=_read_effects(t),
+        shutter_s=_read_shutter(t),
     )
 
 
@@ -402,9 +433,10 @@ def _material_name(t: Table, materials: dict[str, Material]) -> str:
     return name
 
 
-def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None) -> Mesh:
+def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None,
+               shutter_s: tuple[float, float]) -> Mesh:
     """A ``type = "mesh"`` object: its file beside the scene (or absolute), read now."""
-    t.check_keys(["type", "file", "scale", "translate", "material"])
+    t.check_keys(["type", "file", "scale", "translate", "material", "velocity"])
     name = t.string("file")
     path = Path(name) if Path(name).is_absolute() else (base_dir or Path.cwd()) / name
     if not path.is_file():
@@ -417,30 +449,40 @@ def _read_mesh(t: Table, materials: dict[str, Material], base_dir: Path | None) 
     if not np.all(np.abs(vertices_m) <= MAX_LENGTH_M):  # NaN too: Embree computes in float32
         raise t.error("scale", f"puts vertices of {str(path)!r} beyond {MAX_LENGTH_M:g} m (or the file holds "
                       "non-finite coordinates)")
+    velocity = _read_velocity(t, float(np.abs(vertices_m).max(initial=0.0)), shutter_s)
     vertices_m.flags.writeable = False
     triangles.flags.writeable = False
-    return Mesh(path, scale, translate, material, vertices_m, triangles)
+    return Mesh(path, scale, translate, material, vertices_m, triangles, velocity)
 
 
-def _read_object(t: Table, materials: dict[str, Material], *, base_dir: Path | None = None) -> SceneObject:
+def _read_object(t: Table, materials: dict[str, Material], *, base_dir: Path | None = None,
+                 shutter_s: tuple[float, float] = (0.0, 0.0)) -> SceneObject:
     kind = t.string("type", choices=("sphere", "box", "rectangle", "mesh"))
     if kind == "mesh":
-        return _read_mesh(t, materials, base_dir)
+        return _read_mesh(t, materials, base_dir, shutter_s)
+
+    def velocity(*points: Vec3) -> Vec3:
+        return _read_velocity(t, max(abs(c) for p in points for c in p), shutter_s)
+
     if kind == "sphere":
-        t.check_keys(["type", "center", "radius", "material"])
-        return Sphere(t.vector("center", 3), t.number("radius", positive=True), _material_name(t, materials))
+        t.check_keys(["type", "center", "radius", "material", "velocity"])
+        center, radius = t.vector("center", 3), t.number("radius", positive=True)
+        return Sphere(center, radius, _material_name(t, materials),
+                      velocity(tuple(abs(c) + radius for c in center)))
     if kind == "box":
-        t.check_keys(["type", "min", "max", "material"])
+        t.check_keys(["type", "min", "max", "material", "velocity"])
         lo, hi = t.vector("min", 3), t.vector("max", 3)
         if not all(h > l for l, h in zip(lo, hi)):
             raise t.error("max", f"expected every component above min {list(lo)}, got {list(hi)}")
-        return Box(lo, hi, _material_name(t, materials))
-    t.check_keys(["type", "corner", "edge1", "edge2", "material"])
+        return Box(lo, hi, _material_name(t, materials), velocity(lo, hi))
+    t.check_keys(["type", "corner", "edge1", "edge2", "material", "velocity"])
     e1, e2 = t.vector("edge1", 3), t.vector("edge2", 3)
     cross = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0])
     if not math.sqrt(sum(c * c for c in cross)) > 0.0:
         raise t.error("edge2", "is zero or parallel to edge1 (the rectangle has no area)")
-    return Rectangle(t.vector("corner", 3), e1, e2, _material_name(t, materials))
+    corner = t.vector("corner", 3)
+    far = tuple(abs(c) + abs(a) + abs(b) for c, a, b in zip(corner, e1, e2))
+    return Rectangle(corner, e1, e2, _material_name(t, materials), velocity(far))
 
 
 def _read_light(t: Table) -> PointLight:

@@ -22,6 +22,7 @@ LAYERS = [
     {"atomic", "_schema", "cluster"},
     {"optics", "metrics", "lenses", "meshes"},
     {"scene", "adaptive"},
+    {"motion"},
     {"cameras", "native_scene"},
     {"image", "flat_geometry", "diffraction", "postfilter"},
     {"render", "povray", "mitsuba", "pbrt"},

@@ -1,4 +1,5 @@
-"""What a camera model does to the image: blur disks, distortion, vignetting, similarity.
+"""What a camera model does to the image: blur disks, distortion, vignetting,
+similarity, and motion-blur streaks.
 
 Conventions shared by every function here:
 
@@ -26,11 +27,15 @@ from .distortion import (
     fit_radial_distortion,
     match_points,
 )
+from .streak import Streak, measure_streak, streak_profile
 from .similarity import ColourDifference, ciede2000, psnr, relative_rmse, rmse, ssim
 from .vignetting import relative_illumination, relative_illumination_at
 
 __all__ = [
     "luminance",
+    "Streak",
+    "measure_streak",
+    "streak_profile",
     "BlurDisk",
     "measure_blur_disk",
     "find_point_sources",

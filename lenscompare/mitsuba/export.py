@@ -67,6 +67,7 @@ import numpy as np
 
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
+from ..motion import moves
 from ..flat_geometry import flat_pieces
 from ..scene import DiffuseMaterial, EmissiveMaterial, Scene, Sphere
 from ..units import m_from_mm
@@ -122,6 +123,9 @@ def _check(scene: Scene, model: str) -> None:
     if scene.render.diffraction:
         raise InputError(scene.source, "Mitsuba is rendered here with geometric optics only (render "
                          "diffraction natively)", key="render.diffraction")
+    if moves(scene):
+        raise InputError(scene.source, "the Mitsuba export writes still scenes only (render motion blur natively, "
+                         "or with lenscompare povray --time-samples)", key="render.shutter")
     lit = any(isinstance(scene.materials[o.material], DiffuseMaterial) for o in scene.objects)
     for i, light in enumerate(scene.lights):
         if lit and light.falloff != "inverse_square" and any(c > 0 for c in light.color):

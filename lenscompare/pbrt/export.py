@@ -52,6 +52,7 @@ import numpy as np
 
 from ..cameras import LensSystemCamera, camera_for
 from ..errors import InputError
+from ..motion import moves
 from ..flat_geometry import CHECKER_TOLERANCE
 from ..native_scene import box_quads, rectangle_quad
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
@@ -191,6 +192,9 @@ def scene_to_pbrt(scene: Scene, *, model: str | None = None, spp: int | None = N
     if scene.render.diffraction:
         raise InputError(scene.source, "pbrt renders geometric optics only (render diffraction natively)",
                          key="render.diffraction")
+    if moves(scene):
+        raise InputError(scene.source, "the pbrt export writes still scenes only (render motion blur natively)",
+                         key="render.shutter")
     lit = any(isinstance(scene.materials[o.material], DiffuseMaterial) for o in scene.objects)
     for i, light in enumerate(scene.lights):
         if lit and light.falloff != "inverse_square" and any(c > 0 for c in light.color):

@@ -138,7 +138,7 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
     model, parts, note = _choose(scene, effects, needed)
     # The image-based depth of field stands in for the thin lens where its occlusion edges allow.
     edge_error = None
-    if model == "thin":
+    if model == "thin" and not needed["motion_blur"]:  # its depth buffer is one instant
         suffices, edge_error = postfilter_suffices(scene, defocus_needed=needed["defocus"],
                                                    tolerance_px=tolerance_px, camera=camera, threads=threads)
         model = "postfilter" if suffices else model
@@ -186,6 +186,10 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     :func:`lenscompare.render.render`.
     """
     plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
+    open_s, close_s = scene.render.shutter_s
+    if not plan.needed["motion_blur"] and close_s > open_s:
+        # Streaks under tolerance: the instant in the middle of the shutter, without sampling time.
+        scene = scene.with_render(shutter_s=(0.5 * (open_s + close_s),) * 2)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
     if plan.model == "composite":

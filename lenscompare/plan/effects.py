@@ -13,10 +13,11 @@ from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
 from ..units import mm_from_m
+from .motion_path import longest_motion_path
 from .visible_depth import visible_depth_range_m
 
 __all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "distortion", "vignetting",
-           "diffraction", "EFFECTS"]
+           "diffraction", "motion_blur", "EFFECTS"]
 
 
 @dataclass(frozen=True)
@@ -108,4 +109,22 @@ def diffraction(scene: Scene, camera: CameraModel) -> Effect:
                   f"working f/{n_w:.3g}, pixel {1000 * camera.pixel_pitch_mm:.3g} um", "pinhole")
 
 
-EFFECTS = (defocus, principal_plane_gap, distortion, vignetting, diffraction)
+def motion_blur(scene: Scene, camera: CameraModel) -> Effect:
+    """Longest projected path, over the shutter, of any visible object relative
+    to the camera (so the camera's own motion too), px. Every model samples
+    time, so the cheapest carries it."""
+    open_s, close_s = scene.render.shutter_s
+    path = longest_motion_path(scene, camera)
+    if path is None:
+        why = ("the shutter is an instant" if not close_s > open_s else
+               "nothing visible moves relative to the camera")
+        return Effect("motion_blur", 0.0, "px", why, "pinhole")
+    obj = scene.objects[path.object_index]
+    moved_by = "its own and the camera's motion" if any(scene.camera.velocity) and any(obj.velocity) else (
+        "the camera's motion" if any(scene.camera.velocity) else "its own motion")
+    return Effect("motion_blur", path.length_px, "px",
+                  f"objects[{path.object_index}] ({type(obj).__name__.lower()}) travels {path.length_px:.3g} px "
+                  f"by {moved_by} over the {1000 * (close_s - open_s):.3g} ms shutter", "pinhole")
+
+
+EFFECTS = (defocus, principal_plane_gap, distortion, vignetting, diffraction, motion_blur)

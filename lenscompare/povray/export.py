@@ -69,6 +69,12 @@ aims ``direction`` 1/32 px right of and below the axis to cancel it
 |direction| so the focal plane stays at the focus distance. The pinhole
 (anti-aliasing, no focal blur) has no such bias and no such correction.
 
+Motion. POV-Ray 3.7 has no motion blur. ``scene_to_pov(..., time_s=t)`` writes
+the scene as it stands at time t: each moving object with ``translate v t``
+after its texture (so a checker moves with its object, as natively), and the
+camera at ``position + v_camera t``. The runner renders such sub-frames at
+evenly spaced times and averages them (``lenscompare povray --time-samples K``).
+
 Lengths: scene lengths are metres; the camera's are millimetres. Everything
 comes from the camera value the native render uses
 (:func:`lenscompare.cameras.camera_for`); f / N goes from mm to metres once, in
@@ -84,6 +90,7 @@ import numpy as np
 
 from ..cameras import CameraModel, camera_for
 from ..errors import InputError
+from ..motion import camera_at_s, moves, object_offset_m
 from ..units import m_from_mm
 from ..scene import Box, DiffuseMaterial, EmissiveMaterial, Mesh, Rectangle, Scene, Sphere
 
@@ -272,7 +279,8 @@ def radiance_bound(scene: Scene) -> float:
 
 
 def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = None,
-                 blur_adaptive: tuple[int, float] | None = None, radiance_scale: float = 1.0) -> str:
+                 blur_adaptive: tuple[int, float] | None = None, radiance_scale: float = 1.0,
+                 time_s: float | None = None) -> str:
     """POV-Ray 3.7 scene text for ``scene`` through the pinhole or thin lens.
 
     Parameters
@@ -295,6 +303,9 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         colours, emission, lights) times this: the image scales by it, the
         albedos stay. The runner uses a power of two to keep bright scenes
         inside POV-Ray's half-float EXR (at most 65504).
+    time_s : float, optional
+        The instant to write, s (default: when the shutter opens): moving
+        objects and the camera where they are then (module notes).
 
     Returns
     -------
@@ -306,7 +317,8 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
     InputError
         Model "thick" or "lens" (POV-Ray has no such camera); a bad ``spp``.
     """
-    camera = pov_camera(scene, model)
+    time_s = scene.render.shutter_s[0] if time_s is None else float(time_s)
+    camera = pov_camera(camera_at_s(scene, time_s), model)
     spp = scene.render.spp if spp is None else int(spp)
     if spp < 1:
         raise InputError("--spp", f"expected a positive integer, got {spp}")
@@ -314,6 +326,9 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
     lines = [
         "#version 3.7;",
         f"// lenscompare scene {scene.name!r} ({scene.source!r}), {camera.model} camera",
+        *([f"// the instant t = {format_number(time_s)} s of the shutter "
+           f"[{format_number(scene.render.shutter_s[0])}, {format_number(scene.render.shutter_s[1])}] s: POV-Ray "
+           "has no motion blur; lenscompare povray averages such sub-frames"] if moves(scene) else []),
         "// Linear colours, no ambient, no radiosity: the only light is the point lights and emission.",
         "global_settings { assumed_gamma 1.0 ambient_light 0 }",
         f"background {{ rgb {_vec(np.asarray(scene.background) * radiance_scale)} }}",
@@ -330,7 +345,7 @@ def scene_to_pov(scene: Scene, *, model: str | None = None, spp: int | None = No
         lines.append(f"#declare {names[name]} = {_texture(material, radiance_scale)};  // {name!r}")
     lines.append("")
     for obj in scene.objects:
-        lines.append(_object(obj, names[obj.material]))
+        lines.append(_object(obj, names[obj.material], object_offset_m(obj, time_s)))
     return "\n".join(lines) + "\n"
 
 
@@ -401,7 +416,16 @@ def _texture(m, radiance_scale: float = 1.0) -> str:
     raise TypeError(f"unknown material {m!r}")  # pragma: no cover - the scene parser admits no others
 
 
-def _object(obj, texture: str) -> str:
+def _object(obj, texture: str, offset_m=None) -> str:
+    """The object's SDL; a moving one translated by ``offset_m`` after its
+    texture, so that the texture moves with it."""
+    text = _still_object(obj, texture)
+    if offset_m is None or not np.any(offset_m):
+        return text
+    return f"object {{ {text} translate {_vec(offset_m)} }}"
+
+
+def _still_object(obj, texture: str) -> str:
     if isinstance(obj, Sphere):
         return f"sphere {{ {_vec(obj.center)}, {format_number(obj.radius)} texture {{ {texture} }} }}"
     if isinstance(obj, Box):

@@ -24,6 +24,16 @@ What "samples per pixel" means for POV-Ray
 
 POV-Ray has no random seed: the same input gives the same image.
 
+Motion blur: POV-Ray 3.7 has none, so a moving scene (``[render] shutter``
+open over an interval, something with a velocity) is rendered as the average
+of K sub-frames at the centres of K equal parts of the shutter
+(``time_samples``, default :data:`DEFAULT_TIME_SAMPLES`), each with
+ceil(spp / K) rays per pixel, so that the whole image still traces about spp
+rays per pixel. A streak of L px is then K copies L / K px apart; with
+L / K at most about 1 px they merge into the continuous streak the native
+tracer integrates (the agreement tests' scenes: see
+tests/test_povray_motion.py).
+
 Environment: POV-Ray runs in a fresh private temporary folder (its cwd, which
 its I/O restrictions allow it to write), with ``HOME`` pointing there and
 ``POVINI`` unset, so no user or stray ``povray.ini`` changes the render; Debian's
@@ -59,12 +69,20 @@ from .. import __version__
 from ..errors import ExternalError, InputError
 from ..image import Image, read_exr
 from ..limits import check_render_budget
+from ..motion import geometry_at_s, samples_time, subframe_times_s
 from ..scene import Scene
 from .export import pov_camera, radiance_bound, scene_to_pov
 from .sandbox import confined_writes
 
 __all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "MAX_ANTIALIAS_DEPTH",
-           "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE"]
+           "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE", "DEFAULT_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
+
+DEFAULT_TIME_SAMPLES = 32
+"""Sub-frames of a moving scene: enough that the agreement tests' streaks
+(up to about 30 px) have copies at most 1 px apart."""
+
+MAX_TIME_SAMPLES = 4096
+"""Sub-frames at most: each is a POV-Ray process with its own parse and set-up."""
 
 MAX_ANTIALIAS_DEPTH = 9
 """POV-Ray 3.7's largest ``+R`` (anti-aliasing depth)."""
@@ -114,7 +132,7 @@ def povray_version(povray: str = "povray") -> str:
 
 def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = None, threads: int | None = None,
                   povray: str = "povray", timeout_s: float | None = None,
-                  blur_adaptive: tuple[int, float] | None = None) -> Image:
+                  blur_adaptive: tuple[int, float] | None = None, time_samples: int | None = None) -> Image:
     """Render ``scene`` with POV-Ray through the pinhole or the thin lens.
 
     Parameters
@@ -138,6 +156,10 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         variance)``, with ``spp`` the most a pixel takes (see
         :func:`lenscompare.povray.export.scene_to_pov`). The metadata's
         ``spp`` is then that maximum, not the rays traced.
+    time_samples : int, optional
+        Sub-frames averaged for a moving scene (module notes; default
+        :data:`DEFAULT_TIME_SAMPLES`); a still scene is one frame whatever
+        this says.
 
     Returns
     -------
@@ -170,40 +192,58 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     width, height = scene.camera.width_px, scene.camera.height_px
     check_render_budget(width, height, spp, source=scene.source)
 
-    if model == "thin":
-        sampling = ["-A"]  # focal blur samples the pixel area itself
-        rays_per_pixel = spp
-    else:
-        depth = pinhole_antialias_depth(spp)
-        sampling = ["+A0.0", "+AM1", f"+R{depth}", "+J1.0"]
-        rays_per_pixel = depth * depth + 1
-
     if blur_adaptive is not None and model != "thin":
         raise InputError("blur_adaptive", "POV-Ray's adaptive focal blur needs the thin-lens camera")
-    bound = radiance_bound(scene)
+    if time_samples is not None and not 1 <= int(time_samples) <= MAX_TIME_SAMPLES:
+        raise InputError("--time-samples", f"expected an integer from 1 to {MAX_TIME_SAMPLES:,}, got {time_samples}")
+    # A moving scene: K sub-frames at evenly spaced times, each with its share of the rays.
+    times = ([scene.render.shutter_s[0]] if not samples_time(scene) else
+             subframe_times_s(scene.render.shutter_s, int(time_samples or DEFAULT_TIME_SAMPLES)).tolist())
+    frame_spp = max(1, math.ceil(spp / len(times)))
+    if model == "thin":
+        sampling = ["-A"]  # focal blur samples the pixel area itself
+        rays_per_pixel = frame_spp
+    else:
+        depth = pinhole_antialias_depth(frame_spp)
+        sampling = ["+A0.0", "+AM1", f"+R{depth}", "+J1.0"]
+        rays_per_pixel = depth * depth + 1
+    # The brightest any sub-frame can be (inverse-square lights count at the nearest surface then).
+    bound = max(radiance_bound(geometry_at_s(scene, t)) for t in times)
     # A power of two: exact both ways, so scenes inside half floats' range are untouched.
     radiance_scale = 2.0 ** -math.ceil(math.log2(bound / HALF_FLOAT_SAFE)) if bound > HALF_FLOAT_SAFE else 1.0
-    text = scene_to_pov(scene, model=model, spp=spp, blur_adaptive=blur_adaptive, radiance_scale=radiance_scale)
     options = ["+FE", "-D", "-V", "+Q9", "-UA", f"+W{width}", f"+H{height}", *sampling]
     if threads is not None:
         options.append(f"+WT{int(threads)}")
-    pixels, result, wall_seconds, command = run_povray(text, options, povray=povray, timeout_s=timeout_s,
-                                                       max_file_bytes=64 * 2**20 + 16 * width * height)
-    if pixels is None:
-        raise ExternalError(f"POV-Ray wrote no image (command: {shlex.join(command)}){_tail(result.stderr)}")
-    if pixels.shape != (height, width, 3):
-        raise ExternalError(f"POV-Ray wrote a {pixels.shape[1]}x{pixels.shape[0]} image, expected {width}x{height}")
-    if not np.isfinite(pixels).all():
-        raise ExternalError(f"POV-Ray's image of {scene.source} has non-finite pixels (its half-float EXR; radiance "
-                            f"bound {bound:.3g}, exported at scale {radiance_scale:g})")
+    total = np.zeros((height, width, 3), dtype=np.float64)
+    seconds = wall_seconds = 0.0
+    cpu_seconds: float | None = 0.0
+    deadline = None if timeout_s is None else time.perf_counter() + float(timeout_s)
+    for time_s in times:
+        # The timeout covers all sub-frames together.
+        remaining_s = None if deadline is None else max(deadline - time.perf_counter(), 1e-3)
+        text = scene_to_pov(scene, model=model, spp=frame_spp, blur_adaptive=blur_adaptive,
+                            radiance_scale=radiance_scale, time_s=time_s)
+        pixels, result, frame_wall_s, command = run_povray(text, options, povray=povray, timeout_s=remaining_s,
+                                                           max_file_bytes=64 * 2**20 + 16 * width * height)
+        if pixels is None:
+            raise ExternalError(f"POV-Ray wrote no image (command: {shlex.join(command)}){_tail(result.stderr)}")
+        if pixels.shape != (height, width, 3):
+            raise ExternalError(f"POV-Ray wrote a {pixels.shape[1]}x{pixels.shape[0]} image, expected "
+                                f"{width}x{height}")
+        if not np.isfinite(pixels).all():
+            raise ExternalError(f"POV-Ray's image of {scene.source} has non-finite pixels (its half-float EXR; "
+                                f"radiance bound {bound:.3g}, exported at scale {radiance_scale:g})")
+        total += pixels
+        wall_seconds += frame_wall_s
+        match = _TRACE_TIME.search(result.stderr)
+        frame_seconds = float(match.group(1)) if match else 0.0
+        seconds += frame_seconds if frame_seconds > 0 else frame_wall_s  # no statistics, or under their 1 ms
+        cpu_seconds = cpu_seconds + float(match.group(2)) if (match and cpu_seconds is not None) else None
+    pixels = (total / len(times)).astype(np.float32)
     if radiance_scale != 1.0:
         pixels = pixels / np.float32(radiance_scale)
+    rays_per_pixel *= len(times)
 
-    match = _TRACE_TIME.search(result.stderr)
-    seconds = float(match.group(1)) if match else 0.0
-    if not seconds > 0:  # no statistics, or a render faster than their 1 ms resolution
-        seconds = wall_seconds
-    cpu_seconds = float(match.group(2)) if match else None
     samples = width * height * rays_per_pixel
     metadata = {
         "scene": scene.name,
@@ -227,6 +267,9 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
                                 "jittered sub-pixel rays"),
         "lenscompare_version": __version__,
     }
+    if len(times) > 1:
+        metadata["time_samples"] = len(times)  # sub-frames averaged, each with spp / time_samples rays
+        metadata["shutter_s"] = list(scene.render.shutter_s)
     if radiance_scale != 1.0:
         metadata["radiance_scale"] = radiance_scale  # what the exported scene was multiplied by
     return Image(pixels.astype("float32", copy=False), metadata, camera=camera.camera)

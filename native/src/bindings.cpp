@@ -41,6 +41,7 @@ using namespace lc;
 namespace {
 
 using Triple = std::array<double, 3>;
+using Pair = std::array<double, 2>;
 
 Vec3d vec(const Triple& t) { return {t[0], t[1], t[2]}; }
 Vec3f vecf(const float* p) { return {p[0], p[1], p[2]}; }
@@ -60,7 +61,11 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                   CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
                   CArray<const float, -1, 3> light_intensity, const Triple& background,
                   CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
-                  CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
+                  CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material,
+                  const std::optional<CArray<const float, -1, 3>>& sphere_velocity,
+                  const std::optional<CArray<const float, -1, 3>>& quad_velocity,
+                  const std::optional<CArray<const float, -1, 3>>& vertex_velocity, const Pair& shutter_s,
+                  const Triple& camera_velocity) {
     SceneArrays a;
     a.spheres = spheres.data();
     a.sphere_material = sphere_material.data();
@@ -81,6 +86,20 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
     a.triangle_material = triangle_material.data();
     a.n_triangles = int(triangles.shape(0));
     a.background = Vec3f(vec(background));
+    // Motion: velocities must match their primitives (Python checks; this guards the pointers).
+    auto velocities = [](const std::optional<CArray<const float, -1, 3>>& v, size_t n) -> const float* {
+        if (!v) return nullptr;
+        if (v->shape(0) != n) throw std::invalid_argument("one velocity per primitive expected");
+        return v->data();
+    };
+    a.sphere_velocity = velocities(sphere_velocity, size_t(a.n_spheres));
+    a.quad_velocity = velocities(quad_velocity, size_t(a.n_quads));
+    a.vertex_velocity = velocities(vertex_velocity, size_t(a.n_vertices));
+    if (!(shutter_s[1] >= shutter_s[0])) throw std::invalid_argument("shutter closes before it opens");
+    a.motion.open_s = shutter_s[0];
+    a.motion.close_s = shutter_s[1];
+    a.motion.camera_velocity_m_per_s = vec(camera_velocity);
+    a.motion.anything_moves = a.motion.moves_camera() || a.sphere_velocity || a.quad_velocity || a.vertex_velocity;
     return a;
 }
 
@@ -245,17 +264,24 @@ NB_MODULE(_native, m) {
                 CArray<const float, -1> checker_size_m, CArray<const float, -1, 3> light_position_m,
                 CArray<const float, -1, 3> light_intensity, const Triple& background,
                 CArray<const int32_t, -1> light_inverse_square, CArray<const float, -1, 3> triangle_vertices,
-                CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material) {
+                CArray<const int32_t, -1, 3> triangles, CArray<const int32_t, -1> triangle_material,
+                std::optional<CArray<const float, -1, 3>> sphere_velocity,
+                std::optional<CArray<const float, -1, 3>> quad_velocity,
+                std::optional<CArray<const float, -1, 3>> vertex_velocity, const Pair& shutter_s,
+                const Triple& camera_velocity) {
                  // Python has checked the shapes and indices (native_scene.py); the arrays are
                  // copied, so they may go once this returns.
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
                                                light_position_m, light_intensity, background, light_inverse_square,
-                                               triangle_vertices, triangles, triangle_material));
+                                               triangle_vertices, triangles, triangle_material, sphere_velocity,
+                                               quad_velocity, vertex_velocity, shutter_s, camera_velocity));
              },
              "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
              "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
-             "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a);
+             "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a,
+             "sphere_velocity"_a = nb::none(), "quad_velocity"_a = nb::none(), "vertex_velocity"_a = nb::none(),
+             "shutter_s"_a = Pair{0.0, 0.0}, "camera_velocity"_a = Triple{0.0, 0.0, 0.0});
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",

@@ -5,10 +5,12 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <optional>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -36,13 +38,20 @@ const Point2f* points(const CArray<const float, -1, 2>& a) { return reinterpret_
 void bind_samplers(nb::module_& m) {
     m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);
 
+    m.attr("SAMPLER_SOBOL_PADDED") = int(SamplerKind::SobolPadded);
+
     m.def("pixel_samples",
-          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens) {
+          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
+             std::optional<CArray<float, -1>> time) {
+              if (lens.shape(0) != film.shape(0) || (time && time->shape(0) != film.shape(0)))
+                  throw std::invalid_argument("film, lens and time need one row per sample");
               fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
-                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()));
+                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()),
+                                 time ? time->data() : nullptr);
           },
-          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a,
-          "Fills film and lens (spp x 2) with one pixel's samples, as the render draws them.");
+          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a, "time"_a = nb::none(),
+          "Fills film and lens (spp x 2), and time (spp) when given, with one pixel's samples, as the render "
+          "draws them.");
 
     m.def("map_to_disk",
           [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {

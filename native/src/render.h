@@ -1,6 +1,7 @@
 // The render loop, written once and instantiated per camera model: per pixel,
-// the sampler fills the pixel's film and lens samples, the camera turns each
-// into a ray (or nothing, when vignetted), the scene returns radiance.
+// the sampler fills the pixel's film and lens samples (and times, when the
+// scene moves during the shutter), the camera turns each into a ray (or
+// nothing, when vignetted), the scene returns radiance at that time.
 // Every pixel owns its random stream, so the image is the same for any thread
 // count and any tiling.
 #pragma once
@@ -27,8 +28,8 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
                         float* rgb) {
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     RayPacket packet(scene, sums);
-    CameraSampleBatcher<Camera> batcher(camera, packet);
-    PixelSamples samples(s.spp);
+    CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
+    PixelSamples samples(s.spp, scene.motion().samples_time());
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
         for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
@@ -40,7 +41,7 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
             const size_t slot = sums.slot(x, y);
             for (int i = first; i < end; ++i)
                 batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
-                            samples.lens[size_t(i)], slot);
+                            samples.lens[size_t(i)], samples.time_of(i), slot);
         }
     }
     // The last, partly filled batch and packet

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cameras/camera_ray.h"
+#include "motion.h"
 #include "render_settings.h"
 #include "samplers.h"
 #include "scene.h"
@@ -26,17 +27,27 @@ namespace lc {
 
 using Tile = tbb::blocked_range2d<int>;  // rows x columns of pixels
 
-// One pixel's film and lens samples: a sampler fills a pixel's whole set at once.
+// One pixel's film, lens and (for a moving scene) time samples: a sampler
+// fills a pixel's whole set at once.
 struct PixelSamples {
     std::vector<Point2f> film, lens;
+    std::vector<float> time;  // empty unless times are drawn; then in [0, 1) over the shutter
 
-    explicit PixelSamples(int spp) : film(size_t(spp)), lens(size_t(spp)) {}
+    PixelSamples(int spp, bool with_time)
+        : film(size_t(spp)), lens(size_t(spp)), time(with_time ? size_t(spp) : 0) {}
 
     // Samples [0, end) of the pixel; the buffers grow when an adaptive pass asks for more.
     void fill(const RenderSettings& s, uint64_t pixel_index, int end) {
-        if (film.size() < size_t(end)) film.resize(size_t(end)), lens.resize(size_t(end));
-        fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data());
+        const bool with_time = !time.empty();
+        if (film.size() < size_t(end)) {
+            film.resize(size_t(end)), lens.resize(size_t(end));
+            if (with_time) time.resize(size_t(end));
+        }
+        fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data(),
+                           with_time ? time.data() : nullptr);
     }
+
+    float time_of(int i) const { return time.empty() ? 0.0f : time[size_t(i)]; }
 };
 
 // Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
@@ -98,10 +109,11 @@ class RayPacket {
   public:
     RayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
 
-    // Queues a ray for the pixel at slot; a full packet is shaded at once.
-    void add(const CameraRay& ray, size_t slot) {
+    // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
+    void add(const CameraRay& ray, float time_u, size_t slot) {
         batch_.origin[batch_.count] = Vec3f(ray.origin);
         batch_.direction[batch_.count] = Vec3f(ray.direction);
+        batch_.time[batch_.count] = time_u;
         weight_[batch_.count] = ray.weight;
         slot_[batch_.count++] = slot;
         if (batch_.count == kPacketSize) flush();
@@ -148,15 +160,20 @@ void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* 
 
 // Samples waiting for the camera: the lens system traces kCameraBatch of them
 // in lockstep, and a tile's pixels together fill a batch at any spp.
+// A moving camera is the camera at t = 0 translated by v t: every model's ray
+// origin moves by the same offset and no direction changes, so the offset is
+// applied here, once for all models.
 template <class Camera>
 class CameraSampleBatcher {
   public:
-    CameraSampleBatcher(const Camera& camera, RayPacket& packet) : camera_(camera), packet_(packet) {}
+    CameraSampleBatcher(const Camera& camera, const SceneMotion& motion, RayPacket& packet)
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet) {}
 
-    // Queues one sample for the pixel at slot; a full batch goes to the camera at once.
-    void add(Point2f raster_px, Point2f lens, size_t slot) {
+    // Queues one sample (shutter time u) for the pixel at slot; a full batch goes to the camera at once.
+    void add(Point2f raster_px, Point2f lens, float time_u, size_t slot) {
         raster_px_[pending_] = raster_px;
         lens_[pending_] = lens;
+        time_[pending_] = time_u;
         slot_[pending_++] = slot;
         if (pending_ == kCameraBatch) flush();
     }
@@ -165,15 +182,21 @@ class CameraSampleBatcher {
     void flush() {
         MaybeRay rays[kCameraBatch];
         camera_rays(camera_, raster_px_, lens_, pending_, rays);
-        for (int i = 0; i < pending_; ++i)
-            if (rays[i]) packet_.add(*rays[i], slot_[i]);  // vignetted: contributes nothing
+        for (int i = 0; i < pending_; ++i) {
+            if (!rays[i]) continue;  // vignetted: contributes nothing
+            if (moves_camera_) rays[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(time_[i]);
+            packet_.add(*rays[i], time_[i], slot_[i]);
+        }
         pending_ = 0;
     }
 
   private:
     const Camera& camera_;
+    const SceneMotion& motion_;
+    bool moves_camera_;
     RayPacket& packet_;
     Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
+    float time_[kCameraBatch];
     size_t slot_[kCameraBatch];
     int pending_ = 0;
 };

@@ -1,5 +1,6 @@
 // The sobol sampler: Owen-scrambled Sobol' points in four dimensions per
-// pixel, film from dimensions 0-1 and lens from dimensions 2-3.
+// pixel, film from dimensions 0-1 and lens from dimensions 2-3, and time (when
+// the scene moves) from dimension 4 of the same sequence.
 //
 // Sobol' dimensions 0 (van der Corput) and 1 form a (0,2)-sequence: every
 // aligned block of 2^m consecutive points is a (0,m,2)-net, one point in each
@@ -20,8 +21,17 @@
 // Vegdahl's improved hash ("Building a better LK hash", psychopath.io, 2021).
 // Direction numbers: Joe & Kuo, "Constructing Sobol sequences with better
 // two-dimensional projections", SIAM J. Sci. Comput. 30 (2008), file
-// new-joe-kuo-6.21201 (d = 2, 3, 4 there are dimensions 1, 2, 3 here).
+// new-joe-kuo-6.21201 (d = 2, 3, 4, 5 there are dimensions 1, 2, 3, 4 here;
+// checked against SciPy's unscrambled Sobol', which reads the same file, in
+// tests/test_samplers_time.py).
+//
+// Time as dimension 4: dimensions 0-4 together form a (5,5)-sequence, so a
+// moving, defocused edge (a function of film, lens and time together) is
+// integrated by one jointly stratified set. Against padding (film, lens and
+// time each stratified alone and paired at random: SobolPadded, for the
+// study in bench/bench_motion.py) see the README's motion-blur section.
 #include <cstdint>
+#include <utility>
 
 #include "rng.h"
 #include "samplers.h"
@@ -30,6 +40,7 @@ namespace lc {
 namespace {
 
 constexpr uint64_t kSobolStream = 16;  // clear of the other samplers' streams
+constexpr uint64_t kSobolPaddedStream = 18;
 
 uint32_t reverse_bits(uint32_t x) {
     x = __builtin_bswap32(x);  // GCC and Clang
@@ -86,6 +97,7 @@ constexpr SobolDimension make_dimension(int degree, uint32_t a, const uint32_t (
 constexpr SobolDimension kDimension1 = make_dimension(1, 0, {1});        // x + 1
 constexpr SobolDimension kDimension2 = make_dimension(2, 1, {1, 3});     // x^2 + x + 1
 constexpr SobolDimension kDimension3 = make_dimension(3, 1, {1, 3, 1});  // x^3 + x + 1
+constexpr SobolDimension kDimension4 = make_dimension(3, 2, {1, 1, 1});  // x^3 + x^2 + 1
 
 // Point `index` of a dimension, bit-reversed.
 uint32_t sobol_reversed(const SobolDimension& d, uint32_t index) {
@@ -102,15 +114,19 @@ uint32_t scrambled(uint32_t reversed_value, uint32_t seed) {
 
 }  // namespace
 
-void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_points, Point2f* film, Point2f* lens) {
+void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_points, Point2f* film, Point2f* lens,
+                float* time) {
     if (!scrambled_points) {  // dimensions 0-1 for both, unscrambled: the raw sequence, for tests
-        for (int i = 0; i < spp; ++i)
+        for (int i = 0; i < spp; ++i) {
             film[i] = lens[i] = {unit_float(reverse_bits(uint32_t(i))),
                                  unit_float(reverse_bits(sobol_reversed(kDimension1, uint32_t(i))))};
+            if (time) time[i] = unit_float(reverse_bits(sobol_reversed(kDimension4, uint32_t(i))));
+        }
         return;
     }
     // Independent 32-bit seeds per pixel and per dimension. Dimension 0 is the
-    // index reversed, so reversed it is the index itself.
+    // index reversed, so reversed it is the index itself. The time seed is
+    // drawn after the others, so film and lens are the same with or without it.
     Pcg32 rng(seed, pixel_index, kSobolStream);
     const uint32_t seeds[4] = {rng.next_u32(), rng.next_u32(), rng.next_u32(), rng.next_u32()};
     for (int i = 0; i < spp; ++i) {
@@ -120,6 +136,26 @@ void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_poi
         lens[i] = {unit_float(scrambled(sobol_reversed(kDimension2, index), seeds[2])),
                    unit_float(scrambled(sobol_reversed(kDimension3, index), seeds[3]))};
     }
+    if (!time) return;
+    const uint32_t time_seed = rng.next_u32();
+    for (int i = 0; i < spp; ++i) time[i] = unit_float(scrambled(sobol_reversed(kDimension4, uint32_t(i)), time_seed));
+}
+
+void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time) {
+    // Each group from the best-stratified dimensions alone (0-1, or 0),
+    // scrambled with its own seeds, then the lens and time points shuffled.
+    Pcg32 rng(seed, pixel_index, kSobolPaddedStream);
+    uint32_t seeds[5];
+    for (uint32_t& s : seeds) s = rng.next_u32();
+    for (int i = 0; i < spp; ++i) {
+        const uint32_t index = uint32_t(i), d1 = sobol_reversed(kDimension1, index);
+        film[i] = {unit_float(scrambled(index, seeds[0])), unit_float(scrambled(d1, seeds[1]))};
+        lens[i] = {unit_float(scrambled(index, seeds[2])), unit_float(scrambled(d1, seeds[3]))};
+        if (time) time[i] = unit_float(scrambled(index, seeds[4]));
+    }
+    for (int i = spp - 1; i > 0; --i) std::swap(lens[i], lens[rng.next_below(uint32_t(i + 1))]);
+    if (time)
+        for (int i = spp - 1; i > 0; --i) std::swap(time[i], time[rng.next_below(uint32_t(i + 1))]);
 }
 
 }  // namespace lc

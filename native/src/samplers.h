@@ -1,4 +1,5 @@
-// Per-pixel sample sets over the camera's sample space: film (2D) + lens (2D).
+// Per-pixel sample sets over the camera's sample space: film (2D) + lens (2D)
+// + time (1D, when something moves during the shutter; motion.h).
 // A sampler fills all of a pixel's samples at once; the render loop then hands
 // them to the camera in order (film[i] with lens[i]). Dispatch on the sampler
 // kind happens once per pixel, never per sample. New samplers add an enum value
@@ -21,7 +22,17 @@
 //   sobol     the first spp points of Sobol' dimensions 0-3, Owen-scrambled per
 //             pixel by hashing (Burley 2020): film from dimensions 0-1 (a
 //             (0,2)-sequence), lens from 2-3, jointly a (3,4)-sequence
-//             (sampler_sobol.cpp)
+//             (sampler_sobol.cpp); time from dimension 4, a further
+//             dimension of the same net (jointly a (5,5)-sequence)
+//
+// Time, for the others: a stratified 1-D set of spp points (one per interval
+// [k/spp, (k+1)/spp)), paired with the film and lens samples by a per-pixel
+// random permutation (random: independent uniform times; regular: interval
+// centres in a fixed order from Roberts' R2 lattice over the film cells, the
+// same in every pixel; samplers.cpp). Each
+// dimension is stratified on its own and the pairing decorrelates them; only
+// sobol stratifies time jointly with film and lens. Drawing times never
+// changes a pixel's film and lens points: the time streams are their own.
 #pragma once
 
 #include <cstdint>
@@ -39,6 +50,11 @@ enum class SamplerKind : int {
     // For tests only, not offered by scene files: the bare Sobol' points
     // 0..spp-1, the same for film and lens, every pixel and every seed.
     SobolUnscrambled = 5,
+    // For the joint-stratification study only: film, lens and time each from
+    // their own Owen-scrambled Sobol' points (dimensions 0-1, 0-1, 0), the
+    // lens and time points paired with the film points by random per-pixel
+    // permutations ("padding"): each group stratified alone, not jointly.
+    SobolPadded = 6,
 };
 
 // Square -> unit disk mappings for lens samples.
@@ -46,8 +62,9 @@ enum class DiskMapping : int { Polar = 0, Concentric = 1 };
 
 // Fills film[0..spp) and lens[0..spp) with points in [0,1)^2 for one pixel.
 // The same (seed, pixel_index) always gives the same points.
+// time (nullptr: not drawn) receives spp sample times in [0, 1).
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
-                        Point2f* film, Point2f* lens);
+                        Point2f* film, Point2f* lens, float* time = nullptr);
 
 // Strata of the jittered and regular samplers: nx * ny == spp, ny the largest
 // divisor of spp not above sqrt(spp) (8x8 for 64, 16x8 for 128; a prime spp
@@ -67,7 +84,9 @@ PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping);
 
 // One function per sampler defined in its own file; each fills one pixel.
 void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
-void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens);
+void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens,
+                float* time);
+void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time);
 
 // Largest float below 1: where a sample that rounds up to 1 is put back.
 constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;

@@ -54,8 +54,38 @@ bool checker_is_odd(const Vec3f& p_m, float size_m) {
     return (int64_t(sum) & 1) != 0;
 }
 
+namespace {
+
+bool is_zero(const float* v) { return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f; }
+
+// Velocity of primitive i of an (n x 3) array, or zero when the array is absent.
+Vec3f velocity_at(const float* velocities, size_t i) {
+    return velocities ? Vec3f{velocities[3 * i], velocities[3 * i + 1], velocities[3 * i + 2]} : Vec3f{};
+}
+
+// Position p moved to time t (s): p + v t, per coordinate in float as Embree stores it.
+void moved(const float* p, const Vec3f& v, double t_s, float* out) {
+    out[0] = float(double(p[0]) + double(v.x) * t_s);
+    out[1] = float(double(p[1]) + double(v.y) * t_s);
+    out[2] = float(double(p[2]) + double(v.z) * t_s);
+}
+
+// One kind's primitives split by whether they move: each group becomes its own geometry.
+struct Split {
+    std::vector<size_t> still, moving;
+};
+
+Split split_by_velocity(const float* velocities, size_t n, bool split) {
+    Split s;
+    for (size_t i = 0; i < n; ++i)
+        (split && velocities && !is_zero(velocities + 3 * i) ? s.moving : s.still).push_back(i);
+    return s;
+}
+
+}  // namespace
+
 Scene::Scene(const SceneArrays& a)
-    : materials_(a.materials), lights_(a.lights), background_(a.background) {
+    : motion_(a.motion), materials_(a.materials), lights_(a.lights), background_(a.background) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("could not create an Embree device");
     scene_ = rtcNewScene(device_);
@@ -63,57 +93,147 @@ Scene::Scene(const SceneArrays& a)
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
-    if (a.n_spheres > 0) {
-        // Embree's sphere points are exact spheres, not tessellations.
+    // Without a time per sample every primitive is a still one, at its place
+    // when the shutter opens (t = 0 normally: then exactly the static scene,
+    // one geometry per kind as always). With one, moving primitives get their
+    // own geometries holding two time steps, open and close.
+    const bool sampled = motion_.samples_time();
+    const double open_s = motion_.open_s, close_s = motion_.close_s;
+    const bool offset = open_s != 0.0;  // still primitives need moving to t = open
+    const int steps = sampled ? 2 : 1;
+
+    // Spheres: Embree's sphere points are exact spheres, not tessellations.
+    const Split spheres = split_by_velocity(a.sphere_velocity, size_t(a.n_spheres), sampled);
+    for (int moving = 0; moving < 2; ++moving) {
+        const std::vector<size_t>& ids = moving ? spheres.moving : spheres.still;
+        if (ids.empty()) continue;
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                              4 * sizeof(float), size_t(a.n_spheres)));
-        std::copy(a.spheres, a.spheres + 4 * size_t(a.n_spheres), v);
-        rtcCommitGeometry(g);
-        sphere_geom_id_ = rtcAttachGeometry(scene_, g);
-        rtcReleaseGeometry(g);
-        sphere_material_.assign(a.sphere_material, a.sphere_material + a.n_spheres);
+        const int slots = moving ? steps : 1;
+        rtcSetGeometryTimeStepCount(g, unsigned(slots));
+        GeometryTable table;
+        for (int step = 0; step < slots; ++step) {
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                                                  RTC_FORMAT_FLOAT4, 4 * sizeof(float), ids.size()));
+            const double t_s = step == 0 ? open_s : close_s;
+            for (size_t k = 0; k < ids.size(); ++k) {
+                const float* src = a.spheres + 4 * ids[k];
+                if (moving || offset) moved(src, velocity_at(a.sphere_velocity, ids[k]), t_s, v + 4 * k);
+                else std::copy(src, src + 3, v + 4 * k);
+                v[4 * k + 3] = src[3];
+            }
+        }
+        for (size_t i : ids) {
+            table.material.push_back(a.sphere_material[i]);
+            if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
+        }
+        attach(g, std::move(table));
     }
-    if (a.n_quads > 0) {
+
+    // Quads: four corners each.
+    const Split quads = split_by_velocity(a.quad_velocity, size_t(a.n_quads), sampled);
+    for (int moving = 0; moving < 2; ++moving) {
+        const std::vector<size_t>& ids = moving ? quads.moving : quads.still;
+        if (ids.empty()) continue;
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_QUAD);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), 4 * size_t(a.n_quads)));
-        std::copy(a.quads, a.quads + 12 * size_t(a.n_quads), v);
+        const int slots = moving ? steps : 1;
+        rtcSetGeometryTimeStepCount(g, unsigned(slots));
+        for (int step = 0; step < slots; ++step) {
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                                                  RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                                  4 * ids.size()));
+            const double t_s = step == 0 ? open_s : close_s;
+            for (size_t k = 0; k < ids.size(); ++k) {
+                const Vec3f velocity = velocity_at(a.quad_velocity, ids[k]);
+                for (size_t c = 0; c < 4; ++c) {
+                    const float* src = a.quads + 12 * ids[k] + 3 * c;
+                    if (moving || offset) moved(src, velocity, t_s, v + 12 * k + 3 * c);
+                    else std::copy(src, src + 3, v + 12 * k + 3 * c);
+                }
+            }
+        }
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
-                                                                   4 * sizeof(unsigned), size_t(a.n_quads)));
-        for (unsigned i = 0; i < 4u * unsigned(a.n_quads); ++i) idx[i] = i;
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(scene_, g);
-        rtcReleaseGeometry(g);
-        quad_material_.assign(a.quad_material, a.quad_material + a.n_quads);
+                                                                   4 * sizeof(unsigned), ids.size()));
+        for (unsigned i = 0; i < 4u * unsigned(ids.size()); ++i) idx[i] = i;
+        GeometryTable table;
+        for (size_t i : ids) {
+            table.material.push_back(a.quad_material[i]);
+            if (a.quad_velocity) table.velocity.push_back(velocity_at(a.quad_velocity, i));
+        }
+        attach(g, std::move(table));
     }
-    if (a.n_triangles > 0) {
+
+    // Triangles: a triangle moves when its first vertex does (a mesh moves as
+    // one); each group takes the vertices it uses, renumbered.
+    std::vector<float> tri_velocity;
+    if (a.vertex_velocity)
+        for (int t = 0; t < a.n_triangles; ++t) {
+            const float* v = a.vertex_velocity + 3 * size_t(a.triangles[3 * t]);
+            tri_velocity.insert(tri_velocity.end(), v, v + 3);
+        }
+    const Split triangles =
+        split_by_velocity(a.vertex_velocity ? tri_velocity.data() : nullptr, size_t(a.n_triangles), sampled);
+    for (int moving = 0; moving < 2; ++moving) {
+        const std::vector<size_t>& ids = moving ? triangles.moving : triangles.still;
+        if (ids.empty()) continue;
+        // Every vertex when one group holds all triangles (the static scene's own buffer), else renumbered.
+        const bool all = ids.size() == size_t(a.n_triangles);
+        std::vector<int32_t> new_index(all ? 0 : size_t(a.n_vertices), -1);
+        std::vector<size_t> vertices;
+        if (all) {
+            for (int i = 0; i < a.n_vertices; ++i) vertices.push_back(size_t(i));
+        } else {
+            for (size_t t : ids)
+                for (int c = 0; c < 3; ++c) {
+                    const size_t vi = size_t(a.triangles[3 * t + size_t(c)]);
+                    if (new_index[vi] < 0) new_index[vi] = int32_t(vertices.size()), vertices.push_back(vi);
+                }
+        }
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), size_t(a.n_vertices)));
-        std::copy(a.triangle_vertices, a.triangle_vertices + 3 * size_t(a.n_vertices), v);
+        const int slots = moving ? steps : 1;
+        rtcSetGeometryTimeStepCount(g, unsigned(slots));
+        for (int step = 0; step < slots; ++step) {
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                                                  RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                                  vertices.size()));
+            const double t_s = step == 0 ? open_s : close_s;
+            for (size_t k = 0; k < vertices.size(); ++k) {
+                const float* src = a.triangle_vertices + 3 * vertices[k];
+                if (moving || offset) moved(src, velocity_at(a.vertex_velocity, vertices[k]), t_s, v + 3 * k);
+                else std::copy(src, src + 3, v + 3 * k);
+            }
+        }
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), size_t(a.n_triangles)));
-        std::copy(a.triangles, a.triangles + 3 * size_t(a.n_triangles), idx);
-        rtcCommitGeometry(g);
-        triangle_geom_id_ = rtcAttachGeometry(scene_, g);
-        rtcReleaseGeometry(g);
-        triangle_material_.assign(a.triangle_material, a.triangle_material + a.n_triangles);
+                                                                   3 * sizeof(unsigned), ids.size()));
+        GeometryTable table;
+        for (size_t k = 0; k < ids.size(); ++k) {
+            for (int c = 0; c < 3; ++c) {
+                const size_t vi = size_t(a.triangles[3 * ids[k] + size_t(c)]);
+                idx[3 * k + size_t(c)] = unsigned(all ? vi : size_t(new_index[vi]));
+            }
+            table.material.push_back(a.triangle_material[ids[k]]);
+            if (a.vertex_velocity) table.velocity.push_back(velocity_at(tri_velocity.data(), ids[k]));
+        }
+        attach(g, std::move(table));
     }
     rtcCommitScene(scene_);
     throw_on_device_error(device_, "building the scene");
 }
 
+void Scene::attach(RTCGeometry g, GeometryTable table) {
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+    if (tables_.size() <= id) tables_.resize(id + 1);
+    // A table of zero velocities is no motion at all: the checker is then read in place.
+    bool still = true;
+    for (const Vec3f& v : table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
+    if (still) table.velocity.clear();
+    tables_[id] = std::move(table);
+}
+
 Scene::~Scene() {
     if (scene_) rtcReleaseScene(scene_);
     if (device_) rtcReleaseDevice(device_);
-}
-
-const Material& Scene::material_of(unsigned geom_id, unsigned prim_id) const {
-    int index = geom_id == sphere_geom_id_     ? sphere_material_[prim_id]
-                : geom_id == triangle_geom_id_ ? triangle_material_[prim_id]
-                                               : quad_material_[prim_id];
-    return materials_[size_t(index)];
 }
 
 void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
@@ -132,7 +252,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         hits.ray.dir_x[i] = d.x, hits.ray.dir_y[i] = d.y, hits.ray.dir_z[i] = d.z;
         hits.ray.tnear[i] = 0.0f;
         hits.ray.tfar[i] = kInf;
-        hits.ray.time[i] = 0.0f;
+        hits.ray.time[i] = used ? rays.time[i] : 0.0f;
         hits.ray.mask[i] = 0xFFFFFFFFu;
         hits.ray.id[i] = unsigned(i);
         hits.ray.flags[i] = 0;
@@ -149,7 +269,9 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             out[i] = background_;
             continue;
         }
-        const Material& m = material_of(hits.hit.geomID[i], hits.hit.primID[i]);
+        const GeometryTable& table = table_of(hits.hit.geomID[i]);
+        const unsigned prim = hits.hit.primID[i];
+        const Material& m = materials_[size_t(table.material[prim])];
         if (m.kind == MaterialKind::Emissive) {
             out[i] = m.color;
             continue;
@@ -158,7 +280,12 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         p[i] = rays.origin[i] + rays.direction[i] * hits.ray.tfar[i];
         n[i] = normalize(Vec3f{hits.hit.Ng_x[i], hits.hit.Ng_y[i], hits.hit.Ng_z[i]});
         if (dot(n[i], rays.direction[i]) > 0.0f) n[i] = -n[i];  // two-sided: shade the side the ray sees
-        albedo[i] = (m.checker_size_m > 0.0f && checker_is_odd(p[i], m.checker_size_m)) ? m.checker_color : m.color;
+        // A moving object carries its checker: read it where the point was at t = 0.
+        Vec3f p_texture = p[i];
+        if (!table.velocity.empty())
+            p_texture = p[i] - table.velocity[prim] * float(motion_.time_s(rays.time[i]));
+        albedo[i] =
+            (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
         out[i] = m.emission;
     }
 
@@ -186,7 +313,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             shadow.dir_x[i] = d.x / dist, shadow.dir_y[i] = d.y / dist, shadow.dir_z[i] = d.z / dist;
             shadow.tnear[i] = 0.0f;
             shadow.tfar[i] = dist * (1.0f - 1e-5f);
-            shadow.time[i] = 0.0f;
+            shadow.time[i] = rays.time[i];  // the shadow at the same instant
             shadow.mask[i] = 0xFFFFFFFFu;
             shadow.id[i] = unsigned(i);
             shadow.flags[i] = 0;

@@ -2,6 +2,10 @@
 // surfaces, Lambert diffuse lit by point lights with hard shadows and, per
 // light, no distance falloff (POV-Ray's default) or inverse-square falloff
 // (Mitsuba's and pbrt's point light), background colour for misses.
+// Objects may move during the shutter (motion.h): moving primitives go into
+// their own Embree geometries with two time steps, static ones stay in
+// geometries without motion, so a scene where one sphere moves keeps the
+// static BVH for everything else.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -9,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "motion.h"
 #include "vec.h"
 
 namespace lc {
@@ -29,6 +34,7 @@ struct RayBatch {
     int count = 0;  // rays in use, <= kPacketSize
     Vec3f origin[kPacketSize];
     Vec3f direction[kPacketSize];
+    float time[kPacketSize] = {};  // where in the shutter, [0, 1) (Embree's ray time); 0 for a static scene
 };
 
 struct PointLight {
@@ -50,6 +56,11 @@ struct SceneArrays {
     const int32_t* triangles = nullptr;        // n_triangles x 3 vertex indices
     const int32_t* triangle_material = nullptr;
     int n_triangles = 0;
+    // Velocities (m/s), one per sphere, per quad and per mesh vertex; nullptr: nothing of that kind moves.
+    const float* sphere_velocity = nullptr;
+    const float* quad_velocity = nullptr;
+    const float* vertex_velocity = nullptr;
+    SceneMotion motion;
     std::vector<Material> materials;
     std::vector<PointLight> lights;
     Vec3f background;
@@ -73,14 +84,23 @@ class Scene {
 
     RTCScene embree_scene() const { return scene_; }
 
+    // The shutter and what moves; the render loop draws sample times from it.
+    const SceneMotion& motion() const { return motion_; }
+
   private:
-    const Material& material_of(unsigned geom_id, unsigned prim_id) const;
+    // What shading needs of each primitive of one Embree geometry.
+    struct GeometryTable {
+        std::vector<int32_t> material;
+        std::vector<Vec3f> velocity;  // empty: the geometry does not move
+    };
+
+    void attach(RTCGeometry geometry, GeometryTable table);
+    const GeometryTable& table_of(unsigned geom_id) const { return tables_[geom_id]; }
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
-    unsigned sphere_geom_id_ = RTC_INVALID_GEOMETRY_ID;
-    unsigned triangle_geom_id_ = RTC_INVALID_GEOMETRY_ID;
-    std::vector<int32_t> sphere_material_, quad_material_, triangle_material_;
+    std::vector<GeometryTable> tables_;  // by Embree geometry ID
+    SceneMotion motion_;
     std::vector<Material> materials_;
     std::vector<PointLight> lights_;
     Vec3f background_;

@@ -1,0 +1,125 @@
+"""Motion blur: what it costs, and what sampling time jointly with film and lens buys.
+
+Prints one JSON object with two studies on showcase.toml (thin lens, f/2.8):
+
+- ``speed``: samples/s of the scene with motion blur on (the in-focus red
+  sphere, the near blue one and the far white one moving, the camera rising;
+  shutter 1/20 s) against the same scene still, same model, spp, sampler and
+  threads; best of ``--repeats`` runs of each, interleaved (the machine is
+  shared). Goal: ratio >= 0.8.
+- ``joint_stratification`` (showcase) and ``joint_stratification_streaks``
+  (only motion and defocus: five small lamps before, at and behind focus,
+  each moving its own way, on black): RMSE at 64 spp against a high-spp reference of
+  the same moving scene (defocus and motion), for the sobol sampler (film,
+  lens and time from one Owen-scrambled Sobol' sequence, dimensions 0-4)
+  against padding (film, lens and time each from their own scrambled Sobol'
+  points, paired at random per pixel: ``SAMPLER_SOBOL_PADDED``), mean RMSE
+  over ``--seeds`` seeds. Goal: padded / joint >= 1.3.
+
+Usage: python bench/bench_motion.py [--threads T] [--repeats R] [--seeds S] [--reference-spp N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from lenscompare import _native
+from lenscompare._native import diagnostics
+from lenscompare.cameras import camera_for
+from lenscompare.native_scene import build_native_scene
+from lenscompare.render import render
+from lenscompare.scene import load_scene
+
+SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
+SHUTTER_S = (0.0, 0.05)
+
+
+def moving(scene):
+    """Showcase with three spheres moving (in focus, before and behind focus) and the camera rising."""
+    velocities = {1: (2.0, 0.0, 0.0), 2: (0.0, 0.5, -2.0), 3: (-3.0, 0.0, 0.0)}
+    objects = tuple(replace(o, velocity=velocities.get(i, (0.0, 0.0, 0.0))) for i, o in enumerate(scene.objects))
+    return replace(scene, objects=objects).with_camera(velocity=(0.0, 0.2, 0.0)).with_render(shutter_s=SHUTTER_S)
+
+
+def streaks(still):
+    """Five lamps (before, at and behind the 3 m focus) moving on black, through the showcase camera."""
+    from lenscompare.scene import EmissiveMaterial, Sphere
+    lamps = [((-0.8, 0.5, 1.5), (3.0, 1.0, 0.0)), ((0.2, 0.3, 2.0), (-2.0, 2.0, 1.0)), ((0.0, 0.35, 3.0), (4.0, 0.0, 0.0)),
+             ((0.9, 0.9, 6.0), (0.0, -5.0, 0.0)), ((-1.2, 1.2, 9.0), (6.0, 3.0, -4.0))]
+    objects = tuple(Sphere(c, 0.06, "lamp", velocity=v) for c, v in lamps)
+    return replace(still, objects=objects, lights=(), background=(0.0, 0.0, 0.0),
+                   materials={"lamp": EmissiveMaterial("lamp", (4.0, 3.2, 1.8))}).with_render(shutter_s=SHUTTER_S)
+
+
+def speed(still, moved, *, spp: int, threads: int, repeats: int) -> dict:
+    rates = {"still": [], "moving": []}
+    for _ in range(repeats):
+        for name, scene in (("still", still), ("moving", moved)):
+            image = render(scene, model="thin", spp=spp, sampler="sobol", seed=1, threads=threads, progress=False)
+            rates[name].append(image.metadata["samples_per_second"])
+    best = {name: max(values) for name, values in rates.items()}
+    return {"spp": spp, "resolution": list(still.camera.resolution), "samples_per_second_still": best["still"],
+            "samples_per_second_moving": best["moving"], "ratio": best["moving"] / best["still"],
+            "runs": rates, "goal_ratio": 0.8}
+
+
+def render_with_code(scene, sampler_code: int, *, spp: int, seed: int, threads: int) -> np.ndarray:
+    """A thin-lens render with any native sampler code (the padded one is not offered to users)."""
+    camera = camera_for(scene, "thin").native(disk_mapping=scene.render.disk_mapping)
+    native_scene = build_native_scene(scene)
+    height, width = scene.camera.height_px, scene.camera.width_px
+    out = np.zeros((height, width, 3), dtype=np.float32)
+    _native.render_rows(native_scene, camera, spp, sampler_code, seed, threads, 0, height, out)
+    return out
+
+
+def joint_stratification(moved, *, spp: int, seeds: int, reference_spp: int, threads: int) -> dict:
+    reference = render_with_code(moved, _native.SAMPLER_SOBOL, spp=reference_spp, seed=999, threads=threads)
+    errors = {"joint": [], "padded": []}
+    for seed in range(seeds):
+        for name, code in (("joint", _native.SAMPLER_SOBOL), ("padded", diagnostics.SAMPLER_SOBOL_PADDED)):
+            image = render_with_code(moved, code, spp=spp, seed=seed, threads=threads)
+            errors[name].append(float(np.sqrt(np.mean((image.astype(np.float64) - reference) ** 2))))
+    mean = {name: float(np.mean(values)) for name, values in errors.items()}
+    return {"spp": spp, "reference_spp": reference_spp, "resolution": list(moved.camera.resolution),
+            "rmse_joint": mean["joint"], "rmse_padded": mean["padded"], "ratio": mean["padded"] / mean["joint"],
+            "rmse_per_seed": errors, "goal_ratio": 1.3}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--seeds", type=int, default=4)
+    parser.add_argument("--spp", type=int, default=64)
+    parser.add_argument("--reference-spp", type=int, default=4096)
+    args = parser.parse_args()
+
+    still = load_scene(SCENE)
+    moved = moving(still)
+    small = moving(still.with_camera(resolution=(180, 120)))
+    result = {
+        "scene": str(SCENE.name),
+        "shutter_s": list(SHUTTER_S),
+        "threads": args.threads,
+        "machine": platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "speed": speed(still, moved, spp=args.spp, threads=args.threads, repeats=args.repeats),
+        "joint_stratification": joint_stratification(small, spp=args.spp, seeds=args.seeds,
+                                                     reference_spp=args.reference_spp, threads=args.threads),
+        "joint_stratification_streaks": joint_stratification(streaks(still.with_camera(resolution=(180, 120))),
+                                                             spp=args.spp, seeds=args.seeds,
+                                                             reference_spp=args.reference_spp, threads=args.threads),
+    }
+    print(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()
