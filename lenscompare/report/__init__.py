@@ -29,7 +29,7 @@ from ..experiment import (
 from ..figures import write_teaching_figures
 from ..lenses import load_prescription
 from ..mitsuba import mitsuba_version
-from ..plan import plan_scene
+from ..plan import plan_scene, render_planned
 from ..povray import povray_version
 from ..progress import progress_bar
 from ..scene import MODELS, Scene
@@ -115,7 +115,7 @@ def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: 
                           "povray_spp": settings.povray_spp(scene) if settings.povray else None,
                           "mitsuba_spp": settings.mitsuba_spp(scene) if settings.mitsuba else None},
              "renders": summaries}
-    entry["plan"] = _plan_against_measured(scene, by_label)
+    entry["plan"] = _plan_against_measured(scene, by_label, settings)
     lens_is_dgauss = scene.camera.lens.sha256 == load_prescription("dgauss.50mm").sha256
     if "blur_disks" in scene.measure:
         entry["blur_disks"] = measure.measure_blur_disks(scene, runs)
@@ -143,13 +143,32 @@ def _measure_scene(scene: Scene, runs, summaries: list[dict], out: Path, notes: 
     return entry
 
 
-def _plan_against_measured(scene: Scene, by_label: dict) -> dict:
-    """The planner's predictions for this scene beside what the renders show."""
+def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSettings) -> dict:
+    """The planner's predictions for this scene beside what the renders show.
+
+    A plan for a render the report does not make anyway (a composite, the
+    postfilter) is rendered here, at the scene's spp. Time saved is measured
+    twice: at equal spp, and at equal noise, scaling the chosen render's time
+    by its mean per-pixel variance over the lens system's (Monte Carlo noise
+    variance falls as 1/spp, so that is the time it needs to be as noisy).
+    """
     plan = plan_scene(scene, measure_costs=False).to_json()
     seconds = {label: run.seconds for label, run in by_label.items()}
     plan["render_seconds"] = {m: seconds.get(m) for m in MODELS}
-    chosen, full = seconds.get(plan["model"]), seconds.get("lens")
-    plan["time_saved_seconds"] = None if chosen is None or full is None else full - chosen
+    chosen = by_label.get(plan["model"])
+    chosen_image = chosen.image if chosen is not None else None
+    if chosen is None and "lens" in by_label:
+        chosen_image = render_planned(scene, threads=settings.threads, progress=False)
+    chosen_seconds = None if chosen_image is None else chosen_image.metadata["seconds"]
+    full = by_label.get("lens")
+    plan["chosen_seconds"] = chosen_seconds
+    plan["time_saved_seconds"] = None if chosen_seconds is None or full is None else full.seconds - chosen_seconds
+    plan["noise_variance_ratio_vs_lens"] = plan["time_saved_at_equal_noise_seconds"] = None
+    if full is not None and chosen_image is not None and chosen_image.variance is not None \
+            and full.image.variance is not None and float(np.mean(full.image.variance)) > 0:
+        ratio = float(np.mean(chosen_image.variance)) / float(np.mean(full.image.variance))
+        plan["noise_variance_ratio_vs_lens"] = ratio
+        plan["time_saved_at_equal_noise_seconds"] = full.seconds - chosen_seconds * ratio
     return plan
 
 
