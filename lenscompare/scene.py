@@ -40,7 +40,7 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
+    "MODELS", "FOCUS_MODES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
     "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
     "PointLight", "Scene",
     "load_scene", "parse_scene",
@@ -49,6 +49,7 @@ __all__ = [
 Vec3 = tuple[float, float, float]
 
 MODELS = ("pinhole", "thin", "thick", "lens")
+FOCUS_MODES = ("paraxial", "best")  # lens system: film at the paraxial image, or at the smallest on-axis spot
 FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
@@ -73,6 +74,7 @@ class Camera:
     principal_plane_gap_mm: float | None = None
     aperture_blades: int = 0            # 0: circular; N >= 3: regular N-gon of the circle's area
     aperture_rotation_deg: float = 0.0  # counter-clockwise seen from behind the lens; a vertex up at 0
+    focus_mode: str = "paraxial"        # lens system only: "paraxial" or "best" (lenses.best_focus)
 
     @property
     def focus_distance_mm(self) -> float:
@@ -271,7 +273,7 @@ def _read_measure(root: Table) -> tuple[str, ...]:
 def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
                   "film_mm", "resolution", "lens", "principal_plane_gap_mm", "aperture_blades",
-                  "aperture_rotation_deg"])
+                  "aperture_rotation_deg", "focus_mode"])
     position = t.vector("position", 3)
     look_at = t.vector("look_at", 3)
     up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
@@ -315,6 +317,7 @@ def _read_camera(t: Table, *, base_dir: Path | None) -> Camera:
         principal_plane_gap_mm=t.number("principal_plane_gap_mm", default=None, max_abs=MAX_FOCAL_LENGTH_MM),
         aperture_blades=_read_aperture_blades(t),
         aperture_rotation_deg=t.number("aperture_rotation_deg", default=0.0, max_abs=1e6),
+        focus_mode=t.string("focus_mode", default="paraxial", choices=FOCUS_MODES),
     )
 
 

@@ -8,15 +8,23 @@ import math
 from dataclasses import dataclass
 
 from ..cameras import CameraModel, camera_for
-from ..lenses import chief_ray_distortion_percent, image_circle_radius_mm, paraxial_data, relative_illumination
+from ..lenses import (
+    chief_ray_distortion_percent,
+    image_circle_radius_mm,
+    paraxial_data,
+    point_source_spot_mm,
+    relative_illumination,
+    spot_diameter_mm,
+)
 from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
 from ..units import mm_from_m
+from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 
-__all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "distortion", "vignetting",
-           "diffraction", "EFFECTS"]
+__all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "aberrations", "aberration_spot_px",
+           "distortion", "vignetting", "diffraction", "EFFECTS"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +68,51 @@ def principal_plane_gap(scene: Scene, camera: CameraModel) -> Effect:
     """Thick against thin: with camera.position at H and focus measured from H
     (DESIGN.md) the gap moves the film, not the image, so its image shift is 0."""
     return Effect("thick_lens", 0.0, "px", "object-space rays are the thin lens's when position is H", "thick")
+
+
+def aberration_spot_px(system, field_deg: float) -> float | None:
+    """Second-moment diameter (px) of the lens system's spot of a point on the
+    plane of focus at ``field_deg`` from the axis, on the camera's own film
+    (its focus mode's position); None when no ray of it gets through.
+
+    Real rays through the prescription at the working aperture
+    (:func:`lenscompare.lenses.point_source_spot_mm`, a 160 x 160 grid fitted
+    to the beam), measured in the window of :mod:`.spot_window`.  The second
+    moment is the one the blur-disk metric measures on images, and for a
+    uniform disk it is the disk's diameter: aberrations and defocus (eq. 5)
+    are sized on one scale.
+    """
+    distance_mm = system.focus_distance_mm
+    on_film, weight = point_source_spot_mm(system.prescription, height_mm=distance_mm * math.tan(math.radians(field_deg)),
+                                           distance_mm=distance_mm, film_z_mm=system.film_z_mm, fit_to_beam=True)
+    if len(weight) == 0:
+        return None
+    pitch = system.pixel_pitch_mm
+    _, diameter = settled_window_px(
+        lambda window_px: spot_diameter_mm(on_film, weight, window_radius_mm=window_px * pitch) / pitch)
+    return diameter
+
+
+def aberrations(scene: Scene, camera: CameraModel) -> Effect:
+    """RMS spot diameter (second moment, px) of the lens system at the plane of
+    focus, on axis and at the film corner: the blur a perfect lens would not
+    have there. Only the full lens system simulates it."""
+    lens = scene.camera.lens
+    if lens is None:
+        return Effect("aberrations", 0.0, "px", "ideal lens (no prescription)", "lens")
+    system = camera_for(scene, "lens")  # the scene's f-number and focus mode (an InputError names the key)
+    where = f"{system.focus_mode} focus at f/{system.f_number:.3g}"
+    axis = aberration_spot_px(system, 0.0)
+    if axis is None:  # refused earlier by the trace (no axial ray); kept 0-safe
+        return Effect("aberrations", 0.0, "px", f"no ray reaches the film centre ({where})", "lens")
+    circle_mm = image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m)
+    angle = system.corner_field_deg
+    corner = None if circle_mm < system.film.half_diagonal_mm else aberration_spot_px(system, angle)
+    if corner is None:
+        return Effect("aberrations", axis, "px", f"spot {axis:.3g} px on axis; the film corner lies outside the "
+                      f"{circle_mm:.3g} mm image circle (black, no spot) ({where})", "lens")
+    return Effect("aberrations", max(axis, corner), "px",
+                  f"spot {axis:.3g} px on axis, {corner:.3g} px at the corner field {angle:.3g} deg ({where})", "lens")
 
 
 def distortion(scene: Scene, camera: CameraModel) -> Effect:
@@ -108,4 +161,4 @@ def diffraction(scene: Scene, camera: CameraModel) -> Effect:
                   f"working f/{n_w:.3g}, pixel {1000 * camera.pixel_pitch_mm:.3g} um", "pinhole")
 
 
-EFFECTS = (defocus, principal_plane_gap, distortion, vignetting, diffraction)
+EFFECTS = (defocus, principal_plane_gap, aberrations, distortion, vignetting, diffraction)
