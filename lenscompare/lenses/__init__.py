@@ -21,6 +21,7 @@ vertex, positive toward the film.
 from .analysis import (
     chief_ray_distortion_percent,
     chief_ray_film_height_mm,
+    field_at_film_height_deg,
     image_circle_radius_mm,
     paraxial_image_scale_mm,
     real_f_number,
@@ -75,6 +76,7 @@ __all__ = [
     "trace_from_scene",
     "chief_ray_distortion_percent",
     "chief_ray_film_height_mm",
+    "field_at_film_height_deg",
     "image_circle_radius_mm",
     "paraxial_image_scale_mm",
     "traced_spot_diameter_mm",

@@ -25,6 +25,7 @@ from .trace import trace_from_film, trace_from_scene
 
 __all__ = [
     "paraxial_image_scale_mm",
+    "field_at_film_height_deg",
     "traced_spot_diameter_mm",
     "point_source_spot_mm",
     "spot_diameter_mm",
@@ -89,6 +90,37 @@ def chief_ray_distortion_percent(prescription: Prescription, field_angle_deg: fl
     y_ideal = _paraxial_chief_ray_film_height_mm(prescription, math.radians(field_angle_deg),
                                                  focus_distance_m)
     return 100.0 * (y_real / y_ideal - 1.0)
+
+
+def field_at_film_height_deg(prescription: Prescription, film_height_mm: float, *,
+                             focus_distance_m: float = math.inf, start_deg: float) -> float | None:
+    """Field angle (degrees) whose real chief ray lands ``film_height_mm`` from
+    the axis (film at the paraxial focus), or None when no chief ray reaches
+    that height. ``start_deg`` (the paraxial guess) seeds the bracket, which
+    then grows in 2-degree steps; a distorting lens images the film corner
+    from another field than the paraxial one (the fisheye at 18 x 12 mm:
+    61.5 deg, not 47)."""
+
+    def excess(angle_deg):
+        try:
+            return abs(chief_ray_film_height_mm(prescription, angle_deg, focus_distance_m=focus_distance_m)) \
+                - film_height_mm
+        except InputError:
+            return None
+
+    a = min(max(start_deg, 1e-3), 89.0)
+    fa = excess(a)
+    if fa is None:
+        return None
+    step = 2.0 if fa < 0 else -2.0
+    while True:
+        b = min(max(a + step, 1e-3), 89.5)
+        fb = excess(b)
+        if fb is None or b == a:
+            return None
+        if (fa < 0) != (fb < 0):
+            return _bracketed_root(excess, a, b, fa, fb, tolerance_mm=1e-9)
+        a, fa = b, fb
 
 
 def paraxial_image_scale_mm(prescription: Prescription, film_z_mm: float) -> float:

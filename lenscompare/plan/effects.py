@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from ..cameras import CameraModel, camera_for
 from ..lenses import (
     chief_ray_distortion_percent,
+    field_at_film_height_deg,
     image_circle_radius_mm,
     paraxial_data,
     point_source_spot_mm,
@@ -24,7 +25,7 @@ from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 
 __all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "aberrations", "aberration_spot_px",
-           "distortion", "vignetting", "diffraction", "EFFECTS"]
+           "corner_field_deg", "distortion", "vignetting", "diffraction", "EFFECTS"]
 
 
 @dataclass(frozen=True)
@@ -70,6 +71,17 @@ def principal_plane_gap(scene: Scene, camera: CameraModel) -> Effect:
     return Effect("thick_lens", 0.0, "px", "object-space rays are the thin lens's when position is H", "thick")
 
 
+def corner_field_deg(scene: Scene, camera: CameraModel) -> float:
+    """Field angle (deg) of the light that reaches the film corner: the real
+    chief ray's, which a distorting lens takes from another field than the
+    paraxial corner field (fisheye on 18 x 12 mm: 61.5 deg, not 47); the
+    paraxial one when no chief ray reaches the corner."""
+    paraxial = camera.corner_field_deg
+    real = field_at_film_height_deg(scene.camera.lens, camera.film.half_diagonal_mm,
+                                    focus_distance_m=scene.camera.focus_distance_m, start_deg=paraxial)
+    return paraxial if real is None else real
+
+
 def aberration_spot_px(system, field_deg: float) -> float | None:
     """Second-moment diameter (px) of the lens system's spot of a point on the
     plane of focus at ``field_deg`` from the axis, on the camera's own film
@@ -106,7 +118,7 @@ def aberrations(scene: Scene, camera: CameraModel) -> Effect:
     if axis is None:  # refused earlier by the trace (no axial ray); kept 0-safe
         return Effect("aberrations", 0.0, "px", f"no ray reaches the film centre ({where})", "lens")
     circle_mm = image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m)
-    angle = system.corner_field_deg
+    angle = corner_field_deg(scene, system)
     corner = None if circle_mm < system.film.half_diagonal_mm else aberration_spot_px(system, angle)
     if corner is None:
         return Effect("aberrations", axis, "px", f"spot {axis:.3g} px on axis; the film corner lies outside the "
@@ -142,10 +154,12 @@ def vignetting(scene: Scene, camera: CameraModel) -> Effect:
         return Effect("vignetting", 0.0, "%", "ideal lens (no prescription)", "lens")
     if image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m) < camera.film.half_diagonal_mm:
         return Effect("vignetting", 100.0, "%", "film corners outside the image circle are black", "lens")
-    angle = camera.corner_field_deg
+    angle = corner_field_deg(scene, camera)
     ri = relative_illumination(lens, angle, f_number=camera.f_number, samples_across=120)
-    return Effect("vignetting", 100.0 * (1.0 - ri), "%", f"relative illumination {ri:.3f} at {angle:.3g} deg",
-                  "lens")
+    # A corner brighter than the centre (a fisheye stopped down) is as far
+    # from the ideal image as a darker one: the size is the departure.
+    return Effect("vignetting", abs(100.0 * (1.0 - ri)), "%",
+                  f"relative illumination {ri:.3f} at {angle:.3g} deg (the field imaged at the film corner)", "lens")
 
 
 def diffraction(scene: Scene, camera: CameraModel) -> Effect:

@@ -12,9 +12,9 @@ effect          probe (camera space: x right, y up, z along the view)   measured
 defocus         an emissive point on the axis at the nearest and at     largest blur-disk diameter
                 the farthest visible depth (one render each)            (second moment, eq.-5 window)
 aberrations     points on the plane of focus, on the axis and at the    largest spot diameter, in
-                film corner's field (one render each)                   the window of spot_window
-distortion      the corner point                                        its centroid's radial shift
-                                                                        from the paraxial image
+                field imaged at the film corner (one render each)       the window of spot_window
+distortion      a point on the plane of focus at the paraxial corner    its centroid's radial shift
+                field                                                   from the paraxial image
 vignetting      a uniform emitter (background radiance 1)               falloff at the corner radius
 ==============  ======================================================  ==========================
 
@@ -22,7 +22,7 @@ The film is widened by :data:`MARGIN_PX` pixels on every side (same pixel
 pitch, same pixel grid), so that a spot at the film corner lies whole inside
 the image; the lens system's image of the original frame is unchanged by it.
 A point's emissive sphere is sized so that its sharp image is
-:data:`SOURCE_PX` rendered pixels wide, and that size is taken out of the
+:data:`SOURCE_PX` scene pixels wide, and that size is taken out of the
 measured second moment. Spots near focus are measured on a
 :data:`SUBPIXELS`-times finer film (see :class:`_Probe`).
 """
@@ -40,7 +40,7 @@ from ..optics import circle_of_confusion_mm
 from ..render import render
 from ..scene import EmissiveMaterial, Scene, Sphere
 from ..units import mm_from_m
-from .effects import ideal_camera
+from .effects import corner_field_deg, ideal_camera
 from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 
@@ -49,7 +49,10 @@ __all__ = ["Comparison", "compare_predictions", "STUDIED_EFFECTS", "MARGIN_PX", 
 STUDIED_EFFECTS = ("defocus", "aberrations", "distortion", "vignetting")
 MARGIN_PX = 40
 SUBPIXELS = 4
-SOURCE_PX = 1.0  # in the rendered pixels: a quarter of a scene pixel on the finer film
+SOURCE_PX = 2.5
+"""Sharp image of a probe point, in the scene's pixels. Wide enough that the
+point is hit often (hits per render ~ spp x its image area in rendered pixels)
+and that box pixels sample it smoothly; its variance is taken out."""
 RELATIVE_AGREEMENT = 0.15
 """Done-when of issue 14: predicted within 15 % of measured, or both under tolerance."""
 
@@ -111,7 +114,7 @@ class _Probe:
         self.wide = self._widened(1)
         self.fine = self._widened(SUBPIXELS)
         self.system = camera_for(self.wide)
-        self._corner = None
+        self._corners = {}
 
     def _widened(self, subpixels: int) -> Scene:
         w, h = self.scene.camera.resolution
@@ -135,7 +138,7 @@ class _Probe:
                                             aperture_diameter_mm=self.system.aperture_diameter_mm) / self.pitch_mm
             # Disks of a few pixels and more: the scene's own pixels and
             # measure.py's window (eq. 5 + source + 4 px); smaller ones finer.
-            spot = self._point_spot((0.0, 0.0, z), window_px=coc_px + 4.0 + 1.0, fine=coc_px < 4.0)
+            spot = self._point_spot((0.0, 0.0, z), window_px=coc_px + SOURCE_PX + 4.0, fine=coc_px < 4.0)
             sizes.append((0.0 if spot is None else spot[0], z))
         size, z = max(sizes)
         return size, f"largest blur {size:.3g} px, on axis at {z:.4g} m (visible {depth[0]:.3g}-{depth[1]:.3g} m)"
@@ -143,13 +146,13 @@ class _Probe:
     def aberrations(self):
         axis = self._point_spot((0.0, 0.0, self.system.focus_distance_m), window_px=None, fine=True)
         axis_px = 0.0 if axis is None else axis[0]
-        corner, where = self._corner_spot()
+        corner, where = self._corner_spot(real=True)
         if corner is None:
             return axis_px, f"spot {axis_px:.3g} px on axis; {where}"
         return max(axis_px, corner[0]), f"spot {axis_px:.3g} px on axis, {corner[0]:.3g} px at the corner ({where})"
 
     def distortion(self):
-        corner, where = self._corner_spot()
+        corner, where = self._corner_spot(real=False)
         if corner is None:
             return None, where
         shift = corner[1] - self.half_diagonal_px  # the probe sits at the ideal (paraxial) corner
@@ -163,18 +166,25 @@ class _Probe:
 
     # --- probes ---
 
-    def _corner_spot(self):
+    def _corner_spot(self, *, real: bool):
         """(spot diameter px, centroid radius px) of a point on the focus plane
-        at the film corner's ideal field (upper right), or None; and a note."""
-        if self._corner is None:
+        toward the upper-right film corner, or None; and a note. ``real``: at
+        the field whose real chief ray lands on the corner (where the
+        aberrations are sized); else at the paraxial corner field (the ideal
+        image point distortion is measured from)."""
+        if real not in self._corners:
             w, h = self.scene.camera.resolution
             scale, focus_m = self.system.image_scale_mm, self.system.focus_distance_m
             tan_x, tan_y = 0.5 * w * self.pitch_mm / scale, 0.5 * h * self.pitch_mm / scale
             field = math.degrees(math.atan(math.hypot(tan_x, tan_y)))
+            if real:
+                field_real = corner_field_deg(self.scene, camera_for(self.scene, "lens"))
+                stretch = math.tan(math.radians(field_real)) / math.tan(math.radians(field))
+                tan_x, tan_y, field = tan_x * stretch, tan_y * stretch, field_real
             spot = self._point_spot((tan_x * focus_m, tan_y * focus_m, focus_m), window_px=None, fine=True)
-            self._corner = (spot, f"corner field {field:.3g} deg" if spot else
-                            f"no light at the film corner ({field:.3g} deg field): outside the image circle")
-        return self._corner
+            self._corners[real] = (spot, f"corner field {field:.3g} deg" if spot else
+                                   f"no light at the film corner ({field:.3g} deg field): outside the image circle")
+        return self._corners[real]
 
     def _point_spot(self, camera_xyz_m, *, window_px, fine: bool):
         """Render one emissive point; (blur-disk diameter, centroid distance
@@ -186,7 +196,7 @@ class _Probe:
         x, y, z = camera_xyz_m
         origin, right, up, forward = (np.asarray(v) for v in self.system.frame)
         centre = origin + x * right + y * up + z * forward
-        radius_m = 0.5 * SOURCE_PX / k * self.pitch_mm * z / self.system.image_scale_mm
+        radius_m = 0.5 * SOURCE_PX * self.pitch_mm * z / self.system.image_scale_mm
         probe = replace(base, materials={"glow": EmissiveMaterial("glow", (1.0, 1.0, 1.0))},
                         objects=(Sphere(tuple(float(c) for c in centre), radius_m, "glow"),), lights=(),
                         background=(0.0, 0.0, 0.0))
@@ -199,7 +209,7 @@ class _Probe:
 
         def measured(window):  # in the scene's pixels
             return measure_blur_disk(pixels, center_px=source.centroid_px, window_radius_px=window * k,
-                                     source_diameter_px=SOURCE_PX)
+                                     source_diameter_px=SOURCE_PX * k)
 
         if window_px is None:
             start = MARGIN_PX - 2.0
