@@ -117,12 +117,14 @@ def aberrations(scene: Scene, camera: CameraModel) -> Effect:
     axis = aberration_spot_px(system, 0.0)
     if axis is None:  # refused earlier by the trace (no axial ray); kept 0-safe
         return Effect("aberrations", 0.0, "px", f"no ray reaches the film centre ({where})", "lens")
-    circle_mm = image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m)
-    angle = corner_field_deg(scene, system)
-    corner = None if circle_mm < system.film.half_diagonal_mm else aberration_spot_px(system, angle)
+    # The field imaged at the corner; none when no chief ray reaches it (a
+    # direct test: image_circle_radius_mm scans for minutes on a bare singlet).
+    angle = field_at_film_height_deg(lens, system.film.half_diagonal_mm, focus_distance_m=system.focus_distance_m,
+                                     start_deg=system.corner_field_deg)
+    corner = None if angle is None else aberration_spot_px(system, angle)
     if corner is None:
-        return Effect("aberrations", axis, "px", f"spot {axis:.3g} px on axis; the film corner lies outside the "
-                      f"{circle_mm:.3g} mm image circle (black, no spot) ({where})", "lens")
+        return Effect("aberrations", axis, "px", f"spot {axis:.3g} px on axis; no light reaches the film corner "
+                      f"{system.film.half_diagonal_mm:.3g} mm off the axis: outside the image circle ({where})", "lens")
     return Effect("aberrations", max(axis, corner), "px",
                   f"spot {axis:.3g} px on axis, {corner:.3g} px at the corner field {angle:.3g} deg ({where})", "lens")
 

@@ -10,7 +10,8 @@ scene offers no isolated point or flat field. The probes:
 effect          probe (camera space: x right, y up, z along the view)   measured
 ==============  ======================================================  ==========================
 defocus         an emissive point on the axis at the nearest and at     largest blur-disk diameter
-                the farthest visible depth (one render each)            (second moment, eq.-5 window)
+                the farthest visible depth (one render each)            (second moment, eq.-5 window),
+                                                                        less the focus spot (quadrature)
 aberrations     points on the plane of focus, on the axis and at the    largest spot diameter, in
                 field imaged at the film corner (one render each)       the window of spot_window
 distortion      a point on the plane of focus at the paraxial corner    its centroid's radial shift
@@ -126,6 +127,10 @@ class _Probe:
     # --- one method per studied effect: (measured size or None, detail) ---
 
     def defocus(self):
+        """The largest blur on the axis at a visible depth, less the lens's own
+        spot at the plane of focus: second moments of independent blurs add
+        (variances of a convolution), and the planner sizes that spot
+        separately as ``aberrations``; the detail keeps the raw blur."""
         ideal = ideal_camera(self.scene)
         tan_w, tan_h = ideal.screen_half_extent
         depth = visible_depth_range_m(self.scene, tan_half_w=tan_w, tan_half_h=tan_h)
@@ -140,12 +145,20 @@ class _Probe:
             # measure.py's window (eq. 5 + source + 4 px); smaller ones finer.
             spot = self._point_spot((0.0, 0.0, z), window_px=coc_px + SOURCE_PX + 4.0, fine=coc_px < 4.0)
             sizes.append((0.0 if spot is None else spot[0], z))
-        size, z = max(sizes)
-        return size, f"largest blur {size:.3g} px, on axis at {z:.4g} m (visible {depth[0]:.3g}-{depth[1]:.3g} m)"
+        raw, z = max(sizes)
+        focus = self._axis_spot()
+        size = math.sqrt(max(0.0, raw * raw - focus * focus))
+        return size, (f"blur {raw:.3g} px on axis at {z:.4g} m less the {focus:.3g} px focus spot "
+                      f"(visible {depth[0]:.3g}-{depth[1]:.3g} m)")
+
+    def _axis_spot(self) -> float:
+        if not hasattr(self, "_axis"):
+            spot = self._point_spot((0.0, 0.0, self.system.focus_distance_m), window_px=None, fine=True)
+            self._axis = 0.0 if spot is None else spot[0]
+        return self._axis
 
     def aberrations(self):
-        axis = self._point_spot((0.0, 0.0, self.system.focus_distance_m), window_px=None, fine=True)
-        axis_px = 0.0 if axis is None else axis[0]
+        axis_px = self._axis_spot()
         corner, where = self._corner_spot(real=True)
         if corner is None:
             return axis_px, f"spot {axis_px:.3g} px on axis; {where}"
