@@ -7,7 +7,6 @@ from pathlib import Path
 
 import pytest
 
-from lenscompare.lenses import load_prescription
 from lenscompare.plan import plan_scene
 from lenscompare.plan.effects import aberrations, ideal_camera
 from lenscompare.plan.prediction import compare_predictions
