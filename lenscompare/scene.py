@@ -42,8 +42,8 @@ from .meshes import read_mesh
 from .units import mm_from_m
 
 __all__ = [
-    "MODELS", "RENDER_MODELS", "EFFECT_NAMES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS", "DISK_MAPPINGS",
-    "MAX_APERTURE_BLADES", "Camera",
+    "MODELS", "RENDER_MODELS", "EFFECT_NAMES", "FOCUS_MODES", "FALLOFFS", "MEASUREMENTS", "SAMPLERS",
+    "DISK_MAPPINGS", "MAX_APERTURE_BLADES", "Camera",
     "RenderSettings", "EmissiveMaterial", "DiffuseMaterial", "Checker", "Sphere", "Box", "Rectangle", "Mesh",
     "PointLight", "Scene",
     "load_scene", "parse_scene",
@@ -58,6 +58,7 @@ RENDER_MODELS = MODELS + ("postfilter",)
 # The effects of DESIGN.md's table, in its order: `[render] effects` and `--effects` name them.
 EFFECT_NAMES = ("defocus", "aberrations", "distortion", "vignetting", "lateral_color", "longitudinal_color",
                 "motion_blur", "diffraction")
+FOCUS_MODES = ("paraxial", "best")  # lens system: film at the paraxial image, or at the smallest on-axis spot
 FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
@@ -83,6 +84,7 @@ class Camera:
     aperture_blades: int = 0            # 0: circular; N >= 3: regular N-gon of the circle's area
     aperture_rotation_deg: float = 0.0  # counter-clockwise seen from behind the lens; a vertex up at 0
     velocity: Vec3 = (0.0, 0.0, 0.0)    # m/s: the whole camera moves by velocity * t during the shutter
+    focus_mode: str = "paraxial"        # lens system only: "paraxial" or "best" (lenses.best_focus)
 
     @property
     def focus_distance_mm(self) -> float:
@@ -308,7 +310,7 @@ def _read_shutter(t: Table) -> tuple[float, float]:
 def _read_camera(t: Table, *, base_dir: Path | None, shutter_s: tuple[float, float] = (0.0, 0.0)) -> Camera:
     t.check_keys(["model", "position", "look_at", "up", "focal_length_mm", "f_number", "focus_distance",
                   "film_mm", "resolution", "lens", "principal_plane_gap_mm", "aperture_blades",
-                  "aperture_rotation_deg", "velocity"])
+                  "aperture_rotation_deg", "velocity", "focus_mode"])
     position = t.vector("position", 3)
     look_at = t.vector("look_at", 3)
     up = t.vector("up", 3, default=(0.0, 1.0, 0.0))
@@ -353,6 +355,7 @@ def _read_camera(t: Table, *, base_dir: Path | None, shutter_s: tuple[float, flo
         aperture_blades=_read_aperture_blades(t),
         aperture_rotation_deg=t.number("aperture_rotation_deg", default=0.0, max_abs=1e6),
         velocity=_read_velocity(t, max(abs(c) for c in position), shutter_s),
+        focus_mode=t.string("focus_mode", default="paraxial", choices=FOCUS_MODES),
     )
 
 

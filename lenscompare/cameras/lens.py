@@ -12,6 +12,10 @@ film_mm             pair   mm    film width and height
 aperture_blades     int    -     0: round stop; N >= 3: the stop a regular
                                  N-gon of its circle's area
 aperture_rotation   float  deg   the polygon's turn (``_deg`` in the file)
+focus_mode          str    -     "paraxial": film at the paraxial image of
+                                 the focus plane (default); "best": at the
+                                 smallest on-axis RMS spot of a point on it
+                                 at the working aperture (contrast autofocus)
 ==================  =====  ====  ===========================================
 
 ``camera.position`` is the centre of the entrance pupil, so all models share
@@ -30,6 +34,7 @@ from ..lenses import (
     ParaxialData,
     Prescription,
     aperture_stop_index,
+    best_focus_film_z_mm,
     film_distance_mm,
     paraxial_data,
     paraxial_image_scale_mm,
@@ -71,6 +76,11 @@ class LensSystemCamera(CameraModel):
         through the entrance pupil): the ideal projection distortion is
         measured against. Not the film distance from H' unless focused at
         infinity (0.16 % apart for the Double Gauss at 2 m).
+    focus_mode : str
+        ``"paraxial"`` or ``"best"`` (see the table above).
+    focus_shift_mm : float
+        Film position minus the paraxial image of the focus plane, mm (0 in
+        paraxial mode; negative: the film moved toward the lens).
     """
 
     model = "lens"
@@ -78,6 +88,8 @@ class LensSystemCamera(CameraModel):
     paraxial: ParaxialData
     film_z_mm: float
     paraxial_scale_mm: float
+    focus_mode: str = "paraxial"
+    focus_shift_mm: float = 0.0
 
     @classmethod
     def from_scene(cls, scene) -> "LensSystemCamera":
@@ -86,14 +98,18 @@ class LensSystemCamera(CameraModel):
         if camera.f_number is not None:
             prescription = stopped_down(prescription, camera.f_number, source=scene.source, key="camera.f_number")
         data = paraxial_data(prescription)
-        film_z_mm = data.total_track_mm + film_distance_mm(prescription, camera.focus_distance_m,
-                                                           source=scene.source, key="camera.focus_distance")
+        paraxial_z_mm = data.total_track_mm + film_distance_mm(prescription, camera.focus_distance_m,
+                                                               source=scene.source, key="camera.focus_distance")
+        film_z_mm = paraxial_z_mm
+        if camera.focus_mode == "best":  # the prescription is already at the working aperture
+            film_z_mm = best_focus_film_z_mm(prescription, focus_distance_m=camera.focus_distance_m)
         return cls(frame=CameraFrame.of(camera), film=Film.of(camera), focus_distance_m=camera.focus_distance_m,
                    focal_length_mm=data.effective_focal_length_mm,
                    film_distance_mm=film_z_mm - data.rear_principal_plane_mm,
                    f_number=data.f_number, aperture_diameter_mm=data.entrance_pupil_diameter_mm,
                    prescription=prescription, paraxial=data, film_z_mm=film_z_mm,
                    paraxial_scale_mm=paraxial_image_scale_mm(prescription, film_z_mm),
+                   focus_mode=camera.focus_mode, focus_shift_mm=film_z_mm - paraxial_z_mm,
                    aperture_blades=camera.aperture_blades, aperture_rotation_deg=camera.aperture_rotation_deg)
 
     @property
@@ -129,4 +145,5 @@ class LensSystemCamera(CameraModel):
     def to_json(self) -> dict:
         return {**super().to_json(), "lens": self.prescription.name, "lens_sha256": self.prescription.sha256,
                 "film_distance_from_last_vertex_mm": self.film_distance_from_last_vertex_mm,
-                "entrance_pupil_position_mm": self.paraxial.entrance_pupil_position_mm}
+                "entrance_pupil_position_mm": self.paraxial.entrance_pupil_position_mm,
+                "focus_mode": self.focus_mode, "focus_shift_from_paraxial_mm": self.focus_shift_mm}

@@ -8,6 +8,8 @@ Pure Python and numpy.  One job per module:
 - :mod:`.paraxial` gives first-order data (focal lengths, principal planes,
   pupils, f-number) and stops a lens down;
 - :mod:`.focus` places the film for a focus distance;
+- :mod:`.best_focus` finds the film position of the smallest on-axis spot
+  (``focus_mode = "best"``) and the plane a film position shows sharpest;
 - :mod:`.trace` is the exact ray trace (the native tracer ports it to C++);
 - :mod:`.analysis` measures distortion, relative illumination and the image
   circle with it;
@@ -21,12 +23,16 @@ vertex, positive toward the film.
 from .analysis import (
     chief_ray_distortion_percent,
     chief_ray_film_height_mm,
+    field_at_film_height_deg,
     image_circle_radius_mm,
     paraxial_image_scale_mm,
     real_f_number,
     relative_illumination,
+    point_source_spot_mm,
+    spot_diameter_mm,
     traced_spot_diameter_mm,
 )
+from .best_focus import best_focus_film_z_mm, rms_spot_radius_mm, sharpest_plane_m
 from .maps import RadialMaps, radial_maps
 from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
 from .paraxial import (
@@ -65,14 +71,20 @@ __all__ = [
     "closest_focus_distance_m",
     "film_distance_mm",
     "front_most_z_mm",
+    "best_focus_film_z_mm",
+    "rms_spot_radius_mm",
+    "sharpest_plane_m",
     "TracedRays",
     "trace_from_film",
     "trace_from_scene",
     "chief_ray_distortion_percent",
     "chief_ray_film_height_mm",
+    "field_at_film_height_deg",
     "image_circle_radius_mm",
     "paraxial_image_scale_mm",
     "traced_spot_diameter_mm",
+    "point_source_spot_mm",
+    "spot_diameter_mm",
     "real_f_number",
     "relative_illumination",
     "RadialMaps",

@@ -25,7 +25,10 @@ from .trace import trace_from_film, trace_from_scene
 
 __all__ = [
     "paraxial_image_scale_mm",
+    "field_at_film_height_deg",
     "traced_spot_diameter_mm",
+    "point_source_spot_mm",
+    "spot_diameter_mm",
     "chief_ray_distortion_percent",
     "chief_ray_film_height_mm",
     "relative_illumination",
@@ -89,6 +92,37 @@ def chief_ray_distortion_percent(prescription: Prescription, field_angle_deg: fl
     return 100.0 * (y_real / y_ideal - 1.0)
 
 
+def field_at_film_height_deg(prescription: Prescription, film_height_mm: float, *,
+                             focus_distance_m: float = math.inf, start_deg: float) -> float | None:
+    """Field angle (degrees) whose real chief ray lands ``film_height_mm`` from
+    the axis (film at the paraxial focus), or None when no chief ray reaches
+    that height. ``start_deg`` (the paraxial guess) seeds the bracket, which
+    then grows in 2-degree steps; a distorting lens images the film corner
+    from another field than the paraxial one (the fisheye at 18 x 12 mm:
+    61.5 deg, not 47)."""
+
+    def excess(angle_deg):
+        try:
+            return abs(chief_ray_film_height_mm(prescription, angle_deg, focus_distance_m=focus_distance_m)) \
+                - film_height_mm
+        except InputError:
+            return None
+
+    a = min(max(start_deg, 1e-3), 89.0)
+    fa = excess(a)
+    if fa is None:
+        return None
+    step = 2.0 if fa < 0 else -2.0
+    while True:
+        b = min(max(a + step, 1e-3), 89.5)
+        fb = excess(b)
+        if fb is None or b == a:
+            return None
+        if (fa < 0) != (fb < 0):
+            return _bracketed_root(excess, a, b, fa, fb, tolerance_mm=1e-9)
+        a, fa = b, fb
+
+
 def paraxial_image_scale_mm(prescription: Prescription, film_z_mm: float) -> float:
     """Film height per unit tangent of the field angle, mm: where the paraxial
     chief ray (through the entrance-pupil centre) meets a film at ``film_z_mm``
@@ -125,6 +159,28 @@ def traced_spot_diameter_mm(prescription: Prescription, *, height_mm: float, dis
     float
         Diameter in mm; NaN when no ray gets through.
     """
+    on_film, w = point_source_spot_mm(prescription, height_mm=height_mm, distance_mm=distance_mm,
+                                      film_z_mm=film_z_mm, samples_across=samples_across)
+    return spot_diameter_mm(on_film, w, window_radius_mm=window_radius_mm)
+
+
+def point_source_spot_mm(prescription: Prescription, *, height_mm: float, distance_mm: float, film_z_mm: float,
+                         samples_across: int = 160, fit_to_beam: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Where the rays from a point source land on the film, and their flux.
+
+    The rays of :func:`traced_spot_diameter_mm` (a square grid over the first
+    surface, solid-angle weights). ``fit_to_beam`` first finds which part of
+    that grid passes (a 48 x 48 grid) and then lays the ``samples_across``
+    grid over that part only, so a stopped-down lens keeps as many rays as a
+    wide-open one.
+
+    Returns
+    -------
+    on_film : numpy.ndarray, shape (n, 2)
+        Landing points (x, y), mm, of the n rays that pass (n may be 0).
+    weight : numpy.ndarray, shape (n,)
+        Their solid angles (unnormalised).
+    """
     data = paraxial_data(prescription)
     first = prescription.surfaces[0]
     source = np.array([0.0, float(height_mm), data.entrance_pupil_position_mm - float(distance_mm)])
@@ -132,27 +188,58 @@ def traced_spot_diameter_mm(prescription: Prescription, *, height_mm: float, dis
     # sideways drift between that plane and the surface for an oblique beam).
     drift = abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(height_mm) / max(distance_mm, 1e-9)
     half = (first.semi_aperture_mm + drift) * 1.02
+    centre = (0.0, 0.0)
+    if fit_to_beam:
+        coarse = 48
+        targets = _grid_on_first_vertex_plane(centre, half, coarse)
+        rays, _ = _trace_from_point(prescription, source, targets)
+        if not rays.passed.any():
+            return np.zeros((0, 2)), np.zeros(0)
+        hit = targets[rays.passed, :2]
+        cell = 2.0 * half / coarse
+        lo, hi = hit.min(axis=0) - cell, hit.max(axis=0) + cell  # whole cells the beam touches, and one more
+        centre, half = tuple(0.5 * (lo + hi)), 0.5 * float((hi - lo).max())
+    targets = _grid_on_first_vertex_plane(centre, half, samples_across)
+    rays, weight = _trace_from_point(prescription, source, targets)
+    if not rays.passed.any():
+        return np.zeros((0, 2)), np.zeros(0)
+    o, d, w = rays.origins_mm[rays.passed], rays.directions[rays.passed], weight[rays.passed]
+    on_film = o[:, :2] + d[:, :2] * ((film_z_mm - o[:, 2]) / d[:, 2])[:, None]
+    return on_film, w
+
+
+def spot_diameter_mm(on_film: np.ndarray, weight: np.ndarray, *, window_radius_mm: float = math.inf) -> float:
+    """Second-moment diameter (mm) of landing points with weights (see
+    :func:`traced_spot_diameter_mm`); NaN when there are none."""
+    if len(weight) == 0:
+        return math.nan
+    w = weight
+    centroid = (w[:, None] * on_film).sum(axis=0) / w.sum()
+    if math.isfinite(window_radius_mm):
+        inside = np.hypot(*(on_film - centroid).T) <= window_radius_mm
+        if inside.any():  # an empty window (a ring-shaped spot, a tiny window) keeps every ray
+            on_film, w = on_film[inside], w[inside]
+        centroid = (w[:, None] * on_film).sum(axis=0) / w.sum()
+    variance = (w[:, None] * (on_film - centroid) ** 2).sum(axis=0) / w.sum()
+    return 4.0 * math.sqrt(0.5 * float(variance.sum()))
+
+
+def _grid_on_first_vertex_plane(centre, half: float, samples_across: int):
+    """Cell centres of a square grid on the plane z = 0, (n, 3) mm."""
     centres = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * half - half
-    x, y = np.meshgrid(centres, centres)
-    targets = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+    x, y = np.meshgrid(centres + centre[0], centres + centre[1])
+    return np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+
+
+def _trace_from_point(prescription: Prescription, source: np.ndarray, targets: np.ndarray):
+    """Rays from ``source`` toward ``targets``, traced; and each one's solid-angle weight."""
     towards = targets - source
     length = np.linalg.norm(towards, axis=1)
     weight = towards[:, 2] / length ** 3  # solid angle of a cell: dA cos(alpha) / r^2
     start_z = front_most_z_mm(prescription) - 1.0
     directions = towards / length[:, None]
     origins = source + directions * ((start_z - source[2]) / directions[:, 2])[:, None]
-    rays = trace_from_scene(prescription, origins, directions)
-    if not rays.passed.any():
-        return math.nan
-    o, d, w = rays.origins_mm[rays.passed], rays.directions[rays.passed], weight[rays.passed]
-    on_film = o[:, :2] + d[:, :2] * ((film_z_mm - o[:, 2]) / d[:, 2])[:, None]
-    centroid = (w[:, None] * on_film).sum(axis=0) / w.sum()
-    if math.isfinite(window_radius_mm):
-        inside = np.hypot(*(on_film - centroid).T) <= window_radius_mm
-        on_film, w = on_film[inside], w[inside]
-        centroid = (w[:, None] * on_film).sum(axis=0) / w.sum()
-    variance = (w[:, None] * (on_film - centroid) ** 2).sum(axis=0) / w.sum()
-    return 4.0 * math.sqrt(0.5 * float(variance.sum()))
+    return trace_from_scene(prescription, origins, directions), weight
 
 
 def relative_illumination(prescription: Prescription, field_angle_deg: float, *,

@@ -8,16 +8,25 @@ import math
 from dataclasses import dataclass
 
 from ..cameras import CameraModel, camera_for
-from ..lenses import chief_ray_distortion_percent, image_circle_radius_mm, paraxial_data, relative_illumination
+from ..lenses import (
+    chief_ray_distortion_percent,
+    field_at_film_height_deg,
+    image_circle_radius_mm,
+    paraxial_data,
+    point_source_spot_mm,
+    relative_illumination,
+    spot_diameter_mm,
+)
 from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
 from ..units import mm_from_m
 from .motion_path import longest_motion_path
+from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 
-__all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "distortion", "vignetting",
-           "diffraction", "motion_blur", "EFFECTS"]
+__all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "aberrations", "aberration_spot_px",
+           "corner_field_deg", "distortion", "vignetting", "diffraction", "motion_blur", "EFFECTS"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +72,64 @@ def principal_plane_gap(scene: Scene, camera: CameraModel) -> Effect:
     return Effect("thick_lens", 0.0, "px", "object-space rays are the thin lens's when position is H", "thick")
 
 
+def corner_field_deg(scene: Scene, camera: CameraModel) -> float:
+    """Field angle (deg) of the light that reaches the film corner: the real
+    chief ray's, which a distorting lens takes from another field than the
+    paraxial corner field (fisheye on 18 x 12 mm: 61.5 deg, not 47); the
+    paraxial one when no chief ray reaches the corner."""
+    paraxial = camera.corner_field_deg
+    real = field_at_film_height_deg(scene.camera.lens, camera.film.half_diagonal_mm,
+                                    focus_distance_m=scene.camera.focus_distance_m, start_deg=paraxial)
+    return paraxial if real is None else real
+
+
+def aberration_spot_px(system, field_deg: float) -> float | None:
+    """Second-moment diameter (px) of the lens system's spot of a point on the
+    plane of focus at ``field_deg`` from the axis, on the camera's own film
+    (its focus mode's position); None when no ray of it gets through.
+
+    Real rays through the prescription at the working aperture
+    (:func:`lenscompare.lenses.point_source_spot_mm`, a 160 x 160 grid fitted
+    to the beam), measured in the window of :mod:`.spot_window`.  The second
+    moment is the one the blur-disk metric measures on images, and for a
+    uniform disk it is the disk's diameter: aberrations and defocus (eq. 5)
+    are sized on one scale.
+    """
+    distance_mm = system.focus_distance_mm
+    on_film, weight = point_source_spot_mm(system.prescription, height_mm=distance_mm * math.tan(math.radians(field_deg)),
+                                           distance_mm=distance_mm, film_z_mm=system.film_z_mm, fit_to_beam=True)
+    if len(weight) == 0:
+        return None
+    pitch = system.pixel_pitch_mm
+    _, diameter = settled_window_px(
+        lambda window_px: spot_diameter_mm(on_film, weight, window_radius_mm=window_px * pitch) / pitch)
+    return diameter
+
+
+def aberrations(scene: Scene, camera: CameraModel) -> Effect:
+    """RMS spot diameter (second moment, px) of the lens system at the plane of
+    focus, on axis and at the film corner: the blur a perfect lens would not
+    have there. Only the full lens system simulates it."""
+    lens = scene.camera.lens
+    if lens is None:
+        return Effect("aberrations", 0.0, "px", "ideal lens (no prescription)", "lens")
+    system = camera_for(scene, "lens")  # the scene's f-number and focus mode (an InputError names the key)
+    where = f"{system.focus_mode} focus at f/{system.f_number:.3g}"
+    axis = aberration_spot_px(system, 0.0)
+    if axis is None:  # refused earlier by the trace (no axial ray); kept 0-safe
+        return Effect("aberrations", 0.0, "px", f"no ray reaches the film centre ({where})", "lens")
+    # The field imaged at the corner; none when no chief ray reaches it (a
+    # direct test: image_circle_radius_mm scans for minutes on a bare singlet).
+    angle = field_at_film_height_deg(lens, system.film.half_diagonal_mm, focus_distance_m=system.focus_distance_m,
+                                     start_deg=system.corner_field_deg)
+    corner = None if angle is None else aberration_spot_px(system, angle)
+    if corner is None:
+        return Effect("aberrations", axis, "px", f"spot {axis:.3g} px on axis; no light reaches the film corner "
+                      f"{system.film.half_diagonal_mm:.3g} mm off the axis: outside the image circle ({where})", "lens")
+    return Effect("aberrations", max(axis, corner), "px",
+                  f"spot {axis:.3g} px on axis, {corner:.3g} px at the corner field {angle:.3g} deg ({where})", "lens")
+
+
 def distortion(scene: Scene, camera: CameraModel) -> Effect:
     """Chief-ray distortion at the film corner, as a shift in pixels."""
     lens = scene.camera.lens
@@ -90,9 +157,12 @@ def vignetting(scene: Scene, camera: CameraModel) -> Effect:
         return Effect("vignetting", 0.0, "%", "ideal lens (no prescription)", "composite")
     if image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m) < camera.film.half_diagonal_mm:
         return Effect("vignetting", 100.0, "%", "film corners outside the image circle are black", "composite")
-    angle = camera.corner_field_deg
+    angle = corner_field_deg(scene, camera)
     ri = relative_illumination(lens, angle, f_number=camera.f_number, samples_across=120)
-    return Effect("vignetting", 100.0 * (1.0 - ri), "%", f"relative illumination {ri:.3f} at {angle:.3g} deg",
+    # A corner brighter than the centre (a fisheye stopped down) is as far
+    # from the ideal image as a darker one: the size is the departure.
+    return Effect("vignetting", abs(100.0 * (1.0 - ri)), "%",
+                  f"relative illumination {ri:.3f} at {angle:.3g} deg (the field imaged at the film corner)",
                   "composite")
 
 
@@ -127,4 +197,4 @@ def motion_blur(scene: Scene, camera: CameraModel) -> Effect:
                   f"by {moved_by} over the {1000 * (close_s - open_s):.3g} ms shutter", "pinhole")
 
 
-EFFECTS = (defocus, principal_plane_gap, distortion, vignetting, diffraction, motion_blur)
+EFFECTS = (defocus, principal_plane_gap, aberrations, distortion, vignetting, diffraction, motion_blur)
