@@ -27,6 +27,7 @@ scene's focal length, and only ``defocus`` is available.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -110,11 +111,8 @@ class CompositeCamera(CameraModel):
             if not maps.covers_film:
                 raise InputError(scene.source, f"a composite cannot stand in for {lens.prescription.name} here: "
                                  f"{maps.reason}; render with --model lens", key="camera.lens")
-        return cls(frame=lens.frame, film=lens.film, focus_distance_m=lens.focus_distance_m,
-                   focal_length_mm=lens.focal_length_mm, film_distance_mm=lens.film_distance_mm,
-                   f_number=lens.f_number, aperture_diameter_mm=lens.aperture_diameter_mm,
-                   aperture_blades=lens.aperture_blades, aperture_rotation_deg=lens.aperture_rotation_deg,
-                   effects=effects, lens_system=lens, maps=maps, paraxial_scale_mm=lens.paraxial_scale_mm)
+        return cls(**_shared_fields(lens), effects=effects, lens_system=lens, maps=maps,
+                   paraxial_scale_mm=lens.paraxial_scale_mm)
 
     @classmethod
     def _without_lens(cls, scene, effects: tuple[str, ...]) -> "CompositeCamera":
@@ -123,11 +121,8 @@ class CompositeCamera(CameraModel):
             scene)
         if "defocus" in effects and ideal.f_number is None:
             raise InputError(scene.source, "defocus needs an aperture", key="camera.f_number")
-        return cls(frame=ideal.frame, film=ideal.film, focus_distance_m=ideal.focus_distance_m,
-                   focal_length_mm=ideal.focal_length_mm, film_distance_mm=ideal.film_distance_mm,
-                   f_number=ideal.f_number, aperture_diameter_mm=ideal.aperture_diameter_mm,
-                   aperture_blades=ideal.aperture_blades, aperture_rotation_deg=ideal.aperture_rotation_deg,
-                   effects=effects, lens_system=None, maps=None, paraxial_scale_mm=ideal.film_distance_mm)
+        return cls(**_shared_fields(ideal), effects=effects, lens_system=None, maps=None,
+                   paraxial_scale_mm=ideal.film_distance_mm)
 
     @property
     def image_scale_mm(self) -> float:
@@ -172,3 +167,9 @@ class CompositeCamera(CameraModel):
             info.update(map_entries=len(self.maps.field_tangent), map_max_radius_mm=(
                 None if math.isinf(self.maps.max_radius_mm) else self.maps.max_radius_mm))
         return info
+
+
+def _shared_fields(camera: CameraModel) -> dict:
+    """The geometry every camera value holds (:class:`CameraModel`'s fields),
+    taken from the camera the composite stands in for."""
+    return {f.name: getattr(camera, f.name) for f in dataclasses.fields(CameraModel)}

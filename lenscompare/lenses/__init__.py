@@ -33,7 +33,7 @@ from .analysis import (
     traced_spot_diameter_mm,
 )
 from .best_focus import best_focus_film_z_mm, rms_spot_radius_mm, sharpest_plane_m
-from .maps import RadialMaps, radial_maps
+from .maps import RadialMaps, pupil_relative_illumination, radial_maps
 from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
 from .paraxial import (
     ParaxialData,
@@ -89,4 +89,5 @@ __all__ = [
     "relative_illumination",
     "RadialMaps",
     "radial_maps",
+    "pupil_relative_illumination",
 ]

@@ -33,7 +33,7 @@ from .paraxial import paraxial_data
 from .prescription import Prescription
 from .trace import trace_from_scene
 
-__all__ = ["RadialMaps", "radial_maps", "MAX_FIELD_DEG"]
+__all__ = ["RadialMaps", "radial_maps", "pupil_relative_illumination", "MAX_FIELD_DEG"]
 
 # A screen direction (tan theta, 1) cannot look sideways: past this the
 # composite cannot stand in for the lens (a fisheye), and says so.
@@ -138,6 +138,22 @@ def radial_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_
                                   focus_distance_m=focus_distance_m, half_diagonal_mm=film_half_diagonal_mm,
                                   entries=max(2, int(entries)))
     return _CACHE[key]
+
+
+def pupil_relative_illumination(prescription: Prescription, field_angle_deg: float) -> float:
+    """Relative illumination at a field angle (object at infinity), its beams
+    counted on a grid round the real chief ray's pupil.
+
+    The quantity of :func:`.analysis.relative_illumination`; a small pupil
+    behind a large front element (a fisheye stopped down) gets the grid's
+    whole resolution, where a grid over the front element gives it a few cells.
+
+    Returns
+    -------
+    float
+        1 on the axis; 0 where the chief ray does not get through.
+    """
+    return _relative_illumination(prescription, float(field_angle_deg), _passing_area_mm2(prescription, 0.0))
 
 
 def _chief_ray_heights_mm(prescription: Prescription, angles_deg: np.ndarray, focus_distance_m: float) -> np.ndarray:

@@ -14,7 +14,8 @@ from ..lenses import (
     image_circle_radius_mm,
     paraxial_data,
     point_source_spot_mm,
-    relative_illumination,
+    pupil_relative_illumination,
+    stopped_down,
     spot_diameter_mm,
 )
 from ..optics import circle_of_confusion_mm
@@ -158,7 +159,7 @@ def vignetting(scene: Scene, camera: CameraModel) -> Effect:
     if image_circle_radius_mm(lens, focus_distance_m=scene.camera.focus_distance_m) < camera.film.half_diagonal_mm:
         return Effect("vignetting", 100.0, "%", "film corners outside the image circle are black", "composite")
     angle = corner_field_deg(scene, camera)
-    ri = relative_illumination(lens, angle, f_number=camera.f_number, samples_across=120)
+    ri = pupil_relative_illumination(stopped_down(lens, camera.f_number), angle)
     # A corner brighter than the centre (a fisheye stopped down) is as far
     # from the ideal image as a darker one: the size is the departure.
     return Effect("vignetting", abs(100.0 * (1.0 - ri)), "%",
