@@ -26,6 +26,7 @@ def _plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt  # after use("Agg"): no display here
+    import matplotlib.ticker  # with pyplot: only plots need it
 
     models = list(study["models"])
     # Two panels a row, 3.5 in each at 100 dpi: read at 100 % zoom on a 700 px column.
@@ -56,6 +57,8 @@ def _plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
         ax.axhline(TARGET_RELATIVE_RMSE, color="black", lw=0.6, ls=":")
         ax.set_title(model)
         ax.set_xlabel("wall time (s)")
+        # Within one decade matplotlib labels the minor ticks too, and they overlap at this width.
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.grid(True, which="both", alpha=0.2)
     for ax in axes[::columns]:
         ax.set_ylabel("relative RMSE vs converged")
