@@ -7,6 +7,7 @@ at infinity unless a focus distance (m from the entrance pupil) is given.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -298,6 +299,9 @@ def relative_illumination(prescription: Prescription, field_angle_deg: float, *,
     return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis / focal_length ** 2)
 
 
+# Memoised like paraxial_data: the planner's distortion and vignetting effects ask the
+# same question of the same lens, and on a strongly curved lens it takes seconds.
+@functools.lru_cache(maxsize=256)
 def image_circle_radius_mm(prescription: Prescription, *, focus_distance_m: float = math.inf,
                            samples_across: int = 32, tolerance_mm: float = 1e-3) -> float:
     """Largest film radius (mm) from which any ray gets through the lens.

@@ -178,14 +178,17 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None,
 
 
 def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: float = 2.0,
-                   **render_options) -> Image:
+                   plan: Plan | None = None, **render_options) -> Image:
     """``--model auto``: the cheapest render that simulates every effect above tolerance.
 
-    The plan is made from the scene alone (no timing renders) and stored in
+    The plan is made from the scene alone (no timing renders), unless the
+    caller made it already (``plan``), and stored in
     ``image.metadata["plan"]``; ``render_options`` go to
     :func:`lenscompare.render.render`.
     """
-    plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent, measure_costs=False)
+    if plan is None:
+        plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent,
+                          measure_costs=False)
     open_s, close_s = scene.render.shutter_s
     if not plan.needed["motion_blur"] and close_s > open_s:
         # Streaks under tolerance: the instant in the middle of the shutter, without sampling time.

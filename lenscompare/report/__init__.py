@@ -152,13 +152,14 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
     by its mean per-pixel variance over the lens system's (Monte Carlo noise
     variance falls as 1/spp, so that is the time it needs to be as noisy).
     """
-    plan = plan_scene(scene, measure_costs=False).to_json()
+    planned = plan_scene(scene, measure_costs=False)
+    plan = planned.to_json()
     seconds = {label: run.seconds for label, run in by_label.items()}
     plan["render_seconds"] = {m: seconds.get(m) for m in MODELS}
     chosen = by_label.get(plan["model"])
     chosen_image = chosen.image if chosen is not None else None
     if chosen is None and "lens" in by_label:
-        chosen_image = render_planned(scene, threads=settings.threads, progress=False)
+        chosen_image = render_planned(scene, plan=planned, threads=settings.threads, progress=False)
     chosen_seconds = None if chosen_image is None else chosen_image.metadata["seconds"]
     full = by_label.get("lens")
     plan["chosen_seconds"] = chosen_seconds
