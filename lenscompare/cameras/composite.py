@@ -23,6 +23,13 @@ system's; ``distortion`` scales each screen direction to the real chief ray's
 each ray by the relative illumination at its film radius (a table, not
 noise). Without a lens the composite is the thin lens (or pinhole) of the
 scene's focal length, and only ``defocus`` is available.
+
+Lateral colour is the distortion map per wavelength
+(:meth:`CompositeCamera.lateral_color_map`, traced on demand). The native
+composite does not read it yet: it needs the spectral render loop, which will
+hand each ray's wavelength to the lookup (:meth:`CompositeCamera.lateral_color_arrays`
+gives the arrays it will take). Until then ``lateral_color`` is not a
+composite part.
 """
 
 from __future__ import annotations
@@ -35,7 +42,7 @@ import numpy as np
 
 from .. import _native
 from ..errors import InputError
-from ..lenses import RadialMaps, radial_maps
+from ..lenses import LateralColorMap, RadialMaps, lateral_color_map, radial_maps
 from ..units import m_from_mm
 from .base import CameraModel
 from .frame import CameraFrame, Film
@@ -158,6 +165,29 @@ class CompositeCamera(CameraModel):
         max_radius = maps.max_radius_mm if maps else math.inf
         return _native.CompositeCamera(lens, self.film.width_mm, self.film.height_mm, scale, light,
                                        maps.radius_step_mm if maps else 1.0, max_radius)
+
+    def lateral_color_map(self) -> LateralColorMap:
+        """The lens system's distortion map per wavelength, on this film (memoised).
+
+        Raises
+        ------
+        InputError
+            Without a lens (an ideal lens has no colour).
+        """
+        lens = self.lens_system
+        if lens is None:
+            raise InputError("camera.lens", "lateral colour is traced from a lens: give camera.lens")
+        return lateral_color_map(lens.prescription, film_z_mm=lens.film_z_mm, paraxial_scale_mm=self.paraxial_scale_mm,
+                                 focus_distance_m=lens.focus_distance_m,
+                                 film_half_diagonal_mm=lens.film.half_diagonal_mm)
+
+    def lateral_color_arrays(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(wavelengths_nm (k,), screen_scale (k, entries), radius_step_mm)``
+        as the spectral composite will take them: contiguous float64, the
+        screen-direction scale per wavelength (see :class:`LateralColorMap`)."""
+        table = self.lateral_color_map()
+        return (np.ascontiguousarray(table.wavelengths_nm, dtype=np.float64),
+                np.ascontiguousarray(table.screen_scale, dtype=np.float64), table.radius_step_mm)
 
     def to_json(self) -> dict:
         info = {**super().to_json(), "effects": list(self.effects), "lens_radius_mm": self.lens_radius_mm}

@@ -13,6 +13,8 @@ Pure Python and numpy.  One job per module:
 - :mod:`.trace` is the exact ray trace (the native tracer ports it to C++);
 - :mod:`.analysis` measures distortion, relative illumination and the image
   circle with it;
+- :mod:`.chromatic` measures lateral and longitudinal colour (per-wavelength
+  chief rays and paraxial foci);
 - :mod:`.maps` traces a focused lens's distortion and illumination against
   film radius once, for the composite camera.
 
@@ -32,8 +34,15 @@ from .analysis import (
     spot_diameter_mm,
     traced_spot_diameter_mm,
 )
+from .chromatic import (
+    axial_image_z_mm,
+    chief_ray_height_at_mm,
+    chief_ray_heights_at_mm,
+    lateral_color_mm,
+    longitudinal_color_blur_mm,
+)
 from .best_focus import best_focus_film_z_mm, rms_spot_radius_mm, sharpest_plane_m
-from .maps import RadialMaps, pupil_relative_illumination, radial_maps
+from .maps import LateralColorMap, RadialMaps, lateral_color_map, pupil_relative_illumination, radial_maps
 from .focus import closest_focus_distance_m, film_distance_mm, front_most_z_mm
 from .paraxial import (
     ParaxialData,
@@ -87,6 +96,13 @@ __all__ = [
     "spot_diameter_mm",
     "real_f_number",
     "relative_illumination",
+    "axial_image_z_mm",
+    "chief_ray_height_at_mm",
+    "chief_ray_heights_at_mm",
+    "lateral_color_mm",
+    "longitudinal_color_blur_mm",
+    "LateralColorMap",
+    "lateral_color_map",
     "RadialMaps",
     "radial_maps",
     "pupil_relative_illumination",

@@ -12,6 +12,12 @@ Two tables over film radius, evenly spaced from the axis to the film corner:
   whole front element, so that a small pupil behind a large front element (a
   stopped-down fisheye) is still resolved by thousands of rays.
 
+A third table, the *lateral-colour map* (:func:`lateral_color_map`), is the
+distortion map once per wavelength (a small grid with F, d and C on it), the
+object on the plane of focus and the film where it is for n_d light: a
+spectral composite looks up its ray's wavelength in it (linear in
+wavelength between grid entries).
+
 A composite render (:mod:`lenscompare.cameras.composite`) reads them instead
 of tracing every ray through the lens. Beyond ``max_radius_mm`` (the image
 circle, or the last film radius a chief ray reaches) the lens passes no light
@@ -28,12 +34,15 @@ import numpy as np
 
 from ..errors import InputError
 from .analysis import _chief_ray, chief_ray_film_height_mm, image_circle_radius_mm
+from .chromatic import chief_ray_height_at_mm
 from .focus import front_most_z_mm
+from .glass import C_NM, D_NM, F_NM
 from .paraxial import paraxial_data
 from .prescription import Prescription
 from .trace import trace_from_scene
 
-__all__ = ["RadialMaps", "radial_maps", "pupil_relative_illumination", "MAX_FIELD_DEG"]
+__all__ = ["RadialMaps", "radial_maps", "pupil_relative_illumination", "LateralColorMap", "lateral_color_map",
+           "COLOR_MAP_WAVELENGTHS_NM", "COLOR_MAP_MARGIN", "MAX_FIELD_DEG"]
 
 # A screen direction (tan theta, 1) cannot look sideways: past this the
 # composite cannot stand in for the lens (a fisheye), and says so.
@@ -46,6 +55,14 @@ _ILLUMINATION_ANGLES = 33
 _PUPIL_GRID = 128  # rays across the window round the entrance pupil
 
 _CACHE: dict[tuple, "RadialMaps"] = {}
+_COLOR_CACHE: dict[tuple, "LateralColorMap"] = {}
+
+COLOR_MAP_WAVELENGTHS_NM = (380.0, 430.0, F_NM, 540.0, D_NM, C_NM, 720.0, 780.0)
+"""The lateral-colour map's wavelengths: the film response's range (DESIGN.md,
+380-780 nm), with F, d and C among them so that their values are traced, not
+interpolated."""
+COLOR_MAP_MARGIN = 0.05
+"""Film radius the lateral-colour map covers past the corner, as a share of the half diagonal."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -256,3 +273,102 @@ def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_
     max_radius_mm = math.inf if max_radius >= half_diagonal_mm else float(max_radius)
     return RadialMaps(step, tangent, np.clip(illumination, 0.0, None), paraxial_scale_mm, max_radius_mm, covers,
                       reason)
+
+
+@dataclass(frozen=True, eq=False)
+class LateralColorMap:
+    """The distortion map per wavelength: lateral colour as the composite reads it.
+
+    Attributes
+    ----------
+    wavelengths_nm : numpy.ndarray, shape (k,)
+        Increasing wavelengths, nm.
+    radius_step_mm : float
+        Film radius between table entries; entry i is at ``i * radius_step_mm``.
+    field_tangent : numpy.ndarray, shape (k, entries)
+        Row j: the tangent of the field angle (seen from the n_d entrance
+        pupil) whose real chief ray at ``wavelengths_nm[j]`` lands at each film
+        radius, the film fixed at the camera's focus. The rows run a little
+        past the film corner (:data:`COLOR_MAP_MARGIN`).
+    paraxial_scale_mm : float
+        The n_d paraxial image scale the tangents are compared with.
+    """
+
+    wavelengths_nm: np.ndarray
+    radius_step_mm: float
+    field_tangent: np.ndarray
+    paraxial_scale_mm: float
+
+    @property
+    def film_radius_mm(self) -> np.ndarray:
+        return np.arange(self.field_tangent.shape[1]) * self.radius_step_mm
+
+    @property
+    def screen_scale(self) -> np.ndarray:
+        """Real chief-ray tangent over the n_d paraxial one, per wavelength and
+        entry, shape (k, entries): what a spectral composite scales its screen
+        direction by (1 on the axis)."""
+        radius = self.film_radius_mm
+        scale = np.ones_like(self.field_tangent)
+        scale[:, 1:] = self.field_tangent[:, 1:] * self.paraxial_scale_mm / radius[1:]
+        return scale
+
+    def field_tangent_at(self, wavelength_nm: float) -> np.ndarray:
+        """The table at ``wavelength_nm``, linear between grid wavelengths (clamped at the ends)."""
+        return np.array([np.interp(wavelength_nm, self.wavelengths_nm, column) for column in self.field_tangent.T])
+
+    def image_radius_mm(self, tangent: float, wavelength_nm: float) -> float:
+        """Where a point at field ``tangent`` images at ``wavelength_nm``, mm
+        from the axis: the table read backward."""
+        return float(np.interp(tangent, self.field_tangent_at(wavelength_nm), self.film_radius_mm))
+
+    def lateral_color_mm(self, tangent: float, *, short_nm: float = F_NM, long_nm: float = C_NM) -> float:
+        """Image radius at ``short_nm`` minus at ``long_nm`` of the point at
+        field ``tangent``, mm (F minus C by default)."""
+        return self.image_radius_mm(tangent, short_nm) - self.image_radius_mm(tangent, long_nm)
+
+
+def lateral_color_map(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float,
+                      focus_distance_m: float, film_half_diagonal_mm: float, entries: int = 129,
+                      wavelengths_nm=COLOR_MAP_WAVELENGTHS_NM) -> LateralColorMap:
+    """The lateral-colour map of a focused lens (parameters as :func:`radial_maps`).
+
+    Same radius step as the radial maps, and :data:`COLOR_MAP_MARGIN` more of
+    the film radius: the point imaged at the corner in d light lands beyond
+    it at some wavelengths.
+
+    Each wavelength's row covers the radii its chief rays reach; beyond the
+    last one the last tangent is repeated (the composite sends no ray past
+    the radial maps' ``max_radius_mm`` anyway). For a lens that does not
+    disperse every row is the same.
+
+    Returns
+    -------
+    LateralColorMap
+        Memoised: the same arguments return the same value.
+    """
+    wavelengths = tuple(sorted(float(w) for w in wavelengths_nm))
+    key = (prescription.sha256, prescription.surfaces, film_z_mm, focus_distance_m, film_half_diagonal_mm,
+           paraxial_scale_mm, entries, wavelengths)
+    if key not in _COLOR_CACHE:
+        entries = max(2, int(entries))
+        step = film_half_diagonal_mm / (entries - 1)
+        # 5 % past the corner: the corner's point lands beyond it in some colours.
+        radius = np.arange(entries + math.ceil(COLOR_MAP_MARGIN * (entries - 1))) * step
+        paraxial_corner_deg = math.degrees(math.atan(film_half_diagonal_mm / paraxial_scale_mm))
+        angles = np.linspace(0.0, min(MAX_FIELD_DEG, 1.5 * paraxial_corner_deg + 2.0), _DISTORTION_ANGLES)
+        rows = []
+        for wavelength in wavelengths:
+            heights = [0.0]
+            for angle in angles[1:]:
+                try:
+                    h = abs(chief_ray_height_at_mm(prescription, float(angle), wavelength_nm=wavelength,
+                                                   film_z_mm=film_z_mm, focus_distance_m=focus_distance_m))
+                except InputError:  # no chief ray at this angle
+                    break
+                if not (math.isfinite(h) and h > heights[-1]):
+                    break
+                heights.append(h)
+            rows.append(np.interp(radius, heights, np.tan(np.radians(angles[: len(heights)]))))
+        _COLOR_CACHE[key] = LateralColorMap(np.array(wavelengths), step, np.array(rows), paraxial_scale_mm)
+    return _COLOR_CACHE[key]

@@ -22,9 +22,9 @@ from ..image import Image
 from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
 from ..scene import MODELS, Scene
-from .effects import EFFECTS, Effect, ideal_camera
+from .effects import COLOR_EFFECTS, EFFECTS, Effect, ideal_camera
 
-__all__ = ["Plan", "plan_scene", "render_planned", "MODEL_ORDER"]
+__all__ = ["Plan", "plan_scene", "render_planned", "renders_color", "MODEL_ORDER"]
 
 # Cheapest first. Effects name one of these (or "pinhole": a post-filter on
 # any render) as the cheapest part that simulates them.
@@ -82,9 +82,26 @@ class Plan:
         return data
 
 
+def renders_color(scene: Scene) -> bool:
+    """Whether the scene's render samples wavelength (``[render] spectral``,
+    once the renderer has it), so that its models can show colour."""
+    return bool(getattr(scene.render, "spectral", False))
+
+
+def _color_note(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -> str:
+    """What an RGB render leaves out of the colour effects above tolerance ("" when nothing)."""
+    left = [name for name in COLOR_EFFECTS if needed.get(name)]
+    if not left or renders_color(scene):
+        return ""
+    sizes = ", ".join(f"{name} {effects[name].magnitude:.3g} px" for name in left)
+    return f"{sizes} above tolerance, left out: only a spectral render ([render] spectral) shows colour"
+
+
 def _choose(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -> tuple[str, tuple[str, ...], str]:
     """(model, the composite's effects, a note) for the effects above tolerance."""
-    wanted = [name for name, e in effects.items() if needed[name] and e.needed_by != "pinhole"]
+    shown = renders_color(scene)
+    wanted = [name for name, e in effects.items() if needed[name] and e.needed_by != "pinhole"
+              and (shown or name not in COLOR_EFFECTS)]
     model = max((effects[name].needed_by for name in wanted), key=MODEL_ORDER.index, default="pinhole")
     if model == "lens" and scene.camera.lens is None:  # cannot happen: no prescription, no lens effects
         model = "thin"
@@ -98,8 +115,10 @@ def _choose(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -
     return "composite", parts, ""
 
 
-def _simulated(model: str, parts: tuple[str, ...], effects: dict[str, Effect], needed: dict[str, bool]) -> tuple:
-    """The effects the chosen render simulates, post-filters (applied when needed) included."""
+def _simulated(model: str, parts: tuple[str, ...], effects: dict[str, Effect], needed: dict[str, bool], *,
+               color: bool) -> tuple:
+    """The effects the chosen render simulates, post-filters (applied when needed) included;
+    the colour effects only when the render is spectral (``color``)."""
     if model == "postfilter":  # the thin lens's defocus, from an image
         model = "thin"
     if model == "composite":
@@ -110,6 +129,8 @@ def _simulated(model: str, parts: tuple[str, ...], effects: dict[str, Effect], n
         inside = {name for name, e in effects.items()
                   if e.needed_by != "pinhole" and MODEL_ORDER.index(e.needed_by) <= MODEL_ORDER.index(model)}
     inside |= {name for name, e in effects.items() if e.needed_by == "pinhole" and needed[name]}
+    if not color:
+        inside -= set(COLOR_EFFECTS)
     return tuple(name for name in effects if name in inside)
 
 
@@ -146,8 +167,10 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
         if measure_costs else {}
     if "pinhole" in costs:  # its pinhole pass draws fewer samples; the spread costs milliseconds
         costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
+    note = "; ".join(filter(None, (note, _color_note(scene, effects, needed))))
     return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,
-                simulated=_simulated(model, parts, effects, needed), composite_effects=parts, note=note,
+                simulated=_simulated(model, parts, effects, needed, color=renders_color(scene)),
+                composite_effects=parts, note=note,
                 postfilter_edge_error=edge_error.to_json() if edge_error else None)
 
 

@@ -8,8 +8,10 @@ import math
 from dataclasses import dataclass
 
 from ..cameras import CameraModel, camera_for
+from ..errors import InputError
 from ..lenses import (
     chief_ray_distortion_percent,
+    chief_ray_heights_at_mm,
     field_at_film_height_deg,
     image_circle_radius_mm,
     paraxial_data,
@@ -18,6 +20,8 @@ from ..lenses import (
     stopped_down,
     spot_diameter_mm,
 )
+from ..lenses.chromatic import longitudinal_color_blur_mm
+from ..lenses.glass import C_NM, F_NM
 from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
@@ -27,7 +31,12 @@ from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 
 __all__ = ["Effect", "ideal_camera", "defocus", "principal_plane_gap", "aberrations", "aberration_spot_px",
-           "corner_field_deg", "distortion", "vignetting", "diffraction", "motion_blur", "EFFECTS"]
+           "corner_field_deg", "distortion", "vignetting", "lateral_color", "longitudinal_color", "diffraction",
+           "motion_blur", "EFFECTS", "COLOR_EFFECTS"]
+
+# Effects only a spectral render shows (wavelength sampled, the glass
+# dispersing): an RGB render of any model leaves them out.
+COLOR_EFFECTS = ("lateral_color", "longitudinal_color")
 
 
 @dataclass(frozen=True)
@@ -167,6 +176,56 @@ def vignetting(scene: Scene, camera: CameraModel) -> Effect:
                   "composite")
 
 
+def _no_dispersion(scene: Scene) -> str:
+    """Why a scene's lens shows no colour ("" when it disperses)."""
+    lens = scene.camera.lens
+    if lens is None:
+        return "ideal lens (no prescription)"
+    if not lens.disperses:
+        return f"{lens.name} does not disperse (no Abbe number or glass in its 5th column)"
+    return ""
+
+
+def lateral_color(scene: Scene, camera: CameraModel) -> Effect:
+    """Chief-ray film height at F (486.13 nm) minus at C (656.27 nm) at the
+    film corner, px: the field imaged at the corner (in d light), the object
+    on the plane of focus, the film where the lens system puts it. The thin
+    and thick lens derived from a prescription have none (they keep only its
+    focal shift); the lens system traces it."""
+    why = _no_dispersion(scene)
+    if why:
+        return Effect("lateral_color", 0.0, "px", why, "lens")
+    lens = scene.camera.lens
+    system = camera_for(scene, "lens")
+    angle = corner_field_deg(scene, camera)
+    try:
+        blue, red = chief_ray_heights_at_mm(lens, angle, wavelengths_nm=(F_NM, C_NM), film_z_mm=system.film_z_mm,
+                                            focus_distance_m=system.focus_distance_m)
+    except InputError:  # no chief ray there at F or C: outside the image circle
+        return Effect("lateral_color", 0.0, "px", f"no chief ray at the corner field {angle:.3g} deg", "lens")
+    shift_mm = float(abs(blue) - abs(red))
+    return Effect("lateral_color", abs(shift_mm) / camera.pixel_pitch_mm, "px",
+                  f"F minus C chief-ray height {1000 * shift_mm:+.3g} um at the corner field {angle:.3g} deg "
+                  f"({lens.name}, {system.focus_mode} focus)", "lens")
+
+
+def longitudinal_color(scene: Scene, camera: CameraModel) -> Effect:
+    """Blur-disk diameter of the F light where the C light focuses, px: the
+    F-C focus difference of the plane of focus seen through the scene's
+    f-number (paraxial, :func:`lenscompare.lenses.chromatic.longitudinal_color_blur_mm`).
+    The thin lens derived from the prescription simulates it (its focal
+    length per wavelength)."""
+    why = _no_dispersion(scene)
+    if why or camera.f_number is None:
+        return Effect("longitudinal_color", 0.0, "px", why or "no aperture (no f-number)", "thin")
+    lens = scene.camera.lens
+    blur_mm = longitudinal_color_blur_mm(stopped_down(lens, camera.f_number),
+                                         focus_distance_m=scene.camera.focus_distance_m)
+    return Effect("longitudinal_color", blur_mm / camera.pixel_pitch_mm, "px",
+                  f"F disk {1000 * blur_mm:.3g} um at the C focus, f/{camera.f_number:.3g}, "
+                  f"focus {scene.camera.focus_distance_m:g} m ({lens.name})", "thin")
+
+
 def diffraction(scene: Scene, camera: CameraModel) -> Effect:
     """Airy-disk diameter 2.44 λ N_w at 550 nm, in pixels (DESIGN.md). Any
     model can carry it: the PSF is applied to the image after the render
@@ -198,4 +257,5 @@ def motion_blur(scene: Scene, camera: CameraModel) -> Effect:
                   f"by {moved_by} over the {1000 * (close_s - open_s):.3g} ms shutter", "pinhole")
 
 
-EFFECTS = (defocus, principal_plane_gap, aberrations, distortion, vignetting, diffraction, motion_blur)
+EFFECTS = (defocus, principal_plane_gap, aberrations, distortion, vignetting, lateral_color, longitudinal_color,
+           diffraction, motion_blur)
