@@ -1,5 +1,5 @@
 """What a camera model does to the image: blur disks, distortion, vignetting,
-similarity, and motion-blur streaks.
+similarity, motion-blur streaks and colour (per-channel dots and disks).
 
 Conventions shared by every function here:
 
@@ -19,6 +19,7 @@ Conventions shared by every function here:
 
 from ._validate import luminance
 from .blur_disk import BlurDisk, find_point_sources, measure_blur_disk
+from .color import ChannelBlurDisks, LateralColor, channel_blur_disks, lateral_color
 from .distortion import (
     RadialDistortion,
     RadialDistortionFit,
@@ -39,6 +40,10 @@ __all__ = [
     "BlurDisk",
     "measure_blur_disk",
     "find_point_sources",
+    "LateralColor",
+    "lateral_color",
+    "ChannelBlurDisks",
+    "channel_blur_disks",
     "RadialDistortion",
     "RadialDistortionFit",
     "dot_centroids",
