@@ -1,6 +1,6 @@
 """``lenscompare figures -o DIR``: the teaching figures (paper Figs. 1-4) as PNG and SVG.
 
-Writes ``thin_lens``, ``thick_lens``, ``lens_system`` and ``aperture`` (``.png``
+Writes ``thin_lens``, ``thick_lens``, ``lens_system``, ``aperture`` and ``chromatic`` (``.png``
 and ``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
 """
 
@@ -24,17 +24,21 @@ _DISTANCE = number_option(maximum=MAX_LENGTH_M)
 def add_parser(subparsers) -> None:
     """Register ``figures``."""
     p = subparsers.add_parser(
-        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture)",
+        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture, chromatic)",
         description="Draw the teaching figures of the paper (Figs. 1-4) from lenscompare's own "
         "optics code: the thin lens with real numbers (eqs. 1-10), the thick-lens model of LENS "
         "(H, H', F, F' against traced rays), and LENS in cross-section with traced bundles, its "
         "exit pupil and the film; and the aperture: defocus against diffraction over the f-number (the best "
-        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades. Writes thin_lens, thick_lens, "
-        "lens_system and aperture as .png and .svg "
+        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades; and chromatic aberration: ray "
+        "fans at F, d and C through a dispersive lens and its focal shift against wavelength. Writes "
+        "thin_lens, thick_lens, lens_system, aperture and chromatic as .png and .svg "
         "into DIR (created if missing).")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="folder for the figures")
     p.add_argument("--lens", default="dgauss.50mm", metavar="NAME|PATH",
                    help="lens for the thick-lens and lens-system figures (default: dgauss.50mm)")
+    p.add_argument("--chromatic-lens", metavar="NAME|PATH",
+                   help="dispersive lens for the chromatic figure (default: --lens when it disperses, "
+                   "else an N-BK7 singlet)")
     p.add_argument("--focal-length-mm", type=_FOCAL_LENGTH, default=50.0, metavar="F",
                    help="thin-lens focal length, mm (default: 50)")
     p.add_argument("--f-number", type=_F_NUMBER, default=2.0, metavar="N",
@@ -55,7 +59,8 @@ def run(args) -> int:
     written = write_teaching_figures(
         args.output, lens=args.lens, focal_length_mm=args.focal_length_mm,
         f_number=args.f_number, focus_distance_m=args.focus_distance,
-        object_distances_m=tuple(args.object_distances), svg=not args.no_svg)
+        object_distances_m=tuple(args.object_distances), chromatic_lens=args.chromatic_lens,
+        svg=not args.no_svg)
     if args.json:
         print(json.dumps({"figures": {name: str(path) for name, path in written.items()}}))
     else:

@@ -9,9 +9,11 @@ drawing, a :class:`matplotlib.figure.Figure` rendered with Agg, no display):
 - :mod:`.lens_system`: any prescription in cross-section with traced bundles (Fig. 4);
 - :mod:`.aperture`: where the geometric models stop: defocus against
   diffraction over the f-number (the best aperture), and bokeh and diffraction
-  stars of 5, 6, 7 and 9 blades.
+  stars of 5, 6, 7 and 9 blades;
+- :mod:`.chromatic`: ray fans at F, d and C through a dispersive lens, and
+  its focal shift against wavelength (issue 15).
 
-:func:`write_teaching_figures` writes all four; ``lenscompare figures`` is its
+:func:`write_teaching_figures` writes all five; ``lenscompare figures`` is its
 command line.
 """
 
@@ -26,6 +28,7 @@ from ..errors import InputError
 from ..lenses import load_prescription
 from ._style import figure_bytes
 from .aperture import aperture_figure, aperture_geometry
+from .chromatic import chromatic_figure, chromatic_geometry, teaching_singlet
 from .lens_system import lens_system_figure, lens_system_geometry
 from .thick_lens import thick_lens_figure, thick_lens_geometry
 from .thin_lens import thin_lens_figure, thin_lens_geometry
@@ -41,15 +44,17 @@ __all__ = [
     "lens_system_figure",
     "aperture_geometry",
     "aperture_figure",
+    "chromatic_geometry",
+    "chromatic_figure",
 ]
 
-FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture")
+FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture", "chromatic")
 
 
 def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLike = "dgauss.50mm",
                            focal_length_mm: float = 50.0, f_number: float = 2.0,
                            focus_distance_m: float = 2.0, object_distances_m=(1.0, 5.0),
-                           svg: bool = True) -> dict[str, Path]:
+                           chromatic_lens: str | os.PathLike | None = None, svg: bool = True) -> dict[str, Path]:
     """Draw the teaching figures and write them into a folder.
 
     Parameters
@@ -67,6 +72,10 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
     object_distances_m : sequence of float, optional
         One to three axial object points for the thin-lens figure, m; the
         farthest is the point whose blur the aperture figure follows.
+    chromatic_lens : str or os.PathLike, optional
+        Prescription for the chromatic figure; it must disperse. Default:
+        ``lens`` when it disperses, else the N-BK7 teaching singlet
+        (:func:`lenscompare.figures.chromatic.teaching_singlet`).
     svg : bool, optional
         Also write an SVG next to each PNG (same stem).
 
@@ -74,7 +83,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
     -------
     dict of str to Path
         Figure name (``"thin_lens"``, ``"thick_lens"``, ``"lens_system"``,
-        ``"aperture"``) to
+        ``"aperture"``, ``"chromatic"``) to
         its PNG file; with ``svg`` the SVG is ``path.with_suffix(".svg")``.
 
     Raises
@@ -96,6 +105,10 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
 
     # Everything that can fail on bad input, before any file is touched.
     prescription = load_prescription(lens)
+    if chromatic_lens is not None:
+        dispersive = load_prescription(chromatic_lens)
+    else:
+        dispersive = prescription if prescription.disperses else teaching_singlet()
     figures = {
         "thin_lens": thin_lens_figure(thin_lens_geometry(
             focal_length_mm=focal_length_mm, f_number=f_number,
@@ -106,6 +119,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
         "aperture": aperture_figure(aperture_geometry(
             focal_length_mm=focal_length_mm, focus_distance_m=focus_distance_m,
             object_distance_m=max(object_distances_m))),
+        "chromatic": chromatic_figure(chromatic_geometry(dispersive)),
     }
     formats = ("png", "svg") if svg else ("png",)
     rendered = {(name, fmt): figure_bytes(figure, fmt)
