@@ -34,6 +34,7 @@ from ..povray import povray_version
 from ..progress import progress_bar
 from ..scene import MODELS, Scene
 from . import plots
+from .chromatic import chromatic_section
 from .html import render_page
 from .save import save_runs
 
@@ -94,6 +95,10 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
     results["cost"] = _cost_section(scenes, out, settings, stems, cluster)
     results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
+    # Predicted sizes only; spectral renders measured here later (see report/chromatic.py).
+    results["chromatic"] = chromatic_section(
+        {scene.name: (scene, results["scenes"][scene.name]["plan"]) for scene, _ in prepared},
+        figure=results["teaching_figures"].get("chromatic"))
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
     with atomic_output(out / "results.json") as tmp:

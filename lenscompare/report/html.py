@@ -21,6 +21,7 @@ SECTIONS = [
     ("time", "Time per render"),
     ("cost", "What accuracy costs in time"),
     ("plan", "Effects each scene needs: predicted and measured"),
+    ("chromatic", "Chromatic aberration"),
     ("figures", "Teaching figures"),
     ("provenance", "Provenance"),
 ]
@@ -83,6 +84,22 @@ def _seconds_cell(seconds, extrapolated: bool) -> str:
     if seconds is None:
         return "not reached"
     return f"{seconds:.3g} (extrapolated)" if extrapolated else f"{seconds:.3g}"
+
+
+def chromatic_body(section: dict | None) -> str:
+    """The chromatic section's HTML: the note, the table of sizes and the figure."""
+    if not section:
+        return "<p>No chromatic section in this report.</p>"
+    rows = [[r["scene"], r["lens"], "yes" if r["disperses"] else "no", r["chromatic_focal_shift_mm"],
+             r["lateral_color_px"], r["measured_lateral_color_px"], r["longitudinal_color_px"],
+             r["measured_longitudinal_color_px"]] for r in section["rows"]]
+    body = (f"<p class='note'>{html.escape(section['note'])}</p>"
+            + _table(["scene", "lens", "disperses", "F−C focal shift (mm)", "lateral colour (px)", "measured",
+                      "longitudinal colour (px)", "measured"], rows, 3))
+    if section.get("figure"):
+        body += (f"<figure><img class='plot' src='{html.escape(section['figure'])}' alt='chromatic'>"
+                 "<figcaption>ray fans at F, d, C and the focal shift against wavelength</figcaption></figure>")
+    return body
 
 
 def _section(key, body):
@@ -220,6 +237,8 @@ def render_page(results: dict) -> str:
     parts.append(_section("plan", "<p class='note'>Predicted from the scene alone (lenscompare plan); measured from "
                           "this report's renders where the scene measures that effect.</p>"
                           + _table(["scene", "effect", "predicted", "unit", "measured", "needed"], rows, 2)))
+
+    parts.append(_section("chromatic", chromatic_body(results.get("chromatic"))))
 
     figures = results.get("teaching_figures", {})
     body = "".join(f"<figure><img class='plot' src='{html.escape(p)}' alt='{html.escape(k)}'>"
