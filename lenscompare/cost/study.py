@@ -14,7 +14,8 @@ from ..cluster import Cluster, run_calls
 from ..errors import ExternalError
 from ..experiment import ExperimentSettings, prepare_scene
 from ..metrics import relative_rmse, rmse, ssim
-from ..plan import MODEL_ORDER, plan_scene
+from ..plan import MODEL_ORDER, plan_scene, renders_color
+from ..plan.effects import COLOR_EFFECTS
 from ..povray import render_povray
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
@@ -111,9 +112,10 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
 
 def _omitted_effects(scene: Scene) -> dict[str, dict]:
     plan = plan_scene(scene, measure_costs=False)
+    rgb = not renders_color(scene)  # an RGB render of any model leaves colour out
     return {model: {name: {"magnitude": e.magnitude, "unit": e.unit}
                     for name, e in plan.effects.items()
-                    if MODEL_ORDER.index(e.needed_by) > MODEL_ORDER.index(model)}
+                    if MODEL_ORDER.index(e.needed_by) > MODEL_ORDER.index(model) or (rgb and name in COLOR_EFFECTS)}
             for model in MODEL_ORDER}
 
 

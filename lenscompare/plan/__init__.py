@@ -159,7 +159,8 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
     model, parts, note = _choose(scene, effects, needed)
     # The image-based depth of field stands in for the thin lens where its occlusion edges allow.
     edge_error = None
-    if model == "thin" and not needed["motion_blur"]:  # its depth buffer is one instant
+    # Its depth buffer is one instant, and its pinhole pass one focus for every colour.
+    if model == "thin" and not needed["motion_blur"] and not (renders_color(scene) and needed["longitudinal_color"]):
         suffices, edge_error = postfilter_suffices(scene, defocus_needed=needed["defocus"],
                                                    tolerance_px=tolerance_px, camera=camera, threads=threads)
         model = "postfilter" if suffices else model
