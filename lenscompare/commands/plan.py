@@ -35,7 +35,7 @@ def run(args) -> int:
     print(f"  simulates: {', '.join(data['simulated']) or 'nothing'}" + (f"  ({data['note']})" if "note" in data else ""))
     for name, e in data["effects"].items():
         flag = "needed " if e["needed"] else "omitted"
-        print(f"  {flag} {name:11s} {e['magnitude']:9.3g} {e['unit']:2s}  {e['detail']}")
+        print(f"  {flag} {name:18s} {e['magnitude']:9.3g} {e['unit']:2s}  {e['detail']}")
     for model, seconds in data["predicted_seconds"].items():
         print(f"  predicted {model:7s} {seconds:8.2f} s")
     return 0
