@@ -159,7 +159,8 @@ def test_the_lateral_colour_map_gives_the_planner_size_at_the_corner():
     plan = plan_scene(scene, measure_costs=False)
     composite = camera_for(scene, "composite", effects=("distortion",))
     table = composite.lateral_color_map()
-    assert list(table.wavelengths_nm) == sorted(table.wavelengths_nm) and {F_NM, D_NM, C_NM} <= set(table.wavelengths_nm)
+    wavelengths = list(table.wavelengths_nm)
+    assert wavelengths == sorted(wavelengths) and {F_NM, D_NM, C_NM} <= set(wavelengths)
     tangent = math.tan(math.radians(corner_field_deg(scene, ideal_camera(scene))))
     shift_px = abs(table.lateral_color_mm(tangent)) / composite.pixel_pitch_mm
     assert shift_px == pytest.approx(plan.effects["lateral_color"].magnitude, rel=0.01)

@@ -30,7 +30,8 @@ from .paraxial import paraxial_data, ray_transfer_matrix
 from .prescription import Prescription
 from .trace import trace_from_scene
 
-__all__ = ["chief_ray_height_at_mm", "chief_ray_heights_at_mm", "lateral_color_mm", "axial_image_z_mm", "longitudinal_color_blur_mm"]
+__all__ = ["chief_ray_height_at_mm", "chief_ray_heights_at_mm", "lateral_color_mm", "axial_image_z_mm",
+           "longitudinal_color_blur_mm"]
 
 
 def _seen_from_own_pupil(prescription: Prescription, wavelength_nm: float, field_angle_deg: float,

@@ -11,17 +11,16 @@ from ..cameras import CameraModel, camera_for
 from ..errors import InputError
 from ..lenses import (
     chief_ray_distortion_percent,
-    chief_ray_heights_at_mm,
     field_at_film_height_deg,
     image_circle_radius_mm,
+    lateral_color_mm,
+    longitudinal_color_blur_mm,
     paraxial_data,
     point_source_spot_mm,
     pupil_relative_illumination,
     stopped_down,
     spot_diameter_mm,
 )
-from ..lenses.chromatic import longitudinal_color_blur_mm
-from ..lenses.glass import C_NM, F_NM
 from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
@@ -199,11 +198,9 @@ def lateral_color(scene: Scene, camera: CameraModel) -> Effect:
     system = camera_for(scene, "lens")
     angle = corner_field_deg(scene, camera)
     try:
-        blue, red = chief_ray_heights_at_mm(lens, angle, wavelengths_nm=(F_NM, C_NM), film_z_mm=system.film_z_mm,
-                                            focus_distance_m=system.focus_distance_m)
+        shift_mm = lateral_color_mm(lens, angle, film_z_mm=system.film_z_mm, focus_distance_m=system.focus_distance_m)
     except InputError:  # no chief ray there at F or C: outside the image circle
         return Effect("lateral_color", 0.0, "px", f"no chief ray at the corner field {angle:.3g} deg", "lens")
-    shift_mm = float(abs(blue) - abs(red))
     return Effect("lateral_color", abs(shift_mm) / camera.pixel_pitch_mm, "px",
                   f"F minus C chief-ray height {1000 * shift_mm:+.3g} um at the corner field {angle:.3g} deg "
                   f"({lens.name}, {system.focus_mode} focus)", "lens")
