@@ -56,7 +56,11 @@ MAX_PINHOLE_SPP = 16
 film (antialiasing), not the lens: 16 stratified film samples resolve an
 edge to 1/16 of a pixel's area, and the spread then averages a defocused
 pixel with its neighbours. A requested spp above 16 is recorded but not drawn
-(``metadata["postfilter"]["pinhole_spp"]`` says what was)."""
+(``metadata["postfilter"]["pinhole_spp"]`` says what was). Fewer are not
+enough: on showcase the postfilter's relative RMSE against the converged
+thin lens is 2.0 % with 16, 3.0 % with 8 and 4.2 % with 4 (edge band: 3.4,
+5.3, 7.1 %; bench/study_pinhole_spp.py), and the 16-sample pass is most of
+the postfilter's time (0.139 of 0.171 s at 360 x 240, 2 threads)."""
 
 METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front over hole-filled layers"
 SUB_ROWS = 4          # heights per row at which a kernel is integrated

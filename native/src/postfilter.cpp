@@ -41,6 +41,14 @@ Chord chord_at(const ApertureShape& shape, double radius_px, bool behind_focus, 
     return behind_focus ? Chord{lo * radius_px, hi * radius_px} : Chord{-hi * radius_px, -lo * radius_px};
 }
 
+// Largest |x| of the unit aperture: the kernel's reach sideways in radii.
+double horizontal_reach(const ApertureShape& shape) {
+    if (shape.blades == 0) return 1.0;
+    double reach = 0.0;
+    for (int k = 0; k < shape.blades; ++k) reach = std::max(reach, std::fabs(shape.vertex_x[size_t(k)]));
+    return reach;
+}
+
 // Largest |y| of the unit aperture: the kernel's reach up and down in radii.
 double vertical_reach(const ApertureShape& shape) {
     if (shape.blades == 0) return 1.0;
@@ -145,7 +153,7 @@ class KernelRadius {
 void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_coverage) {
     const int width = in.width_px, height = in.height_px, layers = in.n_layers, sub_rows = in.sub_rows;
     const size_t pixels = size_t(width) * size_t(height);
-    const double reach = vertical_reach(in.aperture);
+    const double reach = vertical_reach(in.aperture), across = horizontal_reach(in.aperture);
     const KernelRadius kernel_radius_px(in.aperture, sub_rows);
 
     // Each layer's pixels by row (compressed rows), in row-major order.
@@ -158,10 +166,15 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
         for (size_t p = 0; p < pixels; ++p)
             column[next[size_t(in.layer[p]) * size_t(height) + p / size_t(width)]++] = int32_t(p % size_t(width));
     }
+    // Each pixel's drawn radius and reach, once (not per output row it reaches).
+    std::vector<double> radius_px(pixels);
+    std::vector<int> reach_px(pixels);
     std::vector<int> layer_reach(size_t(layers), 0);
     for (size_t p = 0; p < pixels; ++p) {
+        radius_px[p] = kernel_radius_px(in.coc_px[p]);
+        reach_px[p] = reach_rows(radius_px[p], reach);
         int& r = layer_reach[size_t(in.layer[p])];
-        r = std::max(r, reach_rows(kernel_radius_px(in.coc_px[p]), reach));
+        r = std::max(r, reach_px[p]);
     }
 
     tbb::task_arena arena(in.threads > 0 ? in.threads : tbb::task_arena::automatic);
@@ -171,9 +184,9 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
         std::vector<double> inverse_area(pixels, 0.0);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t p = range.begin(); p < range.end(); ++p) {
-                const double radius = kernel_radius_px(in.coc_px[p]);
+                const double radius = radius_px[p];
                 const bool behind = in.coc_px[p] > 0.0f;
-                const int rows = reach_rows(radius, reach);
+                const int rows = reach_px[p];
                 double area = 0.0;
                 for (int dy = -rows; dy <= rows && radius > 0.0; ++dy)
                     for (int k = 0; k < sub_rows; ++k) {
@@ -191,6 +204,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                 std::fill(coverage.begin(), coverage.end(), 0.0);
                 for (int l = 0; l < layers; ++l) {  // back to front
                     bool touched = false;
+                    int lo_x = 0, hi_x = 0;  // the diff entries this layer's spans wrote: [lo_x, hi_x)
                     const int from = std::max(0, y - layer_reach[size_t(l)]);
                     const int to = std::min(height - 1, y + layer_reach[size_t(l)]);
                     for (int ys = from; ys <= to; ++ys) {
@@ -200,13 +214,20 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                             const size_t p = size_t(ys) * size_t(width) + size_t(x);
                             const float* rgb = in.rgb + 3 * p;
                             const int dy = y - ys;
-                            if (!touched) std::fill(diff.begin(), diff.end(), 0.0), touched = true;
+                            if (!touched) touched = true, lo_x = width, hi_x = 0;
                             if (inverse_area[p] == 0.0) {  // a point: stays in its pixel
-                                if (dy == 0) add_span(x, x + 1.0, 1.0, rgb, width, diff.data());
+                                if (dy == 0) {
+                                    add_span(x, x + 1.0, 1.0, rgb, width, diff.data());
+                                    lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x + 3);
+                                }
                                 continue;
                             }
-                            const double radius = kernel_radius_px(in.coc_px[p]);
-                            if (std::abs(dy) > reach_rows(radius, reach)) continue;
+                            if (std::abs(dy) > reach_px[p]) continue;
+                            const double radius = radius_px[p];
+                            // add_span writes entries floor(left) .. floor(right) + 1.
+                            const int span_reach = int(std::ceil(radius * across)) + 1;
+                            lo_x = std::min(lo_x, std::max(0, x - span_reach));
+                            hi_x = std::max(hi_x, std::min(width + 2, x + span_reach + 2));
                             const bool behind = in.coc_px[p] > 0.0f;
                             const double weight = inverse_area[p] / sub_rows;
                             for (int k = 0; k < sub_rows; ++k) {
@@ -216,10 +237,12 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                             }
                         }
                     }
-                    if (!touched) continue;
-                    // The layer's row, then "over" what lies behind it.
+                    if (!touched || hi_x <= lo_x) continue;
+                    // The layer's row, then "over" what lies behind it; only where its
+                    // spans reached (elsewhere the running sum is exactly 0: nothing to add).
                     double sum[4] = {0.0, 0.0, 0.0, 0.0};
-                    for (int x = 0; x < width; ++x) {
+                    const int end_x = std::min(hi_x, width);
+                    for (int x = lo_x; x < end_x; ++x) {
                         for (int c = 0; c < 4; ++c) sum[c] += diff[4 * size_t(x) + size_t(c)];
                         double alpha = sum[3];
                         if (!(alpha > 1e-9)) continue;
@@ -236,6 +259,7 @@ void scatter_depth_of_field(const ScatterInput& in, float* out_rgb, float* out_c
                         for (int c = 0; c < 3; ++c) behind[c] = sum[c] * scale + (1.0 - alpha) * behind[c] * fill;
                         coverage[size_t(x)] = alpha + (1.0 - alpha) * (behind_weight > 0.0 ? 1.0 : 0.0);
                     }
+                    std::fill(diff.begin() + 4 * size_t(lo_x), diff.begin() + 4 * size_t(hi_x), 0.0);
                 }
                 // Normalised by the weight that arrived: at the frame's border, and
                 // where the nearest layers left a hole with nothing behind it.
