@@ -6,6 +6,7 @@
 // uniform scene, so the centre of a uniform scene reads 1 (DESIGN.md).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -42,6 +43,9 @@ struct LensSystemCamera {
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
     LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits; diagnostics may pick another
+    // Spectral renders of a lens with dispersion: the elements with their
+    // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
+    std::vector<std::vector<LensElement>> elements_by_nm;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -78,6 +82,25 @@ struct LensSystemCamera {
         double cos_theta = -ray.direction.z;
         // Trace the ray through the lens
         if (!trace_from_film(elements, &ray)) return std::nullopt;
+        return camera_ray(ray, cos_theta, area_mm2);
+    }
+
+    bool disperses() const { return !elements_by_nm.empty(); }
+
+    // The ray at wavelength nm (indices of the nearest nm): the same film and
+    // pupil sample traced through the glass at that wavelength, scalar (the
+    // batch trace shares one set of indices between its lanes). The pupil
+    // region is the design wavelength's. A ray that meets total internal
+    // reflection at this wavelength is blocked, like any other.
+    MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
+        if (!disperses()) return generate_ray(raster_px, lens_sample);
+        const long i = std::lround(double(nm) - 380.0);
+        const auto& glass = elements_by_nm[size_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1))];
+        LensRay ray;
+        double area_mm2;
+        if (!sample_lens_ray(raster_px, lens_sample, &ray, &area_mm2)) return std::nullopt;
+        double cos_theta = -ray.direction.z;
+        if (!trace_from_film(glass, &ray)) return std::nullopt;
         return camera_ray(ray, cos_theta, area_mm2);
     }
 
