@@ -30,7 +30,7 @@ __all__ = ["make_spectral"]
 _FOCAL_STEP_NM = 5.0
 
 
-def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_secondaries: bool = False) -> dict:
+def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_secondaries: bool = True) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     Returns what the image's metadata records about it.

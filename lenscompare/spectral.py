@@ -3,8 +3,12 @@
 Wavelength is one more sample dimension over :data:`MIN_NM`-:data:`MAX_NM`.
 Each camera sample carries four wavelengths: a hero and three rotations of it
 by a quarter of the sampling distribution (Wilkie et al. 2014, "Hero
-Wavelength Spectral Sampling", EGSR; with the uniform distribution that is
-100 nm apart over the 400 nm range).
+Wavelength Spectral Sampling", EGSR; with a uniform density that would be
+100 nm apart over the 400 nm range). The density is not uniform: it follows
+the film's response (the sum of the channels' |weight|), so the rotations
+are by a quarter of the probability, i.e. the four wavelengths sit in the
+four quartiles of the film's response (importance sampling, as pbrt-v4's
+SampleVisibleWavelengths does with a fitted curve).
 
 - **Colours to spectra.** An RGB colour c (albedo, emission, light intensity,
   background) becomes the spectrum c_r B_r(λ) + c_g B_g(λ) + c_b B_b(λ) with
@@ -108,18 +112,24 @@ def line_radiance(color, wavelength_nm: float) -> float:
 def wavelength_distribution(lines_nm) -> tuple[np.ndarray, np.ndarray]:
     """Piecewise-constant density of the wavelength samples: ``(edges_nm, probabilities)``.
 
-    Uniform over 380–780 nm without lines; with lines, :data:`LINE_PROBABILITY`
-    of it spread evenly over their bands and the rest uniform. Segment i is
-    [edges_nm[i], edges_nm[i + 1]) and holds probabilities[i].
+    Over 380-780 nm the density follows the film's response, the sum of the
+    three channels' |weight| per 1 nm bin (importance sampling: the
+    wavelengths the film barely sees are drawn rarely); with lines,
+    :data:`LINE_PROBABILITY` of it is spread evenly over their bands. Segment
+    i is [edges_nm[i], edges_nm[i + 1]) and holds probabilities[i].
     """
     lines = sorted(set(float(v) for v in lines_nm))
-    span = MAX_NM - MIN_NM
-    edges = {MIN_NM, MAX_NM}
+    grid = wavelengths_nm()
+    response = np.abs(film_table()).sum(axis=1)
+    edges = set(grid.tolist())
     for line in lines:
-        edges.update(np.clip([line - 0.5 * LINE_WIDTH_NM, line + 0.5 * LINE_WIDTH_NM], MIN_NM, MAX_NM))
+        edges.update(np.clip([line - 0.5 * LINE_WIDTH_NM, line + 0.5 * LINE_WIDTH_NM], MIN_NM, MAX_NM).tolist())
     edges = np.array(sorted(edges))
     mids = 0.5 * (edges[:-1] + edges[1:])
-    density = np.full(len(mids), (1.0 - LINE_PROBABILITY) / span if lines else 1.0 / span)
+    # The continuum's density: the response averaged over each 1 nm bin, normalised.
+    continuum = 0.5 * (np.interp(np.floor(mids), grid, response) + np.interp(np.floor(mids) + 1.0, grid, response))
+    continuum /= (continuum * np.diff(edges)).sum()
+    density = continuum * ((1.0 - LINE_PROBABILITY) if lines else 1.0)
     for line in lines:
         lo, hi = max(line - 0.5 * LINE_WIDTH_NM, MIN_NM), min(line + 0.5 * LINE_WIDTH_NM, MAX_NM)
         inside = (mids > lo) & (mids < hi)

@@ -333,7 +333,7 @@ NB_MODULE(_native, m) {
                                                    line_width_nm, trace_secondaries));
              },
              "basis"_a, "film"_a, "edges_nm"_a, "probabilities"_a, "line_nm"_a, "line_radiance"_a, "line_width_nm"_a,
-             "trace_secondaries"_a = false,
+             "trace_secondaries"_a = true,
              "Renders spectrally from now on (lenscompare/spectral.py's tables).");
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")

@@ -5,13 +5,15 @@
 //     (1 / 4) sum_k L(λ_k) film(λ_k) / p(λ_k)
 // in linear sRGB, summed into the pixel like an RGB sample (TileAccumulator).
 //
-// A camera that disperses (generate_ray_at: its ray depends on the
+// A camera that disperses (generate_rays_at: its ray depends on the
 // wavelength) cannot share one ray between the four. Then either each
 // wavelength gets its own ray (trace_secondaries: 4 camera rays, the sample's
 // value their sum), or only the hero is traced and the secondaries are
 // dropped (pbrt-v4's TerminateSecondary: one ray, the sample's value
 // L(λ_0) film(λ_0) / p(λ_0)). Both are unbiased; bench/bench_spectral.py
-// measures which reaches a given noise sooner.
+// measures which reaches a given noise sooner: one wavelength per sample
+// leaves so much colour noise that tracing all four wins despite 4x the rays
+// (the default).
 #pragma once
 
 #include <type_traits>
@@ -22,13 +24,14 @@
 
 namespace lc {
 
-// Cameras whose ray depends on the wavelength say so with generate_ray_at(raster, lens, nm)
+// Cameras whose ray depends on the wavelength say so with generate_rays_at(raster, lens, nm, n, out)
 // and disperses() (false when the lens has no glass with dispersion).
 template <class Camera, class = void>
 struct HasWavelengthRays : std::false_type {};
 template <class Camera>
-struct HasWavelengthRays<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_at(
-                                     Point2f{}, Point2f{}, 0.0f))>> : std::true_type {};
+struct HasWavelengthRays<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays_at(
+                                     Point2f{}, Point2f{}, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>>
+    : std::true_type {};
 
 template <class Camera>
 bool camera_disperses(const Camera& camera) {
@@ -135,11 +138,10 @@ class SpectralCameraSampleBatcher {
         if constexpr (HasWavelengthRays<Camera>::value) {
             const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
             MaybeRay rays[kHeroWavelengths];
+            camera_.generate_rays_at(raster_px, lens, w.nm, traced, rays);
             int last = -1;
-            for (int k = 0; k < traced; ++k) {
-                rays[k] = camera_.generate_ray_at(raster_px, lens, w.nm[k]);
+            for (int k = 0; k < traced; ++k)
                 if (rays[k]) last = k;
-            }
             for (int k = 0; k <= last; ++k) {
                 if (!rays[k]) continue;
                 moved(&*rays[k], time_u);

@@ -4,7 +4,7 @@
 // Hero-wavelength sampling (Wilkie, Nawaz, Droske, Weidlich, Hanika, "Hero
 // Wavelength Spectral Sampling", EGSR 2014): one sample dimension u gives the
 // hero wavelength; the other three are u rotated by 1/4, 2/4, 3/4 through the
-// same inverse CDF (for the uniform density: 100 nm apart, wrapping round
+// same inverse CDF (for a uniform density: 100 nm apart, wrapping round
 // 380-780 nm). Each wavelength is marginally distributed by the density, so
 // the average of the four f(λ)/p(λ) is unbiased.
 //
@@ -36,7 +36,7 @@ struct SpectralTables {
     // A dispersive camera: true traces one ray per wavelength (4 per camera
     // sample), false traces the hero only and drops the secondaries (pbrt-v4's
     // TerminateSecondary).
-    bool trace_secondaries = false;
+    bool trace_secondaries = true;
 
     // Linear interpolation in a per-nm table.
     Vec3f at(const std::vector<Vec3f>& table, float nm) const {

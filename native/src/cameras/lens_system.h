@@ -93,15 +93,30 @@ struct LensSystemCamera {
     // region is the design wavelength's. A ray that meets total internal
     // reflection at this wavelength is blocked, like any other.
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
-        if (!disperses()) return generate_ray(raster_px, lens_sample);
-        const long i = std::lround(double(nm) - 380.0);
-        const auto& glass = elements_by_nm[size_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1))];
-        LensRay ray;
+        MaybeRay ray;
+        generate_rays_at(raster_px, lens_sample, &nm, 1, &ray);
+        return ray;
+    }
+
+    // The same sample at n wavelengths: one film point and pupil point, n traces.
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        LensRay start;
         double area_mm2;
-        if (!sample_lens_ray(raster_px, lens_sample, &ray, &area_mm2)) return std::nullopt;
-        double cos_theta = -ray.direction.z;
-        if (!trace_from_film(glass, &ray)) return std::nullopt;
-        return camera_ray(ray, cos_theta, area_mm2);
+        const bool aimed = sample_lens_ray(raster_px, lens_sample, &start, &area_mm2);
+        const double cos_theta = -start.direction.z;
+        for (int k = 0; k < n; ++k) {
+            out[k] = std::nullopt;
+            if (!aimed) continue;
+            LensRay ray = start;
+            if (!trace_from_film(disperses() ? glass_at(nm[k]) : elements, &ray)) continue;
+            out[k] = camera_ray(ray, cos_theta, area_mm2);
+        }
+    }
+
+    // The elements with their indices at the nm nearest to nm.
+    const std::vector<LensElement>& glass_at(float nm) const {
+        const long i = std::lround(double(nm) - 380.0);
+        return elements_by_nm[size_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1))];
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one

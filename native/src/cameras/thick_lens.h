@@ -28,6 +28,9 @@ struct ThickLensCamera {
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
         return at_front_principal_plane.generate_ray_at(raster_px, lens_sample, nm);
     }
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        at_front_principal_plane.generate_rays_at(raster_px, lens_sample, nm, n, out);
+    }
 };
 
 }  // namespace lc

@@ -41,6 +41,10 @@ struct ThinLensCamera {
                                     inverse_focus_per_m_by_nm[i] * (1.0 - t) + inverse_focus_per_m_by_nm[i + 1] * t);
     }
 
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        for (int k = 0; k < n; ++k) out[k] = generate_ray_at(raster_px, lens_sample, nm[k]);
+    }
+
     MaybeRay generate_ray_focused(Point2f raster_px, Point2f lens_sample, double inverse_focus_per_m) const {
         // Sample point on lens
         double ax, ay;
