@@ -44,17 +44,22 @@ bool camera_disperses(const Camera& camera) {
 class SpectralRayPacket {
   public:
     SpectralRayPacket(const Scene& scene, TileAccumulator& sums, int n_wavelengths)
-        : scene_(scene), spectra_(*scene.spectral()), sums_(sums), n_wavelengths_(n_wavelengths) {}
+        : scene_(scene), sums_(sums), n_wavelengths_(n_wavelengths) {}
 
-    // Queues a ray: wavelengths nm[0..n) with densities pdf, its film value scaled by
-    // scale (the ray's weight over the sample's wavelength count); last: the sample's last ray.
-    void add(const CameraRay& ray, float time_u, const float* nm, const float* pdf, float scale, bool last,
+    // Queues a ray: wavelengths w[first, first + n) of its sample, its film value
+    // scaled by scale (the ray's weight over the sample's wavelength count);
+    // last: the sample's last ray.
+    void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, int first, float scale, bool last,
              size_t slot) {
         const int j = batch_.count;
         batch_.origin[j] = Vec3f(ray.origin);
         batch_.direction[j] = Vec3f(ray.direction);
         batch_.time[j] = time_u;
-        for (int k = 0; k < n_wavelengths_; ++k) nm_[j][k] = nm[k], pdf_[j][k] = pdf[k];
+        for (int k = 0; k < n_wavelengths_; ++k) {
+            nm_[j][k] = w.nm[first + k];
+            basis_[j][k] = w.basis[first + k];
+            film_over_pdf_[j][k] = w.film_over_pdf[first + k];
+        }
         scale_[j] = scale;
         last_[j] = last;
         slot_[j] = slot;
@@ -64,11 +69,11 @@ class SpectralRayPacket {
     void flush() {
         if (batch_.count == 0) return;
         float radiance[kPacketSize][kHeroWavelengths];
-        scene_.spectral_radiance(batch_, nm_, n_wavelengths_, radiance);
+        scene_.spectral_radiance(batch_, nm_, basis_, n_wavelengths_, radiance);
         for (int j = 0; j < batch_.count; ++j) {
             // CIE 1931 response over the density, wavelength by wavelength
             for (int k = 0; k < n_wavelengths_; ++k)
-                pending_ += spectra_.film_at(nm_[j][k]) * (radiance[j][k] / pdf_[j][k] * scale_[j]);
+                pending_ += film_over_pdf_[j][k] * (radiance[j][k] * scale_[j]);
             if (last_[j]) {
                 sums_.add(slot_[j], pending_, 1.0f);
                 pending_ = Vec3f{};
@@ -83,11 +88,11 @@ class SpectralRayPacket {
 
   private:
     const Scene& scene_;
-    const SpectralTables& spectra_;
     TileAccumulator& sums_;
     int n_wavelengths_;
     RayBatch batch_;
-    float nm_[kPacketSize][kHeroWavelengths], pdf_[kPacketSize][kHeroWavelengths];
+    float nm_[kPacketSize][kHeroWavelengths];
+    Vec3f basis_[kPacketSize][kHeroWavelengths], film_over_pdf_[kPacketSize][kHeroWavelengths];
     float scale_[kPacketSize];
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
@@ -127,8 +132,8 @@ class SpectralCameraSampleBatcher {
         for (int i = 0; i < pending_; ++i) {
             if (!rays[i]) continue;  // vignetted: contributes nothing
             moved(&*rays[i], time_[i]);
-            packet_.add(*rays[i], time_[i], wavelengths_[i].nm, wavelengths_[i].pdf,
-                        rays[i]->weight / float(kHeroWavelengths), true, slot_[i]);
+            packet_.add(*rays[i], time_[i], wavelengths_[i], 0, rays[i]->weight / float(kHeroWavelengths), true,
+                        slot_[i]);
         }
         pending_ = 0;
     }
@@ -145,8 +150,7 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[k]) continue;
                 moved(&*rays[k], time_u);
-                packet_.add(*rays[k], time_u, &w.nm[k], &w.pdf[k], rays[k]->weight / float(traced), k == last,
-                            slot);
+                packet_.add(*rays[k], time_u, w, k, rays[k]->weight / float(traced), k == last, slot);
             }
         }
     }

@@ -82,8 +82,10 @@ class Scene {
     void radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 
     // Spectral renders (scene_spectral.cpp): radiance at each ray's
-    // wavelengths[i][0..n_wavelengths), the scene's colours taken to spectra.
-    void spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths], int n_wavelengths,
+    // wavelengths[i][0..n_wavelengths), the scene's colours taken to spectra
+    // by the basis at those wavelengths.
+    void spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
+                           const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
                            float (*radiance_out)[kHeroWavelengths]) const;
 
     // Set once, before rendering: the scene then renders spectrally.

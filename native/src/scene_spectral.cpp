@@ -23,7 +23,8 @@ float surface_offset(const Vec3f& p) {  // as scene.cpp
 }  // namespace
 
 void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
-                              int n_wavelengths, float (*out)[kHeroWavelengths]) const {
+                              const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
+                              float (*out)[kHeroWavelengths]) const {
     const SpectralTables& spectra = *spectral_;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -49,11 +50,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     }
     rtcIntersect8(valid, scene_, &context, &hits);
 
-    // The basis at each ray's wavelengths: a colour c is dot(c, basis) there.
-    Vec3f basis[kPacketSize][kHeroWavelengths];
-    for (int i = 0; i < rays.count; ++i)
-        for (int k = 0; k < n_wavelengths; ++k) basis[i][k] = spectra.basis_at(wavelengths_nm[i][k]);
-
+    // A colour c is dot(c, basis) at each ray's wavelengths.
     bool diffuse[kPacketSize] = {};
     Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];
     for (int i = 0; i < rays.count; ++i) {
