@@ -78,7 +78,7 @@ def film_table() -> np.ndarray:
     Each column integrates (trapezoid rule, which is what linear interpolation
     of the table integrates) to exactly 1.
     """
-    import colour
+    import colour  # slow to import: spectral renders only
 
     shape = colour.SpectralShape(MIN_NM, MAX_NM, STEP_NM)
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape).values
@@ -98,7 +98,7 @@ def _luminance_per_nm(wavelength_nm: float) -> float:
 @functools.lru_cache(maxsize=1)
 def _srgb_luminance_weights() -> np.ndarray:
     """Row Y of colour-science's linear sRGB -> XYZ matrix."""
-    import colour
+    import colour  # slow to import: spectral renders only
 
     return np.asarray(colour.RGB_COLOURSPACES["sRGB"].matrix_RGB_to_XYZ)[1]
 
