@@ -277,3 +277,17 @@ color = [1.0, 1.0, 1.0]
         rendered_lateral, predicted_lateral = rendered[2] - rendered[0], predicted[2] - predicted[0]
         assert abs(predicted_lateral) > 5 * pitch_mm / 20  # large enough to measure
         assert rendered_lateral == pytest.approx(predicted_lateral, rel=0.10), (angle, rendered, predicted)
+
+
+def test_sobol_wavelength_is_dimension_5_of_the_joe_kuo_sequence():
+    """The unscrambled wavelength points are SciPy's sixth Sobol' dimension (the
+    same direction-number file; SciPy's points come in Gray-code order)."""
+    from scipy.stats import qmc
+
+    spp = 256
+    film, lens, wavelength = np.zeros((spp, 2), np.float32), np.zeros((spp, 2), np.float32), np.zeros(spp, np.float32)
+    _native.diagnostics.pixel_samples(_native.diagnostics.SAMPLER_SOBOL_UNSCRAMBLED, 0, 0, film, lens,
+                                      wavelength=wavelength)
+    scipy_points = qmc.Sobol(d=6, scramble=False).random(spp)
+    gray = np.arange(spp) ^ (np.arange(spp) >> 1)
+    assert np.allclose(wavelength[gray], scipy_points[:, 5], atol=2 ** -24)
