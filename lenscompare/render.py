@@ -25,6 +25,7 @@ from .motion import moves, samples_time
 from .native_scene import build_native_scene
 from .postfilter import depth_buffer_m, pinhole_pass_spp, spread
 from .progress import progress_bar
+from .render_spectral import make_spectral
 from .scene import RENDER_MODELS, SAMPLERS, Scene
 
 # Beyond the scene file's models: the composite of chosen effects (cameras/composite.py).
@@ -44,7 +45,8 @@ _BAND_SAMPLES = 2_000_000
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
-           camera: CameraModel | None = None, effects=None) -> Image:
+           camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
+           trace_secondaries: bool = True) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -83,6 +85,12 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         (:func:`lenscompare.cameras.camera_for`); its model wins over ``model``.
     progress : bool, optional
         Force the progress bar on or off (default: on for a terminal only).
+    spectral : bool, optional
+        Override ``[render] spectral`` (:mod:`lenscompare.spectral`).
+    trace_secondaries : bool
+        Spectral renders through a dispersive camera: trace a ray per hero
+        wavelength (4 per sample; the default: 3-4x sooner to a given noise,
+        bench/bench_spectral.py) or, when False, the hero's alone.
 
     Returns
     -------
@@ -101,7 +109,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     model = camera.model if camera is not None else (model or scene.camera.model)
     if model not in RENDERABLE_MODELS:
         raise InputError("--model", f"expected one of {', '.join(RENDERABLE_MODELS)}, got {model!r}")
-    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction)
+    scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction,
+                              spectral=spectral)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
         raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
@@ -131,6 +140,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         pinhole = camera_for(scene, "pinhole")
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
+    spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
+                                   trace_secondaries=trace_secondaries) if settings.spectral else None)
 
     start = time.perf_counter()
     if settings.adaptive:
@@ -179,6 +190,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if moves(scene):  # what the image integrates over; a still scene's metadata stays as it was
         metadata["motion"] = {"shutter_s": list(settings.shutter_s), "samples_time": samples_time(scene),
                               "camera_velocity_m_per_s": list(scene.camera.velocity)}
+    if spectral_info is not None:
+        metadata["spectral"] = spectral_info
     if adaptive_info is not None:
         metadata["adaptive"] = adaptive_info
     if model == "composite":

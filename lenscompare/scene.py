@@ -39,6 +39,7 @@ from .limits import (
     MIN_FOCAL_LENGTH_MM,
 )
 from .meshes import read_mesh
+from .spectral import MAX_NM, MIN_NM
 from .units import mm_from_m
 
 __all__ = [
@@ -111,12 +112,14 @@ class RenderSettings:
     diffraction: bool = False  # the aperture's diffraction PSF applied to the image (lenscompare.diffraction)
     effects: tuple[str, ...] | None = None  # a composite render of exactly these (lenscompare.cameras.composite)
     shutter_s: tuple[float, float] = (0.0, 0.0)  # open, close (s); equal: no motion blur (lenscompare.motion)
+    spectral: bool = False  # wavelengths sampled over 380-780 nm, dispersion from the lens (lenscompare.spectral)
 
 
 @dataclass(frozen=True)
 class EmissiveMaterial:
     name: str
     color: Vec3  # radiance
+    wavelength_nm: float | None = None  # a monochromatic emitter in spectral renders (lenscompare.spectral)
 
 
 @dataclass(frozen=True)
@@ -376,7 +379,8 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 
 def _read_render(t: Table) -> RenderSettings:
-    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects", "shutter"])
+    t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects", "shutter",
+                  "spectral"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -387,6 +391,7 @@ def _read_render(t: Table) -> RenderSettings:
         diffraction=t.boolean("diffraction", default=defaults.diffraction),
         effects=_read_effects(t),
         shutter_s=_read_shutter(t),
+        spectral=t.boolean("spectral", default=defaults.spectral),
     )
 
 
@@ -409,8 +414,10 @@ def _read_materials(t: Table) -> dict[str, Material]:
         m = t.table(name)
         kind = m.string("type", choices=("emissive", "diffuse"))
         if kind == "emissive":
-            m.check_keys(["type", "color"])
-            materials[name] = EmissiveMaterial(name, m.vector("color", 3, non_negative=True, maximum=MAX_COLOR))
+            m.check_keys(["type", "color", "wavelength_nm"])
+            materials[name] = EmissiveMaterial(
+                name, m.vector("color", 3, non_negative=True, maximum=MAX_COLOR),
+                wavelength_nm=m.number("wavelength_nm", default=None, minimum=MIN_NM, maximum=MAX_NM))
             continue
         m.check_keys(["type", "color", "checker", "emission"])
         checker = None

@@ -240,6 +240,48 @@ void scatter_py(CArray<const float, -1, -1, 3> rgb, CArray<const float, -1, -1> 
     scatter_depth_of_field(in, out.data(), coverage.data());
 }
 
+// The spectral tables of lenscompare/spectral.py, checked for shape.
+std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
+                                                     CArray<const double, -1> edges_nm,
+                                                     CArray<const double, -1> probabilities,
+                                                     CArray<const double, -1> line_nm,
+                                                     CArray<const double, -1> line_radiance, double line_width_nm,
+                                                     bool trace_secondaries) {
+    const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
+    if (basis.shape(0) != n_nm || film.shape(0) != n_nm)
+        throw std::invalid_argument("spectral tables need one row per nm from 380 to 780");
+    if (edges_nm.shape(0) != probabilities.shape(0) + 1 || probabilities.shape(0) < 1)
+        throw std::invalid_argument("wavelength density: one more edge than segments");
+    if (line_nm.shape(0) != line_radiance.shape(0)) throw std::invalid_argument("one line per material");
+    auto t = std::make_shared<SpectralTables>();
+    for (size_t i = 0; i < n_nm; ++i) {
+        t->basis.push_back(Vec3f{float(basis(i, 0)), float(basis(i, 1)), float(basis(i, 2))});
+        t->film.push_back(Vec3f{float(film(i, 0)), float(film(i, 1)), float(film(i, 2))});
+    }
+    double cdf = 0.0;
+    t->cdf.push_back(0.0f);
+    for (size_t i = 0; i < probabilities.shape(0); ++i) {
+        cdf += probabilities(i);
+        t->cdf.push_back(i + 1 == probabilities.shape(0) ? 1.0f : float(cdf));
+    }
+    for (size_t i = 0; i < edges_nm.shape(0); ++i) t->edges_nm.push_back(float(edges_nm(i)));
+    t->build_guide();
+    for (size_t i = 0; i < line_nm.shape(0); ++i) {
+        t->line_nm.push_back(float(line_nm(i)));
+        t->line_radiance.push_back(float(line_radiance(i)));
+    }
+    t->line_half_width_nm = float(0.5 * line_width_nm);
+    t->trace_secondaries = trace_secondaries;
+    return t;
+}
+
+// 1 / (plane of focus) per nm for a thin lens with dispersion.
+std::vector<double> inverse_focus_table(CArray<const double, -1> inverse_focus_per_m) {
+    const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
+    if (inverse_focus_per_m.shape(0) != n_nm) throw std::invalid_argument("one value per nm from 380 to 780");
+    return std::vector<double>(inverse_focus_per_m.data(), inverse_focus_per_m.data() + n_nm);
+}
+
 }  // namespace
 
 NB_MODULE(_native, m) {
@@ -281,7 +323,19 @@ NB_MODULE(_native, m) {
              "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
              "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a,
              "sphere_velocity"_a = nb::none(), "quad_velocity"_a = nb::none(), "vertex_velocity"_a = nb::none(),
-             "shutter_s"_a = Pair{0.0, 0.0}, "camera_velocity"_a = Triple{0.0, 0.0, 0.0});
+             "shutter_s"_a = Pair{0.0, 0.0}, "camera_velocity"_a = Triple{0.0, 0.0, 0.0})
+        .def("set_spectral",
+             [](Scene& self, CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
+                CArray<const double, -1> edges_nm, CArray<const double, -1> probabilities,
+                CArray<const double, -1> line_nm, CArray<const double, -1> line_radiance, double line_width_nm,
+                bool trace_secondaries) {
+                 if (line_nm.shape(0) != self.material_count()) throw std::invalid_argument("one line per material");
+                 self.set_spectral(spectral_tables(basis, film, edges_nm, probabilities, line_nm, line_radiance,
+                                                   line_width_nm, trace_secondaries));
+             },
+             "basis"_a, "film"_a, "edges_nm"_a, "probabilities"_a, "line_nm"_a, "line_radiance"_a, "line_width_nm"_a,
+             "trace_secondaries"_a = true,
+             "Renders spectrally from now on (lenscompare/spectral.py's tables).");
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",
@@ -306,7 +360,12 @@ NB_MODULE(_native, m) {
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "screen_half_width"_a,
              "screen_half_height"_a, "lens_radius_m"_a, "focus_distance_m"_a, "disk_mapping"_a,
-             "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0);
+             "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0)
+        .def("set_dispersion",
+             [](ThinLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
+                 self.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+             },
+             "inverse_focus_per_m"_a, "1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
 
     nb::class_<ThickLensCamera>(m, "ThickLensCamera",
                                 "Thick lens: in object space the thin lens at its front principal plane H.")
@@ -314,7 +373,12 @@ NB_MODULE(_native, m) {
              [](ThickLensCamera* self, const ThinLensCamera& at_front_principal_plane) {
                  new (self) ThickLensCamera{at_front_principal_plane};
              },
-             "at_front_principal_plane"_a);
+             "at_front_principal_plane"_a)
+        .def("set_dispersion",
+             [](ThickLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
+                 self.at_front_principal_plane.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+             },
+             "inverse_focus_per_m"_a, "1 / (plane of focus at λ from H), 1/m, every nm from 380 to 780.");
 
     nb::class_<LensSystemCamera>(m, "LensSystemCamera",
                                  "Full lens system: film samples traced through every surface (lens frame in mm).")
@@ -347,6 +411,23 @@ NB_MODULE(_native, m) {
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
              "n_film_side"_a, "is_stop"_a, "stop_index"_a, "film_z_mm"_a, "entrance_pupil_z_mm"_a,
              "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0, nb::call_guard<nb::gil_scoped_release>())
+        .def("set_dispersion",
+             [](LensSystemCamera& self, CArray<const double, -1, -1> n_scene_side,
+                CArray<const double, -1, -1> n_film_side) {
+                 const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
+                 if (n_scene_side.shape(0) != n_nm || n_film_side.shape(0) != n_nm ||
+                     n_scene_side.shape(1) != self.elements.size() || n_film_side.shape(1) != self.elements.size())
+                     throw std::invalid_argument("indices: one row per nm from 380 to 780, one column per surface");
+                 self.elements_by_nm.assign(n_nm, self.elements);
+                 for (size_t w = 0; w < n_nm; ++w)
+                     for (size_t i = 0; i < self.elements.size(); ++i) {
+                         if (!(n_scene_side(w, i) >= 1.0 && n_film_side(w, i) >= 1.0))
+                             throw std::invalid_argument("indices must be >= 1");
+                         self.elements_by_nm[w][i].n_scene_side = n_scene_side(w, i);
+                         self.elements_by_nm[w][i].n_film_side = n_film_side(w, i);
+                     }
+             },
+             "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).")
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
                      "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 

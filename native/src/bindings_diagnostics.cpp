@@ -42,16 +42,18 @@ void bind_samplers(nb::module_& m) {
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
-             std::optional<CArray<float, -1>> time) {
-              if (lens.shape(0) != film.shape(0) || (time && time->shape(0) != film.shape(0)))
-                  throw std::invalid_argument("film, lens and time need one row per sample");
+             std::optional<CArray<float, -1>> time, std::optional<CArray<float, -1>> wavelength) {
+              if (lens.shape(0) != film.shape(0) || (time && time->shape(0) != film.shape(0)) ||
+                  (wavelength && wavelength->shape(0) != film.shape(0)))
+                  throw std::invalid_argument("film, lens, time and wavelength need one row per sample");
               fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
                                  reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()),
-                                 time ? time->data() : nullptr);
+                                 time ? time->data() : nullptr, wavelength ? wavelength->data() : nullptr);
           },
           "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a, "time"_a = nb::none(),
-          "Fills film and lens (spp x 2), and time (spp) when given, with one pixel's samples, as the render "
-          "draws them.");
+          "wavelength"_a = nb::none(),
+          "Fills film and lens (spp x 2), and time and wavelength (spp) when given, with one pixel's samples, as "
+          "the render draws them.");
 
     m.def("map_to_disk",
           [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {

@@ -15,6 +15,7 @@
 
 #include "render_settings.h"
 #include "render_tile.h"
+#include "render_tile_spectral.h"
 #include "scene.h"
 
 namespace lc {
@@ -61,7 +62,8 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
     arena.execute([&] {
         tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
         tbb::parallel_for(rows_cols, [&](const Tile& tile) {
-            const RenderStats tile_stats = render_tile(scene, camera, s, tile, rgb);
+            const RenderStats tile_stats = scene.spectral() ? render_tile_spectral(scene, camera, s, tile, rgb)
+                                                            : render_tile(scene, camera, s, tile, rgb);
             rays_passed += tile_stats.rays_passed;
             samples_drawn += tile_stats.samples;
         });

@@ -27,24 +27,27 @@ namespace lc {
 
 using Tile = tbb::blocked_range2d<int>;  // rows x columns of pixels
 
-// One pixel's film, lens and (for a moving scene) time samples: a sampler
-// fills a pixel's whole set at once.
+// One pixel's film, lens and (for a moving scene) time samples, and (for a
+// spectral render) wavelength samples: a sampler fills a pixel's whole set at once.
 struct PixelSamples {
     std::vector<Point2f> film, lens;
-    std::vector<float> time;  // empty unless times are drawn; then in [0, 1) over the shutter
+    std::vector<float> time;        // empty unless times are drawn; then in [0, 1) over the shutter
+    std::vector<float> wavelength;  // empty unless wavelengths are drawn; then in [0, 1) (spectral.h)
 
-    PixelSamples(int spp, bool with_time)
-        : film(size_t(spp)), lens(size_t(spp)), time(with_time ? size_t(spp) : 0) {}
+    PixelSamples(int spp, bool with_time, bool with_wavelength = false)
+        : film(size_t(spp)), lens(size_t(spp)), time(with_time ? size_t(spp) : 0),
+          wavelength(with_wavelength ? size_t(spp) : 0) {}
 
     // Samples [0, end) of the pixel; the buffers grow when an adaptive pass asks for more.
     void fill(const RenderSettings& s, uint64_t pixel_index, int end) {
-        const bool with_time = !time.empty();
+        const bool with_time = !time.empty(), with_wavelength = !wavelength.empty();
         if (film.size() < size_t(end)) {
             film.resize(size_t(end)), lens.resize(size_t(end));
             if (with_time) time.resize(size_t(end));
+            if (with_wavelength) wavelength.resize(size_t(end));
         }
         fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data(),
-                           with_time ? time.data() : nullptr);
+                           with_time ? time.data() : nullptr, with_wavelength ? wavelength.data() : nullptr);
     }
 
     float time_of(int i) const { return time.empty() ? 0.0f : time[size_t(i)]; }

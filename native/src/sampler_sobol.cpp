@@ -25,6 +25,9 @@
 // checked against SciPy's unscrambled Sobol', which reads the same file, in
 // tests/test_samplers_time.py).
 //
+// Wavelength (spectral renders) as dimension 5, a further dimension of the
+// same net (Joe & Kuo d = 6: degree 4, a = 1, m = 1 1 3 3).
+//
 // Time as dimension 4: dimensions 0-4 together form a (5,5)-sequence, so a
 // moving, defocused edge (a function of film, lens and time together) is
 // integrated by one jointly stratified set. Against padding (film, lens and
@@ -71,7 +74,7 @@ struct SobolDimension {
     uint32_t by_byte[4][256];
 };
 
-constexpr SobolDimension make_dimension(int degree, uint32_t a, const uint32_t (&m_initial)[3]) {
+constexpr SobolDimension make_dimension(int degree, uint32_t a, const uint32_t (&m_initial)[4]) {
     uint32_t m[32] = {};
     for (int k = 0; k < degree; ++k) m[k] = m_initial[k];
     for (int k = degree; k < 32; ++k) {
@@ -98,6 +101,7 @@ constexpr SobolDimension kDimension1 = make_dimension(1, 0, {1});        // x + 
 constexpr SobolDimension kDimension2 = make_dimension(2, 1, {1, 3});     // x^2 + x + 1
 constexpr SobolDimension kDimension3 = make_dimension(3, 1, {1, 3, 1});  // x^3 + x + 1
 constexpr SobolDimension kDimension4 = make_dimension(3, 2, {1, 1, 1});  // x^3 + x^2 + 1
+constexpr SobolDimension kDimension5 = make_dimension(4, 1, {1, 1, 3, 3});  // x^4 + x + 1 (Joe & Kuo d = 6)
 
 // Point `index` of a dimension, bit-reversed.
 uint32_t sobol_reversed(const SobolDimension& d, uint32_t index) {
@@ -115,12 +119,13 @@ uint32_t scrambled(uint32_t reversed_value, uint32_t seed) {
 }  // namespace
 
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_points, Point2f* film, Point2f* lens,
-                float* time) {
+                float* time, float* wavelength) {
     if (!scrambled_points) {  // dimensions 0-1 for both, unscrambled: the raw sequence, for tests
         for (int i = 0; i < spp; ++i) {
             film[i] = lens[i] = {unit_float(reverse_bits(uint32_t(i))),
                                  unit_float(reverse_bits(sobol_reversed(kDimension1, uint32_t(i))))};
             if (time) time[i] = unit_float(reverse_bits(sobol_reversed(kDimension4, uint32_t(i))));
+            if (wavelength) wavelength[i] = unit_float(reverse_bits(sobol_reversed(kDimension5, uint32_t(i))));
         }
         return;
     }
@@ -136,9 +141,15 @@ void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_poi
         lens[i] = {unit_float(scrambled(sobol_reversed(kDimension2, index), seeds[2])),
                    unit_float(scrambled(sobol_reversed(kDimension3, index), seeds[3]))};
     }
-    if (!time) return;
-    const uint32_t time_seed = rng.next_u32();
-    for (int i = 0; i < spp; ++i) time[i] = unit_float(scrambled(sobol_reversed(kDimension4, uint32_t(i)), time_seed));
+    // The time seed, then the wavelength seed: each drawn whether or not it is
+    // used, so that neither changes the other's points.
+    const uint32_t time_seed = rng.next_u32(), wavelength_seed = rng.next_u32();
+    if (time)
+        for (int i = 0; i < spp; ++i)
+            time[i] = unit_float(scrambled(sobol_reversed(kDimension4, uint32_t(i)), time_seed));
+    if (wavelength)
+        for (int i = 0; i < spp; ++i)
+            wavelength[i] = unit_float(scrambled(sobol_reversed(kDimension5, uint32_t(i)), wavelength_seed));
 }
 
 void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time) {

@@ -16,6 +16,7 @@ constexpr uint64_t kFilmStream = 0;
 constexpr uint64_t kLensStream = 1;
 constexpr uint64_t kShuffleStream = 2;
 constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
+constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 
 void fill_random(Pcg32& rng, int spp, Point2f* out) {
     for (int i = 0; i < spp; ++i) out[i] = {rng.next_float(), rng.next_float()};
@@ -77,7 +78,10 @@ void fill_regular(int spp, Point2f* film, Point2f* lens) {
 
 // Time for the non-sobol samplers: one uniform point in each of the spp
 // intervals [k/spp, (k+1)/spp), in random order (random: independent points).
-void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, float* time) {
+// Wavelengths use the same construction on their own stream (and, for
+// regular, the lattice's coordinates swapped, so that the ranks differ from time's).
+void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, float* time,
+               uint64_t stream = kTimeStream) {
     if (kind == SamplerKind::Regular) {
         // The interval centres, film cell (ix, iy) taking the rank of
         // frac(ix / p + iy / p^2 + 1/2), p the plastic number (Roberts' R2
@@ -90,7 +94,9 @@ void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, f
         std::vector<double> key(static_cast<size_t>(spp));
         std::vector<int> order(static_cast<size_t>(spp));
         for (int i = 0; i < spp; ++i) {
-            const double v = double(i % nx) / kPlastic + double(i / nx) / (kPlastic * kPlastic) + 0.5;
+            const double a = double(i % nx), b = double(i / nx);
+            const double v = stream == kTimeStream ? a / kPlastic + b / (kPlastic * kPlastic) + 0.5
+                                                   : b / kPlastic + a / (kPlastic * kPlastic) + 0.25;
             key[size_t(i)] = v - std::floor(v);
             order[size_t(i)] = i;
         }
@@ -98,7 +104,7 @@ void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, f
         for (int rank = 0; rank < spp; ++rank) time[order[size_t(rank)]] = (float(rank) + 0.5f) / float(spp);
         return;
     }
-    Pcg32 rng(seed, pixel_index, kTimeStream);
+    Pcg32 rng(seed, pixel_index, stream);
     if (kind == SamplerKind::Random) {
         for (int i = 0; i < spp; ++i) time[i] = rng.next_float();
         return;
@@ -118,7 +124,7 @@ void jittered_strata(int spp, int* nx, int* ny) {
 }
 
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
-                        Point2f* film, Point2f* lens, float* time) {
+                        Point2f* film, Point2f* lens, float* time, float* wavelength) {
     if (spp <= 0) return;
     switch (kind) {
         case SamplerKind::Random: {
@@ -142,16 +148,18 @@ void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, i
             fill_poisson(seed, pixel_index, spp, film, lens);
             break;
         case SamplerKind::Sobol:
-            fill_sobol(seed, pixel_index, spp, true, film, lens, time);
-            return;  // time from the same net
+            fill_sobol(seed, pixel_index, spp, true, film, lens, time, wavelength);
+            return;  // time and wavelength from the same net
         case SamplerKind::SobolUnscrambled:
-            fill_sobol(seed, pixel_index, spp, false, film, lens, time);
+            fill_sobol(seed, pixel_index, spp, false, film, lens, time, wavelength);
             return;
         case SamplerKind::SobolPadded:
             fill_sobol_padded(seed, pixel_index, spp, film, lens, time);
+            if (wavelength) fill_time(SamplerKind::Jittered, seed, pixel_index, spp, wavelength, kWavelengthStream);
             return;
     }
     if (time) fill_time(kind, seed, pixel_index, spp, time);
+    if (wavelength) fill_time(kind, seed, pixel_index, spp, wavelength, kWavelengthStream);
 }
 
 PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping) {

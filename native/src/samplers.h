@@ -33,6 +33,13 @@
 // dimension is stratified on its own and the pairing decorrelates them; only
 // sobol stratifies time jointly with film and lens. Drawing times never
 // changes a pixel's film and lens points: the time streams are their own.
+//
+// Wavelength (spectral renders; spectral.h maps it to nm) is drawn the same
+// way as time, from streams of its own: sobol from dimension 5 of the same
+// net (six dimensions, jointly stratified with film, lens and time), the others a
+// stratified 1-D set paired by a per-pixel permutation (regular: interval
+// centres ranked by a lattice other than time's). Drawing wavelengths never
+// changes a pixel's film, lens or time points.
 #pragma once
 
 #include <cstdint>
@@ -62,9 +69,10 @@ enum class DiskMapping : int { Polar = 0, Concentric = 1 };
 
 // Fills film[0..spp) and lens[0..spp) with points in [0,1)^2 for one pixel.
 // The same (seed, pixel_index) always gives the same points.
-// time (nullptr: not drawn) receives spp sample times in [0, 1).
+// time (nullptr: not drawn) receives spp sample times in [0, 1), and
+// wavelength (nullptr: not drawn) spp wavelength samples in [0, 1).
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
-                        Point2f* film, Point2f* lens, float* time = nullptr);
+                        Point2f* film, Point2f* lens, float* time = nullptr, float* wavelength = nullptr);
 
 // Strata of the jittered and regular samplers: nx * ny == spp, ny the largest
 // divisor of spp not above sqrt(spp) (8x8 for 64, 16x8 for 128; a prime spp
@@ -85,7 +93,7 @@ PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping);
 // One function per sampler defined in its own file; each fills one pixel.
 void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens,
-                float* time);
+                float* time, float* wavelength = nullptr);
 void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time);
 
 // Largest float below 1: where a sample that rounds up to 1 is put back.

@@ -11,9 +11,11 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "motion.h"
+#include "spectral.h"
 #include "vec.h"
 
 namespace lc {
@@ -79,6 +81,18 @@ class Scene {
     // coherent rays faster than one at a time.
     void radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 
+    // Spectral renders (scene_spectral.cpp): radiance at each ray's
+    // wavelengths[i][0..n_wavelengths), the scene's colours taken to spectra
+    // by the basis at those wavelengths.
+    void spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
+                           const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
+                           float (*radiance_out)[kHeroWavelengths]) const;
+
+    // Set once, before rendering: the scene then renders spectrally.
+    void set_spectral(std::shared_ptr<const SpectralTables> tables) { spectral_ = std::move(tables); }
+    const SpectralTables* spectral() const { return spectral_.get(); }
+    size_t material_count() const { return materials_.size(); }
+
     // Nearest hit distance (m) or +inf; used by the raw-throughput benchmark.
     float first_hit_distance(const Vec3f& origin, const Vec3f& direction) const;
 
@@ -104,6 +118,7 @@ class Scene {
     std::vector<Material> materials_;
     std::vector<PointLight> lights_;
     Vec3f background_;
+    std::shared_ptr<const SpectralTables> spectral_;
 };
 
 // Checker: parity of floor(p/size + 0.001) summed over the axes; even -> the

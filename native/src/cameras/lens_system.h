@@ -6,6 +6,7 @@
 // uniform scene, so the centre of a uniform scene reads 1 (DESIGN.md).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -42,6 +43,9 @@ struct LensSystemCamera {
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
     LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits; diagnostics may pick another
+    // Spectral renders of a lens with dispersion: the elements with their
+    // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
+    std::vector<std::vector<LensElement>> elements_by_nm;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -79,6 +83,40 @@ struct LensSystemCamera {
         // Trace the ray through the lens
         if (!trace_from_film(elements, &ray)) return std::nullopt;
         return camera_ray(ray, cos_theta, area_mm2);
+    }
+
+    bool disperses() const { return !elements_by_nm.empty(); }
+
+    // The ray at wavelength nm (indices of the nearest nm): the same film and
+    // pupil sample traced through the glass at that wavelength, scalar (the
+    // batch trace shares one set of indices between its lanes). The pupil
+    // region is the design wavelength's. A ray that meets total internal
+    // reflection at this wavelength is blocked, like any other.
+    MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
+        MaybeRay ray;
+        generate_rays_at(raster_px, lens_sample, &nm, 1, &ray);
+        return ray;
+    }
+
+    // The same sample at n wavelengths: one film point and pupil point, n traces.
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        LensRay start;
+        double area_mm2;
+        const bool aimed = sample_lens_ray(raster_px, lens_sample, &start, &area_mm2);
+        const double cos_theta = -start.direction.z;
+        for (int k = 0; k < n; ++k) {
+            out[k] = std::nullopt;
+            if (!aimed) continue;
+            LensRay ray = start;
+            if (!trace_from_film(disperses() ? glass_at(nm[k]) : elements, &ray)) continue;
+            out[k] = camera_ray(ray, cos_theta, area_mm2);
+        }
+    }
+
+    // The elements with their indices at the nm nearest to nm.
+    const std::vector<LensElement>& glass_at(float nm) const {
+        const long i = std::lround(double(nm) - 380.0);
+        return elements_by_nm[size_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1))];
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one

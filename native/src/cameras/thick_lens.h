@@ -22,6 +22,15 @@ struct ThickLensCamera {
         // is the thin-lens ray through the same lens sample.
         return at_front_principal_plane.generate_ray(raster_px, lens_sample);
     }
+
+    // Spectral renders: the thin lens at H with the focal length at λ (H itself stays put).
+    bool disperses() const { return at_front_principal_plane.disperses(); }
+    MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
+        return at_front_principal_plane.generate_ray_at(raster_px, lens_sample, nm);
+    }
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        at_front_principal_plane.generate_rays_at(raster_px, lens_sample, nm, n, out);
+    }
 };
 
 }  // namespace lc

@@ -1,0 +1,87 @@
+"""What a spectral render hands the native tracer beyond an RGB one.
+
+The scene gets the colour tables of :mod:`lenscompare.spectral` and its
+monochromatic emitters; the camera, when ``camera.lens`` disperses (a glass
+in its 5th column), gets its dispersion:
+
+- thin and thick lens: the lens's paraxial focal length f(λ)
+  (:meth:`Prescription.at_wavelength`) with the film where the d line focuses
+  it, i.e. the plane of focus 1/d(λ) = 1/f(λ) − 1/d'. Only the plane of
+  focus moves: the principal planes stay at their d-line places, so these
+  models show longitudinal colour but no lateral colour (a thin lens has none).
+- lens system: every surface's indices at each nm, traced exactly.
+
+The d-line values are shifted to equal the file's n_d ones, so that the d line
+renders as the RGB render does (a catalogue glass's own index may differ from
+the file's n_d by up to 1e-4).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .lenses import paraxial_data
+from .scene import EmissiveMaterial, Scene
+from .spectral import LINE_WIDTH_NM, basis_table, film_table, line_radiance, wavelength_distribution, wavelengths_nm
+
+__all__ = ["make_spectral"]
+
+# Focal lengths are computed this far apart and interpolated between (smooth in λ).
+_FOCAL_STEP_NM = 5.0
+
+
+def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_secondaries: bool = True) -> dict:
+    """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
+
+    Returns what the image's metadata records about it.
+    """
+    line_nm, radiance = [], []
+    for name in scene.materials:
+        m = scene.materials[name]
+        line = m.wavelength_nm if isinstance(m, EmissiveMaterial) and m.wavelength_nm is not None else None
+        line_nm.append(line or 0.0)
+        radiance.append(line_radiance(m.color, line) if line else 0.0)
+    edges_nm, probabilities = wavelength_distribution([v for v in line_nm if v > 0])
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    native_scene.set_spectral(basis_table(), film_table(), f64(edges_nm), f64(probabilities), f64(line_nm),
+                              f64(radiance), LINE_WIDTH_NM, trace_secondaries)
+    disperses = _set_dispersion(native_camera, scene, camera)
+    return {"wavelengths_nm": [float(wavelengths_nm()[0]), float(wavelengths_nm()[-1])],
+            "method": "hero wavelengths (Wilkie et al. 2014), Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
+            "camera_disperses": disperses,
+            "secondaries": ("traced" if trace_secondaries else "terminated") if disperses else "shared ray"}
+
+
+def _set_dispersion(native_camera, scene: Scene, camera) -> bool:
+    lens = scene.camera.lens
+    if lens is None or not lens.disperses or camera.model not in ("thin", "thick", "lens"):
+        return False
+    if camera.model == "lens":
+        native_camera.set_dispersion(*lens_indices(camera.prescription))
+    else:
+        native_camera.set_dispersion(inverse_focus_per_m(lens, film_distance_mm=camera.film_distance_mm,
+                                                         focal_length_mm=camera.focal_length_mm))
+    return True
+
+
+def inverse_focus_per_m(lens, *, film_distance_mm: float, focal_length_mm: float) -> np.ndarray:
+    """1 / (plane of focus) at every nm of :func:`wavelengths_nm`, 1/m, film fixed at ``film_distance_mm``."""
+    coarse_nm = np.arange(wavelengths_nm()[0], wavelengths_nm()[-1] + 0.5 * _FOCAL_STEP_NM, _FOCAL_STEP_NM)
+    power = np.array([1.0 / paraxial_data(lens.at_wavelength(nm)).effective_focal_length_mm for nm in coarse_nm])
+    d_power = 1.0 / paraxial_data(lens.at_wavelength(587.56)).effective_focal_length_mm
+    power_per_mm = np.interp(wavelengths_nm(), coarse_nm, power) - d_power + 1.0 / focal_length_mm
+    return np.ascontiguousarray(1e3 * (power_per_mm - 1.0 / film_distance_mm))
+
+
+def lens_indices(prescription) -> tuple[np.ndarray, np.ndarray]:
+    """Each surface's (scene side, film side) index at every nm, shape (401, surfaces) each."""
+    surfaces = prescription.surfaces
+    after = np.empty((len(wavelengths_nm()), len(surfaces)))
+    for i, surface in enumerate(surfaces):
+        if surface.glass is None:
+            after[:, i] = surface.n_after
+        else:
+            at = np.array([surface.glass.index_at(float(nm)) for nm in wavelengths_nm()])
+            after[:, i] = at - surface.glass.index_at(587.56) + surface.n_after
+    before = np.concatenate([np.ones((len(after), 1)), after[:, :-1]], axis=1)
+    return np.ascontiguousarray(before), np.ascontiguousarray(after)

@@ -1,0 +1,206 @@
+// The render loop's stages for a spectral render ([render] spectral = true):
+// each camera sample draws four hero wavelengths (spectral.h), the scene
+// returns radiance at them and the film weights each by its CIE 1931 response
+// over its density. A sample's value is
+//     (1 / 4) sum_k L(λ_k) film(λ_k) / p(λ_k)
+// in linear sRGB, summed into the pixel like an RGB sample (TileAccumulator).
+//
+// A camera that disperses (generate_rays_at: its ray depends on the
+// wavelength) cannot share one ray between the four. Then either each
+// wavelength gets its own ray (trace_secondaries: 4 camera rays, the sample's
+// value their sum), or only the hero is traced and the secondaries are
+// dropped (pbrt-v4's TerminateSecondary: one ray, the sample's value
+// L(λ_0) film(λ_0) / p(λ_0)). Both are unbiased; bench/bench_spectral.py
+// measures which reaches a given noise sooner: one wavelength per sample
+// leaves so much colour noise that tracing all four wins despite 4x the rays
+// (the default).
+#pragma once
+
+#include <type_traits>
+#include <utility>
+
+#include "render_tile.h"
+#include "spectral.h"
+
+namespace lc {
+
+// Cameras whose ray depends on the wavelength say so with generate_rays_at(raster, lens, nm, n, out)
+// and disperses() (false when the lens has no glass with dispersion).
+template <class Camera, class = void>
+struct HasWavelengthRays : std::false_type {};
+template <class Camera>
+struct HasWavelengthRays<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays_at(
+                                     Point2f{}, Point2f{}, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>>
+    : std::true_type {};
+
+template <class Camera>
+bool camera_disperses(const Camera& camera) {
+    if constexpr (HasWavelengthRays<Camera>::value) return camera.disperses();
+    else return false;
+}
+
+// Rays waiting for the scene, each with its wavelengths; a camera sample's
+// rays arrive together and in order, its value goes to the pixel after its last.
+class SpectralRayPacket {
+  public:
+    SpectralRayPacket(const Scene& scene, TileAccumulator& sums, int n_wavelengths)
+        : scene_(scene), sums_(sums), n_wavelengths_(n_wavelengths) {}
+
+    // Queues a ray: wavelengths w[first, first + n) of its sample, its film value
+    // scaled by scale (the ray's weight over the sample's wavelength count);
+    // last: the sample's last ray.
+    void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, int first, float scale, bool last,
+             size_t slot) {
+        const int j = batch_.count;
+        batch_.origin[j] = Vec3f(ray.origin);
+        batch_.direction[j] = Vec3f(ray.direction);
+        batch_.time[j] = time_u;
+        for (int k = 0; k < n_wavelengths_; ++k) {
+            nm_[j][k] = w.nm[first + k];
+            basis_[j][k] = w.basis[first + k];
+            film_over_pdf_[j][k] = w.film_over_pdf[first + k];
+        }
+        scale_[j] = scale;
+        last_[j] = last;
+        slot_[j] = slot;
+        if (++batch_.count == kPacketSize) flush();
+    }
+
+    void flush() {
+        if (batch_.count == 0) return;
+        float radiance[kPacketSize][kHeroWavelengths];
+        scene_.spectral_radiance(batch_, nm_, basis_, n_wavelengths_, radiance);
+        for (int j = 0; j < batch_.count; ++j) {
+            // CIE 1931 response over the density, wavelength by wavelength
+            for (int k = 0; k < n_wavelengths_; ++k)
+                pending_ += film_over_pdf_[j][k] * (radiance[j][k] * scale_[j]);
+            if (last_[j]) {
+                sums_.add(slot_[j], pending_, 1.0f);
+                pending_ = Vec3f{};
+                ++samples_shaded_;
+            }
+        }
+        batch_.count = 0;
+    }
+
+    // Camera samples with at least one ray that reached the scene.
+    uint64_t samples_shaded() const { return samples_shaded_; }
+
+  private:
+    const Scene& scene_;
+    TileAccumulator& sums_;
+    int n_wavelengths_;
+    RayBatch batch_;
+    float nm_[kPacketSize][kHeroWavelengths];
+    Vec3f basis_[kPacketSize][kHeroWavelengths], film_over_pdf_[kPacketSize][kHeroWavelengths];
+    float scale_[kPacketSize];
+    bool last_[kPacketSize];
+    size_t slot_[kPacketSize];
+    Vec3f pending_;  // the current camera sample's value so far
+    uint64_t samples_shaded_ = 0;
+};
+
+// Samples waiting for the camera. A camera that does not disperse turns a
+// batch of them into rays at once, each ray carrying all four wavelengths; a
+// dispersive one is asked for a ray per traced wavelength.
+template <class Camera>
+class SpectralCameraSampleBatcher {
+  public:
+    SpectralCameraSampleBatcher(const Camera& camera, const SceneMotion& motion, const SpectralTables& spectra,
+                                SpectralRayPacket& packet, bool disperses)
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
+          packet_(packet), disperses_(disperses) {}
+
+    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot) {
+        const HeroWavelengths w = sample_hero_wavelengths(spectra_, wavelength_u);
+        if (disperses_) {
+            add_dispersed(raster_px, lens, time_u, w, slot);
+            return;
+        }
+        raster_px_[pending_] = raster_px;
+        lens_[pending_] = lens;
+        time_[pending_] = time_u;
+        wavelengths_[pending_] = w;
+        slot_[pending_++] = slot;
+        if (pending_ == kCameraBatch) flush();
+    }
+
+    void flush() {
+        if (pending_ == 0) return;
+        MaybeRay rays[kCameraBatch];
+        camera_rays(camera_, raster_px_, lens_, pending_, rays);
+        for (int i = 0; i < pending_; ++i) {
+            if (!rays[i]) continue;  // vignetted: contributes nothing
+            moved(&*rays[i], time_[i]);
+            packet_.add(*rays[i], time_[i], wavelengths_[i], 0, rays[i]->weight / float(kHeroWavelengths), true,
+                        slot_[i]);
+        }
+        pending_ = 0;
+    }
+
+  private:
+    void add_dispersed(Point2f raster_px, Point2f lens, float time_u, const HeroWavelengths& w, size_t slot) {
+        if constexpr (HasWavelengthRays<Camera>::value) {
+            const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
+            MaybeRay rays[kHeroWavelengths];
+            camera_.generate_rays_at(raster_px, lens, w.nm, traced, rays);
+            int last = -1;
+            for (int k = 0; k < traced; ++k)
+                if (rays[k]) last = k;
+            for (int k = 0; k <= last; ++k) {
+                if (!rays[k]) continue;
+                moved(&*rays[k], time_u);
+                packet_.add(*rays[k], time_u, w, k, rays[k]->weight / float(traced), k == last, slot);
+            }
+        }
+    }
+
+    void moved(CameraRay* ray, float time_u) const {
+        if (moves_camera_) ray->origin += motion_.camera_velocity_m_per_s * motion_.time_s(time_u);
+    }
+
+    const Camera& camera_;
+    const SceneMotion& motion_;
+    bool moves_camera_;
+    const SpectralTables& spectra_;
+    SpectralRayPacket& packet_;
+    bool disperses_;
+    Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
+    float time_[kCameraBatch];
+    HeroWavelengths wavelengths_[kCameraBatch];
+    size_t slot_[kCameraBatch];
+    int pending_ = 0;
+};
+
+// render_tile (render.h) for a spectral render.
+template <class Camera>
+RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const RenderSettings& s,
+                                 const Tile& tile, float* rgb) {
+    const SpectralTables& spectra = *scene.spectral();
+    const bool disperses = camera_disperses(camera);
+    TileAccumulator sums(tile, s.variance_of_mean != nullptr);
+    SpectralRayPacket packet(scene, sums, disperses ? 1 : kHeroWavelengths);
+    SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, disperses);
+    PixelSamples samples(s.spp, scene.motion().samples_time(), true);
+    RenderStats stats;
+    for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
+        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+            const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+            const auto [first, end] = s.samples_of(pixel_index);
+            if (end == first) continue;
+            samples.fill(s, pixel_index, end);
+            stats.samples += uint64_t(end - first);
+            const size_t slot = sums.slot(x, y);
+            for (int i = first; i < end; ++i)
+                batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
+                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot);
+        }
+    }
+    batcher.flush();
+    packet.flush();
+    sums.finish(s, rgb);
+    stats.rays_passed = packet.samples_shaded();
+    return stats;
+}
+
+}  // namespace lc
