@@ -83,9 +83,9 @@ class Plan:
 
 
 def renders_color(scene: Scene) -> bool:
-    """Whether the scene's render samples wavelength (``[render] spectral``,
-    once the renderer has it), so that its models can show colour."""
-    return bool(getattr(scene.render, "spectral", False))
+    """Whether the scene's render samples wavelength (``[render] spectral``),
+    so that its models can show colour."""
+    return scene.render.spectral
 
 
 def _color_note(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -> str:
