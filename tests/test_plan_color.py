@@ -5,6 +5,8 @@ tests/rayoptics_models.py, not by our parser; wavelengths are set there."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import json
 import math
 from pathlib import Path
@@ -173,19 +175,17 @@ def test_the_lateral_colour_map_gives_the_planner_size_at_the_corner():
     assert step == composite.maps.radius_step_mm and scale[:, 0] == pytest.approx(1.0)
 
 
-def test_once_renders_are_spectral_colour_picks_the_model_that_shows_it(monkeypatch):
-    """The hook for ``[render] spectral``: longitudinal colour alone needs the
+def test_spectral_renders_pick_the_model_that_shows_colour():
+    """With ``[render] spectral = true``: longitudinal colour alone needs the
     thin lens derived from the prescription; lateral colour the lens system.
     A 6 x 4 mm film at f/11: the singlet's colour (8.8 px) dwarfs its
     aberrations (2.1 px)."""
-    import lenscompare.plan as plan_module
-
     text = lens_scene_text(SINGLET, f_number=11.0).replace("film_mm = [36.0, 24.0]", "film_mm = [6.0, 4.0]")
     scene = parse_scene(text)
     rgb = plan_scene(scene, measure_costs=False, tolerance_px=3.0)
     assert [name for name, needed in rgb.needed.items() if needed] == ["longitudinal_color"]
     assert rgb.model == "pinhole" and "longitudinal_color" not in rgb.simulated
-    monkeypatch.setattr(plan_module, "renders_color", lambda scene: True)
+    scene = dataclasses.replace(scene, render=dataclasses.replace(scene.render, spectral=True))
     spectral = plan_scene(scene, measure_costs=False, tolerance_px=3.0)
     assert spectral.model == "thin" and "longitudinal_color" in spectral.simulated and "spectral" not in spectral.note
     lateral = plan_scene(scene, measure_costs=False, tolerance_px=0.1, tolerance_percent=100.0)
