@@ -86,7 +86,7 @@ Split split_by_velocity(const float* velocities, size_t n, bool split) {
 
 Scene::Scene(const SceneArrays& a)
     : motion_(a.motion), materials_(a.materials), lights_(a.lights), background_(a.background) {
-    device_ = rtcNewDevice(nullptr);
+    device_ = rtcNewDevice(embree_device_config());
     if (!device_) throw std::runtime_error("could not create an Embree device");
     scene_ = rtcNewScene(device_);
     // Robust mode keeps box edges watertight (no light leaking between quads).
@@ -242,8 +242,8 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
     // Camera rays
-    alignas(32) int valid[kPacketSize];
-    alignas(32) RTCRayHit8 hits;
+    alignas(kPacketAlignment) int valid[kPacketSize];
+    alignas(kPacketAlignment) RTCRayHitPacket hits;
     for (int i = 0; i < kPacketSize; ++i) {
         bool used = i < rays.count;
         valid[i] = used ? -1 : 0;
@@ -259,7 +259,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         hits.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(valid, scene_, &context, &hits);
+    intersect_packet(valid, scene_, &context, &hits);
 
     // Surface points of the diffuse hits; misses and emitters are final already.
     bool diffuse[kPacketSize] = {};
@@ -291,13 +291,18 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
-        alignas(32) int shadow_valid[kPacketSize];
-        alignas(32) RTCRay8 shadow;
+        alignas(kPacketAlignment) int shadow_valid[kPacketSize];
+        alignas(kPacketAlignment) RTCRayPacket shadow;
         float cos_theta[kPacketSize] = {};
         float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
         bool any = false;
         for (int i = 0; i < kPacketSize; ++i) {
             shadow_valid[i] = 0;
+            // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
+            // split the packet and check the rays of every lane they are handed.
+            shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0.0f;
+            shadow.dir_x[i] = shadow.dir_y[i] = 0.0f, shadow.dir_z[i] = 1.0f;
+            shadow.tnear[i] = shadow.tfar[i] = shadow.time[i] = 0.0f;
             if (i >= rays.count || !diffuse[i]) continue;
             Vec3f to_light = light.position_m - p[i];
             float to_light_m = length(to_light);
@@ -321,7 +326,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             any = true;
         }
         if (!any) continue;
-        rtcOccluded8(shadow_valid, scene_, &context, &shadow);
+        occluded_packet(shadow_valid, scene_, &context, &shadow);
         for (int i = 0; i < rays.count; ++i)
             if (shadow_valid[i] && shadow.tfar[i] != -kInf)
                 out[i] += albedo[i] * light.intensity * (cos_theta[i] * falloff[i]);

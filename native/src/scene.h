@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "embree_packet.h"
 #include "motion.h"
 #include "spectral.h"
 #include "vec.h"
@@ -29,8 +30,6 @@ struct Material {
     Vec3f checker_color;  // albedo of the odd checker cubes
     float checker_size_m; // 0: no checker
 };
-
-constexpr int kPacketSize = 8;
 
 struct RayBatch {
     int count = 0;  // rays in use, <= kPacketSize
@@ -77,7 +76,7 @@ class Scene {
 
     // Radiance arriving along up to kPacketSize rays (origins in m, unit
     // directions): the one function the render loop calls. Rays go to Embree
-    // as 8-wide packets, camera rays and shadow rays alike, which traces
+    // as packets (embree_packet.h), camera rays and shadow rays alike, which traces
     // coherent rays faster than one at a time.
     void radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 

@@ -31,8 +31,8 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
     // Camera rays
-    alignas(32) int valid[kPacketSize];
-    alignas(32) RTCRayHit8 hits;
+    alignas(kPacketAlignment) int valid[kPacketSize];
+    alignas(kPacketAlignment) RTCRayHitPacket hits;
     for (int i = 0; i < kPacketSize; ++i) {
         bool used = i < rays.count;
         valid[i] = used ? -1 : 0;
@@ -48,7 +48,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
         hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         hits.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(valid, scene_, &context, &hits);
+    intersect_packet(valid, scene_, &context, &hits);
 
     // A colour c is dot(c, basis) at each ray's wavelengths.
     bool diffuse[kPacketSize] = {};
@@ -83,13 +83,17 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
-        alignas(32) int shadow_valid[kPacketSize];
-        alignas(32) RTCRay8 shadow;
+        alignas(kPacketAlignment) int shadow_valid[kPacketSize];
+        alignas(kPacketAlignment) RTCRayPacket shadow;
         float cos_theta[kPacketSize] = {};
         float falloff[kPacketSize] = {};
         bool any = false;
         for (int i = 0; i < kPacketSize; ++i) {
             shadow_valid[i] = 0;
+            // An idle lane holds a harmless ray (as scene.cpp: Embree's narrower kernels check every lane).
+            shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0.0f;
+            shadow.dir_x[i] = shadow.dir_y[i] = 0.0f, shadow.dir_z[i] = 1.0f;
+            shadow.tnear[i] = shadow.tfar[i] = shadow.time[i] = 0.0f;
             if (i >= rays.count || !diffuse[i]) continue;
             Vec3f to_light = light.position_m - p[i];
             float to_light_m = length(to_light);
@@ -111,7 +115,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
             any = true;
         }
         if (!any) continue;
-        rtcOccluded8(shadow_valid, scene_, &context, &shadow);
+        occluded_packet(shadow_valid, scene_, &context, &shadow);
         for (int i = 0; i < rays.count; ++i)
             if (shadow_valid[i] && shadow.tfar[i] != -kInf)
                 // Reflectance spectrum times the light's spectrum, wavelength by wavelength.

@@ -1,0 +1,221 @@
+"""The native tracer against its peers: Mitsuba 3 (scalar and LLVM) and POV-Ray, same scenes, one run.
+
+For each scene, every renderer renders the same picture at the same
+resolution, spp and thread count; the renders alternate (one of each per
+round, ``--repeat`` rounds) and each keeps its best, so a slow spell of a
+shared machine costs all alike. Times are render time only:
+
+- native: the render loop (no scene build), ``Image.metadata["seconds"]``;
+- Mitsuba 3: ``mi.render`` on a scene loaded once, evaluated to an array;
+  one render per variant and scene is made first and not counted, so the
+  LLVM variant's JIT compilation (and the kernel cache's first look-up) is
+  excluded;
+- POV-Ray: its own "Trace Time" (no parsing, no process start).
+
+Models: native ``thin``, ``pinhole`` and ``lens`` (Double Gauss 50 mm at
+full aperture, as bench_lens.py), Mitsuba ``thin`` (``thinlens``) and
+``pinhole`` (``perspective``), POV-Ray ``thin`` (focal blur,
+``blur_samples spp``). Scenes: ``lit_showcase`` (the showcase with
+inverse-square lights: Mitsuba has no point light without falloff, and the
+native cost per sample is the same) and ``bench/scenes/peers_lit.toml``.
+
+Mitsuba's ``direct`` integrator as exported here picks one light per sample
+where the native tracer sums every light (one shadow ray per light per
+diffuse hit), so per sample the native tracer does more work.
+
+With ``--time-to-rmse``, ``bench_povray.py`` also runs (uniform sampling
+only: POV-Ray fixed ``blur_samples`` against the native thin lens's sobol
+sweep) and its ``time_to_target`` goes into the JSON.
+
+Usage::
+
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
+        flock /tmp/bench.lock .venv/bin/python bench/bench_peers.py [--repeat 5] [--time-to-rmse]
+
+(``make bench`` sets the variable.) Prints one JSON object. Not a test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from lenscompare.errors import ExternalError  # noqa: E402
+from lenscompare.mitsuba.export import scene_to_mitsuba  # noqa: E402
+from lenscompare.mitsuba.runner import load_mitsuba, write_mitsuba  # noqa: E402
+from lenscompare.povray import render_povray  # noqa: E402
+from lenscompare.render import render  # noqa: E402
+from lenscompare.scene import load_scene  # noqa: E402
+
+SCENES = {
+    "lit_showcase": ROOT / "reference_scenes" / "lit_showcase.toml",
+    "peers_lit": ROOT / "bench" / "scenes" / "peers_lit.toml",
+}
+LENS = "dgauss.50mm"
+VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
+GOAL_OVER_LLVM = 1.2
+GOAL_LENS_OVER_PINHOLE = 0.85
+GOAL_POVRAY_TIME_RATIO = 10.0
+
+
+def log(*parts):
+    print(*parts, file=sys.stderr, flush=True)
+
+
+class MitsubaRender:
+    """One scene loaded once in one Mitsuba variant; ``seconds()`` times one render."""
+
+    def __init__(self, mi, variant, scene, model, spp, folder):
+        self.mi, self.variant = mi, variant
+        mi.set_variant(variant)
+        path = Path(folder) / f"{scene.name}_{model}_{variant}.xml"
+        write_mitsuba(scene_to_mitsuba(scene, model=model, spp=spp, seed=0), path)
+        self.loaded = mi.load_file(str(path))
+        self.seconds()  # JIT warm-up, not counted
+
+    def seconds(self):
+        self.mi.set_variant(self.variant)
+        start = time.perf_counter()
+        np.asarray(self.mi.render(self.loaded, seed=0))  # the array forces evaluation
+        return time.perf_counter() - start
+
+
+def native_timer(scene, model, spp, threads):
+    def run():
+        return render(scene, model=model, spp=spp, threads=threads, progress=False).metadata["seconds"]
+    return run
+
+
+def povray_timer(scene, spp, threads):
+    def run():
+        return render_povray(scene, model="thin", spp=spp, threads=threads).metadata["seconds"]
+    return run
+
+
+def time_to_rmse(threads):
+    """bench_povray.py with uniform sampling only; its time_to_target block."""
+    command = [sys.executable, str(ROOT / "bench" / "bench_povray.py"), "--threads", str(threads),
+               "--adaptive-spp", "", "--povray-variances", "", "--repeat", "2"]
+    log("time to 2 % RMSE:", " ".join(command))
+    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
+    result = json.loads(out)
+    return {"command": " ".join(command[1:]), **result["time_to_target"],
+            "povray_converges_to_reference": result["povray_converges_to_reference"]}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--spp", type=int, default=64)
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--resolution", type=int, nargs=2, default=(240, 160), metavar=("W", "H"))
+    parser.add_argument("--repeat", type=int, default=5, help="alternating rounds; each renderer keeps its best")
+    parser.add_argument("--scenes", default=",".join(SCENES), help="comma-separated names from " + ", ".join(SCENES))
+    parser.add_argument("--no-mitsuba", action="store_true")
+    parser.add_argument("--no-povray", action="store_true")
+    parser.add_argument("--time-to-rmse", action="store_true", help="also run bench_povray.py (uniform sampling)")
+    args = parser.parse_args()
+
+    mi = None
+    variants = {}
+    if not args.no_mitsuba:
+        for variant in VARIANTS:
+            try:
+                mi = load_mitsuba(variant)
+                variants[variant] = None
+            except ExternalError as error:
+                variants[variant] = str(error)
+                log(f"Mitsuba {variant} skipped: {error}")
+        if mi is not None:
+            import drjit as dr
+
+            dr.set_thread_count(args.threads)
+
+    results = {
+        "benchmark": "native against Mitsuba 3 and POV-Ray, render time only",
+        "spp": args.spp,
+        "threads": args.threads,
+        "resolution": list(args.resolution),
+        "repeat": args.repeat,
+        "lens": LENS,
+        "mitsuba_version": getattr(mi, "__version__", None),
+        "mitsuba_skipped": {v: e for v, e in variants.items() if e},
+        "machine": platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "scenes": {},
+    }
+    samples = args.resolution[0] * args.resolution[1] * args.spp
+    with tempfile.TemporaryDirectory(prefix="bench-peers-") as folder:
+        for name in args.scenes.split(","):
+            scene = load_scene(SCENES[name]).with_camera(resolution=tuple(args.resolution))
+            lens_scene = scene.with_camera(lens=LENS, f_number=None)
+            timers = {
+                "native_thin": native_timer(scene, "thin", args.spp, args.threads),
+                "native_pinhole": native_timer(scene, "pinhole", args.spp, args.threads),
+                "native_lens": native_timer(lens_scene, "lens", args.spp, args.threads),
+            }
+            for variant, error in variants.items():
+                if error is None:
+                    for model in ("thin", "pinhole"):
+                        log(f"{name}: loading Mitsuba {variant} {model} (and a warm-up render)")
+                        timers[f"mitsuba_{variant}_{model}"] = MitsubaRender(mi, variant, scene, model, args.spp,
+                                                                             folder).seconds
+            if not args.no_povray:
+                timers["povray_thin"] = povray_timer(scene, args.spp, args.threads)
+            best = {key: float("inf") for key in timers}
+            for round_ in range(args.repeat):
+                for key, run in timers.items():
+                    best[key] = min(best[key], run())
+                log(f"{name} round {round_ + 1}: " + ", ".join(f"{k} {samples / v / 1e6:.2f}" for k, v in best.items())
+                    + " M samples/s (best so far)")
+            sps = {key: samples / seconds for key, seconds in best.items()}
+            ratios = {}
+            for model in ("thin", "pinhole"):
+                for variant in VARIANTS:
+                    if f"mitsuba_{variant}_{model}" in sps:
+                        ratios[f"native_{model}_over_mitsuba_{variant}"] = (
+                            sps[f"native_{model}"] / sps[f"mitsuba_{variant}_{model}"])
+            ratios["native_lens_over_native_pinhole"] = sps["native_lens"] / sps["native_pinhole"]
+            ratios["native_thin_over_native_pinhole"] = sps["native_thin"] / sps["native_pinhole"]
+            if "povray_thin" in sps:
+                ratios["native_thin_over_povray_thin"] = sps["native_thin"] / sps["povray_thin"]
+            results["scenes"][name] = {
+                "source": str(SCENES[name].relative_to(ROOT)),
+                "best_seconds": best,
+                "samples_per_second": sps,
+                "ratios": ratios,
+            }
+
+    if args.time_to_rmse:
+        results["povray_time_to_2_percent_uniform"] = time_to_rmse(args.threads)
+
+    goals = {}
+    for name, entry in results["scenes"].items():
+        for model in ("thin", "pinhole"):
+            ratio = entry["ratios"].get(f"native_{model}_over_mitsuba_llvm_ad_rgb")
+            if ratio is not None:
+                goals[f"{name}_{model}_over_llvm_ge_{GOAL_OVER_LLVM}"] = ratio >= GOAL_OVER_LLVM
+        goals[f"{name}_lens_over_pinhole_ge_{GOAL_LENS_OVER_PINHOLE}"] = (
+            entry["ratios"]["native_lens_over_native_pinhole"] >= GOAL_LENS_OVER_PINHOLE)
+    rmse = results.get("povray_time_to_2_percent_uniform")
+    if rmse and rmse.get("ratio_povray_over_native"):
+        goals[f"povray_time_ratio_ge_{GOAL_POVRAY_TIME_RATIO}"] = rmse["ratio_povray_over_native"] >= \
+            GOAL_POVRAY_TIME_RATIO
+    results["goals_met"] = goals
+    print(json.dumps(results, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,18 @@
+#include "embree_packet.h"
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace lc {
+
+const char* embree_device_config() {
+    // Read once: every Scene of the process then uses the same kernels.
+    static const std::string config = [] {
+        const char* isa = std::getenv("LENSCOMPARE_EMBREE_ISA");
+        return (isa && *isa) ? std::string("max_isa=") + isa : std::string();
+    }();
+    return config.empty() ? nullptr : config.c_str();
+}
+
+}  // namespace lc
