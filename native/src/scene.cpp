@@ -101,6 +101,16 @@ Scene::Scene(const SceneArrays& a)
     const double open_s = motion_.open_s, close_s = motion_.close_s;
     const bool offset = open_s != 0.0;  // still primitives need moving to t = open
     const int steps = sampled ? 2 : 1;
+    // Moving primitives go into a scene of their own (static geometries never
+    // share one with motion-blurred ones), made when the first one comes.
+    auto target_of = [&](bool moving) {
+        if (moving && !motion_scene_) {
+            motion_scene_ = rtcNewScene(device_);
+            rtcSetSceneFlags(motion_scene_, RTC_SCENE_FLAG_ROBUST);
+            rtcSetSceneBuildQuality(motion_scene_, RTC_BUILD_QUALITY_HIGH);
+        }
+        return moving ? motion_scene_ : scene_;
+    };
 
     // Spheres: Embree's sphere points are exact spheres, not tessellations.
     const Split spheres = split_by_velocity(a.sphere_velocity, size_t(a.n_spheres), sampled);
@@ -120,13 +130,14 @@ Scene::Scene(const SceneArrays& a)
                 if (moving || offset) moved(src, velocity_at(a.sphere_velocity, ids[k]), t_s, v + 4 * k);
                 else std::copy(src, src + 3, v + 4 * k);
                 v[4 * k + 3] = src[3];
+                if (moving) movers_.add(velocity_at(a.sphere_velocity, ids[k]), v + 4 * k, src[3]);
             }
         }
         for (size_t i : ids) {
             table.material.push_back(a.sphere_material[i]);
             if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving), g, std::move(table));
     }
 
     // Quads: four corners each.
@@ -148,6 +159,7 @@ Scene::Scene(const SceneArrays& a)
                     const float* src = a.quads + 12 * ids[k] + 3 * c;
                     if (moving || offset) moved(src, velocity, t_s, v + 12 * k + 3 * c);
                     else std::copy(src, src + 3, v + 12 * k + 3 * c);
+                    if (moving) movers_.add(velocity, v + 12 * k + 3 * c, 0.0f);
                 }
             }
         }
@@ -159,7 +171,7 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.quad_material[i]);
             if (a.quad_velocity) table.velocity.push_back(velocity_at(a.quad_velocity, i));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving), g, std::move(table));
     }
 
     // Triangles: a triangle moves when its first vertex does (a mesh moves as
@@ -200,6 +212,7 @@ Scene::Scene(const SceneArrays& a)
                 const float* src = a.triangle_vertices + 3 * vertices[k];
                 if (moving || offset) moved(src, velocity_at(a.vertex_velocity, vertices[k]), t_s, v + 3 * k);
                 else std::copy(src, src + 3, v + 3 * k);
+                if (moving) movers_.add(velocity_at(a.vertex_velocity, vertices[k]), v + 3 * k, 0.0f);
             }
         }
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -213,25 +226,29 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.triangle_material[ids[k]]);
             if (a.vertex_velocity) table.velocity.push_back(velocity_at(tri_velocity.data(), ids[k]));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving), g, std::move(table));
     }
     rtcCommitScene(scene_);
+    if (motion_scene_) rtcCommitScene(motion_scene_);
+    movers_.finish();
     throw_on_device_error(device_, "building the scene");
 }
 
-void Scene::attach(RTCGeometry g, GeometryTable table) {
+void Scene::attach(RTCScene target, RTCGeometry g, GeometryTable table) {
     rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene_, g);
+    const unsigned id = rtcAttachGeometry(target, g);
     rtcReleaseGeometry(g);
-    if (tables_.size() <= id) tables_.resize(id + 1);
+    std::vector<GeometryTable>& tables = target == scene_ ? tables_ : motion_tables_;
+    if (tables.size() <= id) tables.resize(id + 1);
     // A table of zero velocities is no motion at all: the checker is then read in place.
     bool still = true;
     for (const Vec3f& v : table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
     if (still) table.velocity.clear();
-    tables_[id] = std::move(table);
+    tables[id] = std::move(table);
 }
 
 Scene::~Scene() {
+    if (motion_scene_) rtcReleaseScene(motion_scene_);
     if (scene_) rtcReleaseScene(scene_);
     if (device_) rtcReleaseDevice(device_);
 }
@@ -260,6 +277,8 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         hits.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect8(valid, scene_, &context, &hits);
+    bool hit_mover[kPacketSize] = {};
+    if (motion_scene_) intersect_movers(rays, context, hits, hit_mover);
 
     // Surface points of the diffuse hits; misses and emitters are final already.
     bool diffuse[kPacketSize] = {};
@@ -269,7 +288,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             out[i] = background_;
             continue;
         }
-        const GeometryTable& table = table_of(hits.hit.geomID[i]);
+        const GeometryTable& table = (hit_mover[i] ? motion_tables_ : tables_)[hits.hit.geomID[i]];
         const unsigned prim = hits.hit.primID[i];
         const Material& m = materials_[size_t(table.material[prim])];
         if (m.kind == MaterialKind::Emissive) {
@@ -322,15 +341,63 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         }
         if (!any) continue;
         rtcOccluded8(shadow_valid, scene_, &context, &shadow);
+        if (motion_scene_) occlude_by_movers(shadow_valid, context, shadow);
         for (int i = 0; i < rays.count; ++i)
             if (shadow_valid[i] && shadow.tfar[i] != -kInf)
                 out[i] += albedo[i] * light.intensity * (cos_theta[i] * falloff[i]);
     }
 }
 
+// The moving geometry for the rays of the packet that pass through its swept
+// bounds before their hit so far: a nearer hit replaces the static one, and
+// hit_mover says whose tables its geometry ID indexes.
+void Scene::intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHit8& hits,
+                             bool* hit_mover) const {
+    alignas(32) int valid[kPacketSize] = {};
+    bool any = false;
+    for (int i = 0; i < rays.count; ++i)
+        if (movers_.may_hit(rays.origin[i], rays.direction[i], hits.ray.tfar[i])) valid[i] = -1, any = true;
+    if (!any) return;
+    // The static hit, kept aside: Embree writes the hit only when it finds a nearer one.
+    unsigned geom[kPacketSize], prim[kPacketSize];
+    float ng[kPacketSize][3];
+    for (int i = 0; i < rays.count; ++i) {
+        geom[i] = hits.hit.geomID[i], prim[i] = hits.hit.primID[i];
+        ng[i][0] = hits.hit.Ng_x[i], ng[i][1] = hits.hit.Ng_y[i], ng[i][2] = hits.hit.Ng_z[i];
+        if (valid[i]) hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, motion_scene_, &context, &hits);
+    for (int i = 0; i < rays.count; ++i) {
+        if (!valid[i]) continue;
+        hit_mover[i] = hits.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (hit_mover[i]) continue;
+        hits.hit.geomID[i] = geom[i], hits.hit.primID[i] = prim[i];
+        hits.hit.Ng_x[i] = ng[i][0], hits.hit.Ng_y[i] = ng[i][1], hits.hit.Ng_z[i] = ng[i][2];
+    }
+}
+
+// Shadow rays that no still geometry blocks, against the moving geometry
+// where their segment passes through its swept bounds.
+void Scene::occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRay8& shadow) const {
+    alignas(32) int valid[kPacketSize] = {};
+    bool any = false;
+    for (int i = 0; i < kPacketSize; ++i) {
+        if (!shadow_valid[i] || shadow.tfar[i] == -kInf) continue;
+        const Vec3f from{shadow.org_x[i], shadow.org_y[i], shadow.org_z[i]};
+        const Vec3f d{shadow.dir_x[i], shadow.dir_y[i], shadow.dir_z[i]};
+        if (movers_.may_hit(from, d, shadow.tfar[i])) valid[i] = -1, any = true;
+    }
+    if (any) rtcOccluded8(valid, motion_scene_, &context, &shadow);
+}
+
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {
     RTCRayHit rh = intersect(scene_, origin, direction);
-    return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+    float t = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+    if (motion_scene_) {
+        RTCRayHit moving = intersect(motion_scene_, origin, direction);  // where movers are when the shutter opens
+        if (moving.hit.geomID != RTC_INVALID_GEOMETRY_ID) t = std::min(t, moving.ray.tfar);
+    }
+    return t;
 }
 
 }  // namespace lc
