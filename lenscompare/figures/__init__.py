@@ -9,9 +9,11 @@ drawing, a :class:`matplotlib.figure.Figure` rendered with Agg, no display):
 - :mod:`.lens_system`: any prescription in cross-section with traced bundles (Fig. 4);
 - :mod:`.aperture`: where the geometric models stop: defocus against
   diffraction over the f-number (the best aperture), and bokeh and diffraction
-  stars of 5, 6, 7 and 9 blades.
+  stars of 5, 6, 7 and 9 blades;
+- :mod:`.motion`: time as a sample dimension: a moving point's streak with and
+  without defocus, and one pixel's samples in lens x time (sobol against padding).
 
-:func:`write_teaching_figures` writes all four; ``lenscompare figures`` is its
+:func:`write_teaching_figures` writes all five; ``lenscompare figures`` is its
 command line.
 """
 
@@ -27,6 +29,7 @@ from ..lenses import load_prescription
 from ._style import figure_bytes
 from .aperture import aperture_figure, aperture_geometry
 from .lens_system import lens_system_figure, lens_system_geometry
+from .motion import motion_figure, motion_geometry
 from .thick_lens import thick_lens_figure, thick_lens_geometry
 from .thin_lens import thin_lens_figure, thin_lens_geometry
 
@@ -41,9 +44,11 @@ __all__ = [
     "lens_system_figure",
     "aperture_geometry",
     "aperture_figure",
+    "motion_geometry",
+    "motion_figure",
 ]
 
-FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture")
+FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture", "motion")
 
 
 def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLike = "dgauss.50mm",
@@ -74,7 +79,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
     -------
     dict of str to Path
         Figure name (``"thin_lens"``, ``"thick_lens"``, ``"lens_system"``,
-        ``"aperture"``) to
+        ``"aperture"``, ``"motion"``) to
         its PNG file; with ``svg`` the SVG is ``path.with_suffix(".svg")``.
 
     Raises
@@ -106,6 +111,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
         "aperture": aperture_figure(aperture_geometry(
             focal_length_mm=focal_length_mm, focus_distance_m=focus_distance_m,
             object_distance_m=max(object_distances_m))),
+        "motion": motion_figure(motion_geometry()),
     }
     formats = ("png", "svg") if svg else ("png",)
     rendered = {(name, fmt): figure_bytes(figure, fmt)
