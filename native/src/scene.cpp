@@ -103,12 +103,14 @@ Scene::Scene(const SceneArrays& a)
     const int steps = sampled ? 2 : 1;
     // Moving primitives go into a scene of their own (static geometries never
     // share one with motion-blurred ones), made when the first one comes.
-    auto target_of = [&](bool moving) {
+    // Robust traversal only when it holds edges to keep watertight (quads,
+    // triangles): spheres have none, and it costs time.
+    auto target_of = [&](bool moving, bool edged) {
         if (moving && !motion_scene_) {
             motion_scene_ = rtcNewScene(device_);
-            rtcSetSceneFlags(motion_scene_, RTC_SCENE_FLAG_ROBUST);
             rtcSetSceneBuildQuality(motion_scene_, RTC_BUILD_QUALITY_HIGH);
         }
+        if (moving && edged) rtcSetSceneFlags(motion_scene_, RTC_SCENE_FLAG_ROBUST);
         return moving ? motion_scene_ : scene_;
     };
 
@@ -137,7 +139,7 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.sphere_material[i]);
             if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
         }
-        attach(target_of(moving), g, std::move(table));
+        attach(target_of(moving, false), g, std::move(table));
     }
 
     // Quads: four corners each.
@@ -171,7 +173,7 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.quad_material[i]);
             if (a.quad_velocity) table.velocity.push_back(velocity_at(a.quad_velocity, i));
         }
-        attach(target_of(moving), g, std::move(table));
+        attach(target_of(moving, true), g, std::move(table));
     }
 
     // Triangles: a triangle moves when its first vertex does (a mesh moves as
@@ -226,7 +228,7 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.triangle_material[ids[k]]);
             if (a.vertex_velocity) table.velocity.push_back(velocity_at(tri_velocity.data(), ids[k]));
         }
-        attach(target_of(moving), g, std::move(table));
+        attach(target_of(moving, true), g, std::move(table));
     }
     rtcCommitScene(scene_);
     if (motion_scene_) rtcCommitScene(motion_scene_);
