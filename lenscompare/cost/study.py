@@ -16,6 +16,7 @@ from ..experiment import ExperimentSettings, prepare_scene
 from ..metrics import relative_rmse, rmse, ssim
 from ..plan import MODEL_ORDER, plan_scene
 from ..povray import render_povray
+from ..povray.runner import DEFAULT_TIME_SAMPLES
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
 from .composites import composite_study
@@ -119,7 +120,10 @@ def _omitted_effects(scene: Scene) -> dict[str, dict]:
 
 def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress,
                    cluster: Cluster | None) -> dict | None:
-    images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp})
+    # A moving scene: at most one sub-frame per ray per pixel, so each point costs its spp (32
+    # sub-frames of at least 1 ray each would make 4 spp cost 32).
+    images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp,
+                                                            "time_samples": min(spp, DEFAULT_TIME_SAMPLES)})
                                                 for spp in settings.povray_spp_values],
                        threads=settings.threads, catch=(ExternalError,), progress=progress)
     failed = next((image for image in images if isinstance(image, ExternalError)), None)
