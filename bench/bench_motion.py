@@ -7,6 +7,13 @@ Prints one JSON object with two studies on showcase.toml (thin lens, f/2.8):
   shutter 1/20 s) against the same scene still, same model, spp, sampler and
   threads; best of ``--repeats`` runs of each, interleaved (the machine is
   shared). Goal: ratio >= 0.8.
+- ``speed_one_mover``: the same with only the in-focus red sphere moving (no
+  camera motion): a scene where most of what is seen stands still.
+  Where the time goes: moving geometry sits in an Embree scene of its own,
+  asked only about rays that pass through the movers' swept bounds; each
+  Embree scene costs a fixed amount per 8-ray packet whatever it holds, so
+  what remains is the rays that really come near something moving (about a
+  third of the camera packets and a quarter of the shadow packets here).
 - ``joint_stratification`` (showcase) and ``joint_stratification_streaks``
   (only motion and defocus: five small lamps before, at and behind focus,
   each moving its own way, on black): RMSE at 64 spp against a high-spp reference of
@@ -15,6 +22,13 @@ Prints one JSON object with two studies on showcase.toml (thin lens, f/2.8):
   against padding (film, lens and time each from their own scrambled Sobol'
   points, paired at random per pixel: ``SAMPLER_SOBOL_PADDED``), mean RMSE
   over ``--seeds`` seeds. Goal: padded / joint >= 1.3.
+- ``joint_stratification_sweep``: the same ratio on three large emissive
+  spheres (before, at and behind focus) moving on black, over the shutter
+  (streak length) and the f-number (defocus blur), with the streak and blur
+  each sphere makes, in px. Joint stratification pays where the pixel's
+  integrand depends on film, lens and time at comparable scales: when a
+  streak or a blur spans many pixels, the integrand hardly depends on the film
+  position and each dimension's own stratification already does the work.
 
 Usage: python bench/bench_motion.py [--threads T] [--repeats R] [--seeds S] [--reference-spp N]
 """
@@ -48,6 +62,13 @@ def moving(scene):
     return replace(scene, objects=objects).with_camera(velocity=(0.0, 0.2, 0.0)).with_render(shutter_s=SHUTTER_S)
 
 
+def one_mover(scene):
+    """Showcase with only the in-focus red sphere moving (2 m/s sideways), the camera still."""
+    objects = tuple(replace(o, velocity=(2.0, 0.0, 0.0) if i == 1 else (0.0, 0.0, 0.0))
+                    for i, o in enumerate(scene.objects))
+    return replace(scene, objects=objects).with_render(shutter_s=SHUTTER_S)
+
+
 def streaks(still):
     """Five lamps (before, at and behind the 3 m focus) moving on black, through the showcase camera."""
     from lenscompare.scene import EmissiveMaterial, Sphere
@@ -56,6 +77,37 @@ def streaks(still):
     objects = tuple(Sphere(c, 0.06, "lamp", velocity=v) for c, v in lamps)
     return replace(still, objects=objects, lights=(), background=(0.0, 0.0, 0.0),
                    materials={"lamp": EmissiveMaterial("lamp", (4.0, 3.2, 1.8))}).with_render(shutter_s=SHUTTER_S)
+
+
+def discs(still, *, shutter_s: float, f_number: float):
+    """Three emissive spheres (before, at and behind the 3 m focus) moving on black: edges that
+    are defocused and motion blurred at once, no shading or shadows."""
+    from lenscompare.scene import EmissiveMaterial, Sphere
+    balls = [((-0.7, 0.5, 1.6), 0.12, (3.0, 1.0, 0.0)), ((0.1, 0.35, 3.0), 0.25, (-4.0, 2.0, 0.0)),
+             ((1.2, 0.8, 6.0), 0.5, (0.0, -6.0, 0.0))]
+    objects = tuple(Sphere(c, r, "lamp", velocity=v) for c, r, v in balls)
+    return replace(still, objects=objects, lights=(), background=(0.0, 0.0, 0.0),
+                   materials={"lamp": EmissiveMaterial("lamp", (1.0, 0.8, 0.5))}).with_render(
+        shutter_s=(0.0, shutter_s)).with_camera(f_number=f_number)
+
+
+def blur_and_streak_px(scene) -> dict:
+    """Each sphere's defocus blur (thin-lens circle of confusion, eq. 5) and streak (v T projected
+    at its distance, thin-lens magnification), in px."""
+    from lenscompare.optics import circle_of_confusion_mm, focus_film_distance_mm
+    cam = scene.camera
+    pixel_mm = cam.film_mm[0] / cam.resolution[0]
+    film_m = focus_film_distance_mm(cam.focus_distance_m * 1000.0, cam.focal_length_mm) / 1000.0
+    t_s = scene.render.shutter_s[1] - scene.render.shutter_s[0]
+    out = []
+    for o in scene.objects:
+        z_m = o.center[2] - cam.position[2]
+        coc = circle_of_confusion_mm(z_m * 1000.0, focus_distance_mm=cam.focus_distance_m * 1000.0,
+                                     focal_length_mm=cam.focal_length_mm,
+                                     aperture_diameter_mm=cam.focal_length_mm / cam.f_number)
+        streak_mm = float(np.hypot(o.velocity[0], o.velocity[1])) * t_s * film_m / z_m * 1000.0
+        out.append({"blur_px": round(coc / pixel_mm, 2), "streak_px": round(streak_mm / pixel_mm, 2)})
+    return out
 
 
 def speed(still, moved, *, spp: int, threads: int, repeats: int) -> dict:
@@ -93,6 +145,18 @@ def joint_stratification(moved, *, spp: int, seeds: int, reference_spp: int, thr
             "rmse_per_seed": errors, "goal_ratio": 1.3}
 
 
+def sweep(still, *, spp: int, seeds: int, reference_spp: int, threads: int) -> list:
+    rows = []
+    for shutter_s in (0.005, 0.01, 0.02, 0.05):
+        for f_number in (2.8, 8.0):
+            scene = discs(still, shutter_s=shutter_s, f_number=f_number)
+            study = joint_stratification(scene, spp=spp, seeds=seeds, reference_spp=reference_spp, threads=threads)
+            rows.append({"shutter_s": shutter_s, "f_number": f_number, "spheres": blur_and_streak_px(scene),
+                         "ratio": study["ratio"], "rmse_joint": study["rmse_joint"],
+                         "rmse_padded": study["rmse_padded"]})
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--threads", type=int, default=os.cpu_count())
@@ -112,11 +176,14 @@ def main():
         "machine": platform.machine(),
         "cpu_count": os.cpu_count(),
         "speed": speed(still, moved, spp=args.spp, threads=args.threads, repeats=args.repeats),
+        "speed_one_mover": speed(still, one_mover(still), spp=args.spp, threads=args.threads, repeats=args.repeats),
         "joint_stratification": joint_stratification(small, spp=args.spp, seeds=args.seeds,
                                                      reference_spp=args.reference_spp, threads=args.threads),
         "joint_stratification_streaks": joint_stratification(streaks(still.with_camera(resolution=(180, 120))),
                                                              spp=args.spp, seeds=args.seeds,
                                                              reference_spp=args.reference_spp, threads=args.threads),
+        "joint_stratification_sweep": sweep(still.with_camera(resolution=(180, 120)), spp=args.spp, seeds=args.seeds,
+                                            reference_spp=args.reference_spp, threads=args.threads),
     }
     print(json.dumps(result, indent=2))
 

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from lenscompare.cost import CostSettings, run_cost_study, time_table_rows
-from lenscompare.cost.study import fitted_slope, pareto_front, time_to_error
+from lenscompare.cost.study import fitted_slope, pareto_front, povray_series_wanted, time_to_error
 from lenscompare.scene import load_scene
 
 from helpers import REFERENCE_SCENES
@@ -142,3 +142,14 @@ def test_study_with_the_lens_system_gains_the_composite_rows(tmp_path):
     assert composite["error_vs_lens"]["relative_rmse"] < 0.02
     rows = [row for row in time_table_rows(results) if row[1].startswith("composite")]
     assert len(rows) == 1 and "composites" in (tmp_path / "a" / "index.html").read_text()
+
+
+def test_quick_study_times_pov_ray_on_still_scenes_only():
+    """POV-Ray renders a moving scene as the mean of sub-frames: a quick study
+    leaves it out there (it would take most of the study), a full one does not."""
+    moving = load_scene(REFERENCE_SCENES / "moving_showcase.toml")
+    still = load_scene(REFERENCE_SCENES / "showcase.toml")
+    assert not povray_series_wanted(moving, CostSettings(quick=True))
+    assert povray_series_wanted(moving, CostSettings(quick=False))
+    assert povray_series_wanted(still, CostSettings(quick=True))
+    assert not povray_series_wanted(still, CostSettings(quick=True, povray=False))

@@ -289,7 +289,7 @@ def test_lens_system_refuses_a_focus_the_lens_cannot_reach():
 def test_write_teaching_figures_writes_valid_pngs_and_svgs(tmp_path):
     out = tmp_path / "new" / "figures"  # created with its parents
     written = write_teaching_figures(out)
-    assert set(written) == {"thin_lens", "thick_lens", "lens_system", "aperture", "chromatic"}
+    assert set(written) == {"thin_lens", "thick_lens", "lens_system", "aperture", "chromatic", "motion"}
     for name, path in written.items():
         assert path == out / f"{name}.png"
         data = path.read_bytes()
@@ -365,8 +365,8 @@ def test_command_writes_the_figures_for_a_user_lens(main, tmp_path, capsys):
                    "--object-distances", "0.7", "4", "--no-svg", "--json"])
     assert status == 0, capsys.readouterr().err
     report = json.loads(capsys.readouterr().out)
-    assert set(report["figures"]) == {"thin_lens", "thick_lens", "lens_system", "aperture", "chromatic"}
-    assert sorted(p.name for p in out.iterdir()) == ["aperture.png", "chromatic.png", "lens_system.png",
+    assert set(report["figures"]) == {"thin_lens", "thick_lens", "lens_system", "aperture", "chromatic", "motion"}
+    assert sorted(p.name for p in out.iterdir()) == ["aperture.png", "chromatic.png", "lens_system.png", "motion.png",
                                                      "thick_lens.png", "thin_lens.png"]
 
 

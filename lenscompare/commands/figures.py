@@ -1,6 +1,6 @@
 """``lenscompare figures -o DIR``: the teaching figures (paper Figs. 1-4) as PNG and SVG.
 
-Writes ``thin_lens``, ``thick_lens``, ``lens_system``, ``aperture`` and ``chromatic`` (``.png``
+Writes ``thin_lens``, ``thick_lens``, ``lens_system``, ``aperture``, ``chromatic`` and ``motion`` (``.png``
 and ``.svg``) into DIR; see :func:`lenscompare.figures.write_teaching_figures`.
 """
 
@@ -24,14 +24,16 @@ _DISTANCE = number_option(maximum=MAX_LENGTH_M)
 def add_parser(subparsers) -> None:
     """Register ``figures``."""
     p = subparsers.add_parser(
-        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture, chromatic)",
+        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture, chromatic, motion)",
         description="Draw the teaching figures of the paper (Figs. 1-4) from lenscompare's own "
         "optics code: the thin lens with real numbers (eqs. 1-10), the thick-lens model of LENS "
         "(H, H', F, F' against traced rays), and LENS in cross-section with traced bundles, its "
         "exit pupil and the film; and the aperture: defocus against diffraction over the f-number (the best "
-        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades; and chromatic aberration: ray "
-        "fans at F, d and C through a dispersive lens and its focal shift against wavelength. Writes "
-        "thin_lens, thick_lens, lens_system, aperture and chromatic as .png and .svg "
+        "aperture), bokeh and diffraction stars of 5, 6, 7 and 9 blades; chromatic aberration: ray "
+        "fans at F, d and C through a dispersive lens and its focal shift against wavelength; and motion: "
+        "a moving point's streak with and without defocus, and one pixel's samples in lens x time (sobol "
+        "against padding). Writes thin_lens, thick_lens, lens_system, aperture, chromatic and motion as "
+        ".png and .svg "
         "into DIR (created if missing).")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="folder for the figures")
     p.add_argument("--lens", default="dgauss.50mm", metavar="NAME|PATH",

@@ -17,7 +17,7 @@ from ..progress import progress_bar
 from ..scene import Scene
 from .findings import findings
 from .plots import plot_error_vs_time
-from .study import CostSettings, prepared_for_cost, study_scene
+from .study import CostSettings, povray_series_wanted, prepared_for_cost, study_scene
 
 __all__ = ["CostSettings", "run_cost_study", "time_table_rows"]
 
@@ -41,14 +41,15 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
     out = prepare_output_dir(out_dir)
     stems = stems or unique_file_names(s.name for s in scenes)
     start = time.perf_counter()
-    per_scene = len(settings.models) * len(settings.samplers) * len(settings.spp_values) + (
-        len(settings.povray_spp_values) if settings.povray else 0)
+    renders = sum(len(settings.models) * len(settings.samplers) * len(settings.spp_values)
+                  + (len(settings.povray_spp_values) if povray_series_wanted(p, settings) else 0)
+                  for p in prepared_scenes)
     results = {"settings": {"quick": settings.quick, "lens": settings.lens, "samplers": list(settings.samplers),
                             "spp_values": list(settings.spp_values), "reference_spp": settings.reference_spp,
                             "threads": settings.threads or os.cpu_count(), "target_relative_rmse": 0.01,
                             "scheduler": cluster.address if cluster else None},
                "scenes": {}, "findings": []}
-    with progress_bar(per_scene * len(scenes), description="cost study", unit="render", enabled=progress) as bar:
+    with progress_bar(renders, description="cost study", unit="render", enabled=progress) as bar:
         for scene, prepared in zip(scenes, prepared_scenes):
             study = study_scene(prepared, settings, progress=bar, cluster=cluster)
             study["plot"] = plot_error_vs_time(prepared.name, study, out / f"{stems[scene.name]}.cost.png")

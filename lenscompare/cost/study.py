@@ -17,12 +17,14 @@ from ..metrics import relative_rmse, rmse, ssim
 from ..plan import MODEL_ORDER, plan_scene, renders_color
 from ..plan.effects import COLOR_EFFECTS
 from ..povray import render_povray
+from ..motion import samples_time
+from ..povray.runner import DEFAULT_TIME_SAMPLES
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
 from .composites import composite_study
 from .references import converged_reference
 
-__all__ = ["CostSettings", "study_scene", "time_to_error", "fitted_slope", "pareto_front"]
+__all__ = ["CostSettings", "study_scene", "povray_series_wanted", "time_to_error", "fitted_slope", "pareto_front"]
 
 TARGET_RELATIVE_RMSE = 0.01
 
@@ -105,9 +107,18 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
         # The composite of parts, scored against the same lens-system reference.
         result["composite"] = composite_study(scene, settings, references["lens"], time_to_error=time_to_error,
                                               target=TARGET_RELATIVE_RMSE)
-    if settings.povray and "thin" in references:
+    if povray_series_wanted(scene, settings) and "thin" in references:
         result["povray"] = _povray_series(scene, references["thin"], settings, progress, cluster)
+    elif settings.povray and "thin" in references:
+        result["povray"] = {"error": "left out of a quick study: POV-Ray renders a moving scene as the mean of "
+                                     "sub-frames, which costs most of the study (run without --quick)"}
     return result
+
+
+def povray_series_wanted(scene: Scene, settings: CostSettings) -> bool:
+    """Whether the study times POV-Ray on ``scene``: asked for, and not a moving
+    scene in a quick study (its sub-frames would take most of the study's time)."""
+    return settings.povray and not (settings.quick and samples_time(scene))
 
 
 def _omitted_effects(scene: Scene) -> dict[str, dict]:
@@ -121,7 +132,10 @@ def _omitted_effects(scene: Scene) -> dict[str, dict]:
 
 def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress,
                    cluster: Cluster | None) -> dict | None:
-    images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp})
+    # A moving scene: at most one sub-frame per ray per pixel, so each point costs its spp (32
+    # sub-frames of at least 1 ray each would make 4 spp cost 32).
+    images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp,
+                                                            "time_samples": min(spp, DEFAULT_TIME_SAMPLES)})
                                                 for spp in settings.povray_spp_values],
                        threads=settings.threads, catch=(ExternalError,), progress=progress)
     failed = next((image for image in images if isinstance(image, ExternalError)), None)

@@ -12,6 +12,8 @@ drawing, a :class:`matplotlib.figure.Figure` rendered with Agg, no display):
   stars of 5, 6, 7 and 9 blades;
 - :mod:`.chromatic`: ray fans at F, d and C through a dispersive lens, and
   its focal shift against wavelength (issue 15).
+- :mod:`.motion`: time as a sample dimension: a moving point's streak with and
+  without defocus, and one pixel's samples in lens x time (sobol against padding).
 
 :func:`write_teaching_figures` writes all five; ``lenscompare figures`` is its
 command line.
@@ -30,6 +32,7 @@ from ._style import figure_bytes
 from .aperture import aperture_figure, aperture_geometry
 from .chromatic import chromatic_figure, chromatic_geometry, teaching_singlet
 from .lens_system import lens_system_figure, lens_system_geometry
+from .motion import motion_figure, motion_geometry
 from .thick_lens import thick_lens_figure, thick_lens_geometry
 from .thin_lens import thin_lens_figure, thin_lens_geometry
 
@@ -46,9 +49,11 @@ __all__ = [
     "aperture_figure",
     "chromatic_geometry",
     "chromatic_figure",
+    "motion_geometry",
+    "motion_figure",
 ]
 
-FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture", "chromatic")
+FIGURE_NAMES = ("thin_lens", "thick_lens", "lens_system", "aperture", "chromatic", "motion")
 
 
 def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLike = "dgauss.50mm",
@@ -83,7 +88,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
     -------
     dict of str to Path
         Figure name (``"thin_lens"``, ``"thick_lens"``, ``"lens_system"``,
-        ``"aperture"``, ``"chromatic"``) to
+        ``"aperture"``, ``"chromatic"``, ``"motion"``) to
         its PNG file; with ``svg`` the SVG is ``path.with_suffix(".svg")``.
 
     Raises
@@ -120,6 +125,7 @@ def write_teaching_figures(out_dir: str | os.PathLike, *, lens: str | os.PathLik
             focal_length_mm=focal_length_mm, focus_distance_m=focus_distance_m,
             object_distance_m=max(object_distances_m))),
         "chromatic": chromatic_figure(chromatic_geometry(dispersive)),
+        "motion": motion_figure(motion_geometry()),
     }
     formats = ("png", "svg") if svg else ("png",)
     rendered = {(name, fmt): figure_bytes(figure, fmt)

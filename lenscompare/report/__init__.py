@@ -180,14 +180,16 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
 
 def _cost_section(scenes, out: Path, settings: ExperimentSettings, stems: dict[str, str],
                   cluster: Cluster | None) -> dict | None:
-    """A small cost study on the showcase scene (or the first scene)."""
+    """A small cost study on the showcase scene (or the first scene), and on
+    the moving showcase when the report has it (what motion blur costs)."""
     scene = next((s for s in scenes if s.name == "showcase"), scenes[0] if scenes else None)
     if scene is None:
         return None
+    studied = [scene] + [s for s in scenes if s.name == "moving_showcase" and s is not scene]
     cost = CostSettings(quick=True, lens=settings.lens, threads=settings.threads, povray=settings.povray,
                         samplers=("random", "jittered", "sobol"))
-    results = run_cost_study([scene], out / "cost", cost, progress=False, cluster=cluster,
-                             stems={scene.name: stems[scene.name]})
+    results = run_cost_study(studied, out / "cost", cost, progress=False, cluster=cluster,
+                             stems={s.name: stems[s.name] for s in studied})
     return {"index": "cost/index.html", "findings": results["findings"],
             "plot": f"cost/{results['scenes'][scene.name]['plot']}",
             "time_to_1_percent": [list(row) for row in time_table_rows(results)]}

@@ -10,20 +10,10 @@ namespace lc {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-// (0.1 mm)^2: the smallest squared distance an inverse-square light falls off over
-// (lenscompare.povray.export.INVERSE_SQUARE_FADE_DISTANCE_M squared).
-constexpr float kNearestFalloffM2 = 1e-8f;
 
 void throw_on_device_error(RTCDevice device, const char* what) {
     RTCError err = rtcGetDeviceError(device);
     if (err != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error while ") + what);
-}
-
-// Offset that lifts a shadow-ray origin off the surface it starts on, scaled
-// with the coordinates because float spacing grows with them.
-float surface_offset(const Vec3f& p) {
-    float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), 1.0f});
-    return 1e-4f * m;
 }
 
 // One closest-hit query; the hit's geomID is RTC_INVALID_GEOMETRY_ID on a miss.
@@ -101,6 +91,18 @@ Scene::Scene(const SceneArrays& a)
     const double open_s = motion_.open_s, close_s = motion_.close_s;
     const bool offset = open_s != 0.0;  // still primitives need moving to t = open
     const int steps = sampled ? 2 : 1;
+    // Moving primitives go into a scene of their own (static geometries never
+    // share one with motion-blurred ones), made when the first one comes.
+    // Robust traversal only when it holds edges to keep watertight (quads,
+    // triangles): spheres have none, and it costs time.
+    auto target_of = [&](bool moving, bool edged) {
+        if (moving && !motion_scene_) {
+            motion_scene_ = rtcNewScene(device_);
+            rtcSetSceneBuildQuality(motion_scene_, RTC_BUILD_QUALITY_HIGH);
+        }
+        if (moving && edged) rtcSetSceneFlags(motion_scene_, RTC_SCENE_FLAG_ROBUST);
+        return moving ? motion_scene_ : scene_;
+    };
 
     // Spheres: Embree's sphere points are exact spheres, not tessellations.
     const Split spheres = split_by_velocity(a.sphere_velocity, size_t(a.n_spheres), sampled);
@@ -120,13 +122,14 @@ Scene::Scene(const SceneArrays& a)
                 if (moving || offset) moved(src, velocity_at(a.sphere_velocity, ids[k]), t_s, v + 4 * k);
                 else std::copy(src, src + 3, v + 4 * k);
                 v[4 * k + 3] = src[3];
+                if (moving) movers_.add(velocity_at(a.sphere_velocity, ids[k]), v + 4 * k, src[3]);
             }
         }
         for (size_t i : ids) {
             table.material.push_back(a.sphere_material[i]);
             if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving, false), g, std::move(table));
     }
 
     // Quads: four corners each.
@@ -148,6 +151,7 @@ Scene::Scene(const SceneArrays& a)
                     const float* src = a.quads + 12 * ids[k] + 3 * c;
                     if (moving || offset) moved(src, velocity, t_s, v + 12 * k + 3 * c);
                     else std::copy(src, src + 3, v + 12 * k + 3 * c);
+                    if (moving) movers_.add(velocity, v + 12 * k + 3 * c, 0.0f);
                 }
             }
         }
@@ -159,7 +163,7 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.quad_material[i]);
             if (a.quad_velocity) table.velocity.push_back(velocity_at(a.quad_velocity, i));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving, true), g, std::move(table));
     }
 
     // Triangles: a triangle moves when its first vertex does (a mesh moves as
@@ -200,6 +204,7 @@ Scene::Scene(const SceneArrays& a)
                 const float* src = a.triangle_vertices + 3 * vertices[k];
                 if (moving || offset) moved(src, velocity_at(a.vertex_velocity, vertices[k]), t_s, v + 3 * k);
                 else std::copy(src, src + 3, v + 3 * k);
+                if (moving) movers_.add(velocity_at(a.vertex_velocity, vertices[k]), v + 3 * k, 0.0f);
             }
         }
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -213,25 +218,29 @@ Scene::Scene(const SceneArrays& a)
             table.material.push_back(a.triangle_material[ids[k]]);
             if (a.vertex_velocity) table.velocity.push_back(velocity_at(tri_velocity.data(), ids[k]));
         }
-        attach(g, std::move(table));
+        attach(target_of(moving, true), g, std::move(table));
     }
     rtcCommitScene(scene_);
+    if (motion_scene_) rtcCommitScene(motion_scene_);
+    movers_.finish();
     throw_on_device_error(device_, "building the scene");
 }
 
-void Scene::attach(RTCGeometry g, GeometryTable table) {
+void Scene::attach(RTCScene target, RTCGeometry g, GeometryTable table) {
     rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene_, g);
+    const unsigned id = rtcAttachGeometry(target, g);
     rtcReleaseGeometry(g);
-    if (tables_.size() <= id) tables_.resize(id + 1);
+    std::vector<GeometryTable>& tables = target == scene_ ? tables_ : motion_tables_;
+    if (tables.size() <= id) tables.resize(id + 1);
     // A table of zero velocities is no motion at all: the checker is then read in place.
     bool still = true;
     for (const Vec3f& v : table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
     if (still) table.velocity.clear();
-    tables_[id] = std::move(table);
+    tables[id] = std::move(table);
 }
 
 Scene::~Scene() {
+    if (motion_scene_) rtcReleaseScene(motion_scene_);
     if (scene_) rtcReleaseScene(scene_);
     if (device_) rtcReleaseDevice(device_);
 }
@@ -240,102 +249,44 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-
-    // Camera rays
-    alignas(kPacketAlignment) int valid[kPacketSize];
-    alignas(kPacketAlignment) RTCRayHitPacket hits;
-    for (int i = 0; i < kPacketSize; ++i) {
-        bool used = i < rays.count;
-        valid[i] = used ? -1 : 0;
-        Vec3f o = used ? rays.origin[i] : Vec3f{}, d = used ? rays.direction[i] : Vec3f{0, 0, 1};
-        hits.ray.org_x[i] = o.x, hits.ray.org_y[i] = o.y, hits.ray.org_z[i] = o.z;
-        hits.ray.dir_x[i] = d.x, hits.ray.dir_y[i] = d.y, hits.ray.dir_z[i] = d.z;
-        hits.ray.tnear[i] = 0.0f;
-        hits.ray.tfar[i] = kInf;
-        hits.ray.time[i] = used ? rays.time[i] : 0.0f;
-        hits.ray.mask[i] = 0xFFFFFFFFu;
-        hits.ray.id[i] = unsigned(i);
-        hits.ray.flags[i] = 0;
-        hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-        hits.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    }
-    intersect_packet(valid, scene_, &context, &hits);
+    CameraHits hits;
+    trace_camera_rays(rays, context, hits);
 
     // Surface points of the diffuse hits; misses and emitters are final already.
     bool diffuse[kPacketSize] = {};
     Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];
     for (int i = 0; i < rays.count; ++i) {
-        if (hits.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+        if (hits.missed(i)) {
             out[i] = background_;
             continue;
         }
-        const GeometryTable& table = table_of(hits.hit.geomID[i]);
-        const unsigned prim = hits.hit.primID[i];
-        const Material& m = materials_[size_t(table.material[prim])];
+        const Material& m = materials_[size_t(material_of(hits, i))];
         if (m.kind == MaterialKind::Emissive) {
             out[i] = m.color;
             continue;
         }
         diffuse[i] = true;
-        p[i] = rays.origin[i] + rays.direction[i] * hits.ray.tfar[i];
-        n[i] = normalize(Vec3f{hits.hit.Ng_x[i], hits.hit.Ng_y[i], hits.hit.Ng_z[i]});
-        if (dot(n[i], rays.direction[i]) > 0.0f) n[i] = -n[i];  // two-sided: shade the side the ray sees
-        // A moving object carries its checker: read it where the point was at t = 0.
-        Vec3f p_texture = p[i];
-        if (!table.velocity.empty())
-            p_texture = p[i] - table.velocity[prim] * float(motion_.time_s(rays.time[i]));
-        albedo[i] =
-            (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
+        diffuse_surface(rays, hits, i, m, p[i], n[i], albedo[i]);
         out[i] = m.emission;
     }
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
-        alignas(kPacketAlignment) int shadow_valid[kPacketSize];
-        alignas(kPacketAlignment) RTCRayPacket shadow;
-        float cos_theta[kPacketSize] = {};
-        float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
-        bool any = false;
-        for (int i = 0; i < kPacketSize; ++i) {
-            shadow_valid[i] = 0;
-            // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
-            // split the packet and check the rays of every lane they are handed.
-            shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0.0f;
-            shadow.dir_x[i] = shadow.dir_y[i] = 0.0f, shadow.dir_z[i] = 1.0f;
-            shadow.tnear[i] = shadow.tfar[i] = shadow.time[i] = 0.0f;
-            if (i >= rays.count || !diffuse[i]) continue;
-            Vec3f to_light = light.position_m - p[i];
-            float to_light_m = length(to_light);
-            cos_theta[i] = dot(n[i], to_light) / to_light_m;
-            if (!(cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
-            // 1 / d^2, at most 1 / (0.1 mm)^2 (POV-Ray's export caps it there too): a surface at
-            // the light itself stays finite.
-            falloff[i] = light.inverse_square ? 1.0f / std::max(to_light_m * to_light_m, kNearestFalloffM2) : 1.0f;
-            Vec3f from = p[i] + n[i] * surface_offset(p[i]);
-            Vec3f d = light.position_m - from;
-            float dist = length(d);
-            shadow.org_x[i] = from.x, shadow.org_y[i] = from.y, shadow.org_z[i] = from.z;
-            shadow.dir_x[i] = d.x / dist, shadow.dir_y[i] = d.y / dist, shadow.dir_z[i] = d.z / dist;
-            shadow.tnear[i] = 0.0f;
-            shadow.tfar[i] = dist * (1.0f - 1e-5f);
-            shadow.time[i] = rays.time[i];  // the shadow at the same instant
-            shadow.mask[i] = 0xFFFFFFFFu;
-            shadow.id[i] = unsigned(i);
-            shadow.flags[i] = 0;
-            shadow_valid[i] = -1;
-            any = true;
-        }
-        if (!any) continue;
-        occluded_packet(shadow_valid, scene_, &context, &shadow);
+        ShadowRays shadow;
+        if (!trace_shadow_rays(light, rays, diffuse, p, n, context, shadow)) continue;
         for (int i = 0; i < rays.count; ++i)
-            if (shadow_valid[i] && shadow.tfar[i] != -kInf)
-                out[i] += albedo[i] * light.intensity * (cos_theta[i] * falloff[i]);
+            if (shadow.lit(i)) out[i] += albedo[i] * light.intensity * (shadow.cos_theta[i] * shadow.falloff[i]);
     }
 }
 
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {
     RTCRayHit rh = intersect(scene_, origin, direction);
-    return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+    float t = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+    if (motion_scene_) {
+        RTCRayHit moving = intersect(motion_scene_, origin, direction);  // where movers are when the shutter opens
+        if (moving.hit.geomID != RTC_INVALID_GEOMETRY_ID) t = std::min(t, moving.ray.tfar);
+    }
+    return t;
 }
 
 }  // namespace lc

@@ -3,9 +3,10 @@
 // light, no distance falloff (POV-Ray's default) or inverse-square falloff
 // (Mitsuba's and pbrt's point light), background colour for misses.
 // Objects may move during the shutter (motion.h): moving primitives go into
-// their own Embree geometries with two time steps, static ones stay in
-// geometries without motion, so a scene where one sphere moves keeps the
-// static BVH for everything else.
+// geometries with two time steps in an Embree scene of their own, static ones
+// stay in the static scene, so a scene where one sphere moves keeps the
+// static BVH for everything else, and only rays that pass through the movers'
+// swept bounds pay for a second traversal.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -95,7 +96,6 @@ class Scene {
     // Nearest hit distance (m) or +inf; used by the raw-throughput benchmark.
     float first_hit_distance(const Vec3f& origin, const Vec3f& direction) const;
 
-    RTCScene embree_scene() const { return scene_; }
 
     // The shutter and what moves; the render loop draws sample times from it.
     const SceneMotion& motion() const { return motion_; }
@@ -107,12 +107,40 @@ class Scene {
         std::vector<Vec3f> velocity;  // empty: the geometry does not move
     };
 
-    void attach(RTCGeometry geometry, GeometryTable table);
-    const GeometryTable& table_of(unsigned geom_id) const { return tables_[geom_id]; }
+    void attach(RTCScene target, RTCGeometry geometry, GeometryTable table);
+
+    // The stages radiance and spectral_radiance share (scene_trace.cpp), so
+    // that both see the same hits, surfaces and shadows.
+    struct CameraHits {  // one packet of camera rays, traced
+        alignas(kPacketAlignment) RTCRayHitPacket packet;
+        bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
+        bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
+    };
+    struct ShadowRays {  // one packet of shadow rays toward one light, traced
+        alignas(kPacketAlignment) int valid[kPacketSize];
+        alignas(kPacketAlignment) RTCRayPacket packet;
+        float cos_theta[kPacketSize] = {};
+        float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
+        bool lit(int i) const;            // traced and not blocked
+    };
+    void trace_camera_rays(const RayBatch& rays, RTCIntersectContext& context, CameraHits& hits) const;
+    // The material index of hit i (not a miss).
+    int material_of(const CameraHits& hits, int i) const;
+    // Diffuse hit i's point (m), normal facing the ray, and albedo there.
+    void diffuse_surface(const RayBatch& rays, const CameraHits& hits, int i, const Material& m, Vec3f& p,
+                         Vec3f& n, Vec3f& albedo) const;
+    // Shadow rays from the diffuse points toward light, traced; false when none was needed.
+    bool trace_shadow_rays(const PointLight& light, const RayBatch& rays, const bool* diffuse, const Vec3f* p,
+                           const Vec3f* n, RTCIntersectContext& context, ShadowRays& shadow) const;
+    void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
+                          bool* hit_mover) const;
+    void occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const;
 
     RTCDevice device_ = nullptr;
-    RTCScene scene_ = nullptr;
-    std::vector<GeometryTable> tables_;  // by Embree geometry ID
+    RTCScene scene_ = nullptr;         // still geometry
+    RTCScene motion_scene_ = nullptr;  // moving geometry, two time steps; nullptr when nothing moves
+    std::vector<GeometryTable> tables_, motion_tables_;  // by Embree geometry ID in scene_, motion_scene_
+    SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;
     std::vector<PointLight> lights_;

@@ -1,0 +1,156 @@
+// The stages of shading both radiance paths share (scene.cpp for RGB,
+// scene_spectral.cpp for spectral renders): camera rays to their hits, a
+// diffuse hit's surface, and the shadow rays toward one light. Each path then
+// only says what colour a hit, the background and a light contribute.
+// Rays go to Embree as packets (embree_packet.h); a moving scene's geometry
+// lives in a scene of its own, traced only by the rays that pass its bounds.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "scene.h"
+
+namespace lc {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// (0.1 mm)^2: the smallest squared distance an inverse-square light falls off over
+// (lenscompare.povray.export.INVERSE_SQUARE_FADE_DISTANCE_M squared).
+constexpr float kNearestFalloffM2 = 1e-8f;
+
+// Offset that lifts a shadow-ray origin off the surface it starts on, scaled
+// with the coordinates because float spacing grows with them.
+float surface_offset(const Vec3f& p) {
+    float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), 1.0f});
+    return 1e-4f * m;
+}
+
+}  // namespace
+
+bool Scene::ShadowRays::lit(int i) const { return valid[i] && packet.tfar[i] != -kInf; }
+
+void Scene::trace_camera_rays(const RayBatch& rays, RTCIntersectContext& context, CameraHits& hits) const {
+    alignas(kPacketAlignment) int valid[kPacketSize];
+    RTCRayHitPacket& packet = hits.packet;
+    for (int i = 0; i < kPacketSize; ++i) {
+        bool used = i < rays.count;
+        valid[i] = used ? -1 : 0;
+        Vec3f o = used ? rays.origin[i] : Vec3f{}, d = used ? rays.direction[i] : Vec3f{0, 0, 1};
+        packet.ray.org_x[i] = o.x, packet.ray.org_y[i] = o.y, packet.ray.org_z[i] = o.z;
+        packet.ray.dir_x[i] = d.x, packet.ray.dir_y[i] = d.y, packet.ray.dir_z[i] = d.z;
+        packet.ray.tnear[i] = 0.0f;
+        packet.ray.tfar[i] = kInf;
+        packet.ray.time[i] = used ? rays.time[i] : 0.0f;
+        packet.ray.mask[i] = 0xFFFFFFFFu;
+        packet.ray.id[i] = unsigned(i);
+        packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    intersect_packet(valid, scene_, &context, &packet);
+    if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
+}
+
+int Scene::material_of(const CameraHits& hits, int i) const {
+    const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[hits.packet.hit.geomID[i]];
+    return table.material[hits.packet.hit.primID[i]];
+}
+
+void Scene::diffuse_surface(const RayBatch& rays, const CameraHits& hits, int i, const Material& m, Vec3f& p,
+                            Vec3f& n, Vec3f& albedo) const {
+    const RTCRayHitPacket& packet = hits.packet;
+    p = rays.origin[i] + rays.direction[i] * packet.ray.tfar[i];
+    n = normalize(Vec3f{packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]});
+    if (dot(n, rays.direction[i]) > 0.0f) n = -n;  // two-sided: shade the side the ray sees
+    // A moving object carries its checker: read it where the point was at t = 0.
+    const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[packet.hit.geomID[i]];
+    Vec3f p_texture = p;
+    if (!table.velocity.empty())
+        p_texture = p - table.velocity[packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
+    albedo = (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
+}
+
+bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, const bool* diffuse, const Vec3f* p,
+                              const Vec3f* n, RTCIntersectContext& context, ShadowRays& shadow) const {
+    RTCRayPacket& packet = shadow.packet;
+    bool any = false;
+    for (int i = 0; i < kPacketSize; ++i) {
+        shadow.valid[i] = 0;
+        shadow.cos_theta[i] = shadow.falloff[i] = 0.0f;
+        // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
+        // split the packet and check the rays of every lane they are handed.
+        packet.org_x[i] = packet.org_y[i] = packet.org_z[i] = 0.0f;
+        packet.dir_x[i] = packet.dir_y[i] = 0.0f, packet.dir_z[i] = 1.0f;
+        packet.tnear[i] = packet.tfar[i] = packet.time[i] = 0.0f;
+        if (i >= rays.count || !diffuse[i]) continue;
+        Vec3f to_light = light.position_m - p[i];
+        float to_light_m = length(to_light);
+        shadow.cos_theta[i] = dot(n[i], to_light) / to_light_m;
+        if (!(shadow.cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
+        // 1 / d^2, at most 1 / (0.1 mm)^2 (POV-Ray's export caps it there too): a surface at
+        // the light itself stays finite.
+        shadow.falloff[i] =
+            light.inverse_square ? 1.0f / std::max(to_light_m * to_light_m, kNearestFalloffM2) : 1.0f;
+        Vec3f from = p[i] + n[i] * surface_offset(p[i]);
+        Vec3f d = light.position_m - from;
+        float dist = length(d);
+        packet.org_x[i] = from.x, packet.org_y[i] = from.y, packet.org_z[i] = from.z;
+        packet.dir_x[i] = d.x / dist, packet.dir_y[i] = d.y / dist, packet.dir_z[i] = d.z / dist;
+        packet.tnear[i] = 0.0f;
+        packet.tfar[i] = dist * (1.0f - 1e-5f);
+        packet.time[i] = rays.time[i];  // the shadow at the same instant
+        packet.mask[i] = 0xFFFFFFFFu;
+        packet.id[i] = unsigned(i);
+        packet.flags[i] = 0;
+        shadow.valid[i] = -1;
+        any = true;
+    }
+    if (!any) return false;
+    occluded_packet(shadow.valid, scene_, &context, &packet);
+    if (motion_scene_) occlude_by_movers(shadow.valid, context, packet);
+    return true;
+}
+
+// The moving geometry for the rays of the packet that pass through its swept
+// bounds before their hit so far: a nearer hit replaces the static one, and
+// hit_mover says whose tables its geometry ID indexes.
+void Scene::intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
+                             bool* hit_mover) const {
+    alignas(kPacketAlignment) int valid[kPacketSize] = {};
+    bool any = false;
+    for (int i = 0; i < rays.count; ++i)
+        if (movers_.may_hit(rays.origin[i], rays.direction[i], hits.ray.tfar[i])) valid[i] = -1, any = true;
+    if (!any) return;
+    // The static hit, kept aside: Embree writes the hit only when it finds a nearer one.
+    unsigned geom[kPacketSize], prim[kPacketSize];
+    float ng[kPacketSize][3];
+    for (int i = 0; i < rays.count; ++i) {
+        geom[i] = hits.hit.geomID[i], prim[i] = hits.hit.primID[i];
+        ng[i][0] = hits.hit.Ng_x[i], ng[i][1] = hits.hit.Ng_y[i], ng[i][2] = hits.hit.Ng_z[i];
+        if (valid[i]) hits.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    intersect_packet(valid, motion_scene_, &context, &hits);
+    for (int i = 0; i < rays.count; ++i) {
+        if (!valid[i]) continue;
+        hit_mover[i] = hits.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (hit_mover[i]) continue;
+        hits.hit.geomID[i] = geom[i], hits.hit.primID[i] = prim[i];
+        hits.hit.Ng_x[i] = ng[i][0], hits.hit.Ng_y[i] = ng[i][1], hits.hit.Ng_z[i] = ng[i][2];
+    }
+}
+
+// Shadow rays that no still geometry blocks, against the moving geometry
+// where their segment passes through its swept bounds.
+void Scene::occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const {
+    alignas(kPacketAlignment) int valid[kPacketSize] = {};
+    bool any = false;
+    for (int i = 0; i < kPacketSize; ++i) {
+        if (!shadow_valid[i] || shadow.tfar[i] == -kInf) continue;
+        const Vec3f from{shadow.org_x[i], shadow.org_y[i], shadow.org_z[i]};
+        const Vec3f d{shadow.dir_x[i], shadow.dir_y[i], shadow.dir_z[i]};
+        if (movers_.may_hit(from, d, shadow.tfar[i])) valid[i] = -1, any = true;
+    }
+    if (any) occluded_packet(valid, motion_scene_, &context, &shadow);
+}
+
+}  // namespace lc
