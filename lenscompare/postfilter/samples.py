@@ -1,0 +1,99 @@
+"""How many pinhole samples each pixel needs, from its blur disk.
+
+The spread averages each pixel with the others its blur disk reaches: a
+pixel spread over a disk of area A = pi (c/2)^2 px lands, divided by about
+A, on about A output pixels, each of which gathers about A input pixels'
+worth of independent samples. Its own film-sampling noise is then averaged
+down by about A, so it needs only about n / A of the n samples a sharp
+pixel takes for the same output noise: ``ceil(n / max(1, A))``, never below
+``MIN_PINHOLE_SPP``.
+
+Two kinds of pixel keep all n:
+
+- a pixel within its blur radius + 1 px of a depth discontinuity (relative
+  step over ``DEPTH_JUMP`` to a 4-neighbour): there the layers' occlusion
+  and the hole filling cut the averaging short (the pixels behind a sharp
+  foreground gather from one side only), and the silhouette pixel's own
+  antialiasing is what the spread carries over the edge;
+- a pixel with a blur under 1.13 px across (A < 1): nothing averages it.
+
+The floor of 4: a 2 x 2 stratified pixel still integrates a texture edge
+across it to a quarter of its area, where 1 or 2 samples would leave the
+edge's position in the pixel to chance; 4 also bounds the variance the
+spread must average at 4x a 16-sample pixel's, which a disk of A >= 4 px
+does.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import ndimage
+
+from ..cameras import CameraModel, camera_for
+from ..scene import Scene
+from .blur import pinhole_pass_spp, signed_coc_px
+from .depth import depth_buffer_m
+from .edges import DEPTH_JUMP, _neighbour_jumps
+
+__all__ = ["MIN_PINHOLE_SPP", "RULE", "pinhole_sample_counts", "predicted_pinhole_spp"]
+
+MIN_PINHOLE_SPP = 4
+RULE = ("ceil(n / max(1, pi (c/2)^2)) film samples, at least 4, n = min(spp, 16); "
+        "n within c/2 + 1 px of a depth discontinuity")
+
+
+def pinhole_sample_counts(coc_px: np.ndarray, depth_m: np.ndarray, spp: int, *,
+                          depth_pixel_px: float = 1.0) -> np.ndarray:
+    """Each pixel's pinhole film samples.
+
+    Parameters
+    ----------
+    coc_px : ndarray, (H, W)
+        Signed blur-disk diameter, px (:func:`~lenscompare.postfilter.signed_coc_px`).
+    depth_m : ndarray, (H, W)
+        The depth buffer it came from (for the discontinuities).
+    spp : int
+        The requested samples per pixel; n = :func:`pinhole_pass_spp` (spp).
+    depth_pixel_px : float, optional
+        The depth buffer's pixel in the film's pixels (the planner's
+        low-resolution buffer: > 1); distances to a discontinuity scale by it.
+
+    Returns
+    -------
+    ndarray, uint32, (H, W)
+        ``ceil(n / max(1, pi (c/2)^2))`` clipped to [min(4, n), n]; n within
+        c/2 + 1 px of a depth discontinuity.
+    """
+    n = pinhole_pass_spp(spp)
+    radius_px = np.abs(np.asarray(coc_px, dtype=float)) / 2.0
+    area_px = math.pi * radius_px ** 2
+    # 1e-9: an area that is an exact divisor of n is not rounded up by float error
+    counts = np.ceil(n / np.maximum(area_px, 1.0) - 1e-9)
+    counts = np.clip(counts, min(MIN_PINHOLE_SPP, n), n)
+    jumps, _ = _neighbour_jumps(depth_m, np.zeros_like(radius_px))
+    edges = jumps > DEPTH_JUMP
+    if edges.any():
+        near_edge = ndimage.distance_transform_edt(~edges) * depth_pixel_px <= radius_px + 1.0
+        counts = np.where(near_edge, n, counts)
+    return counts.astype(np.uint32)
+
+
+def predicted_pinhole_spp(scene: Scene, *, camera: CameraModel | None = None, pixels: int = 20_000,
+                          threads: int | None = None) -> float:
+    """The mean of :func:`pinhole_sample_counts` for the scene's spp, from a
+    depth buffer of about ``pixels`` pixels (milliseconds), for the planner's
+    cost of the pinhole pass.
+
+    A coarse buffer sees the discontinuities a pixel or two wide, and each
+    blur as its own pixels' mean: within a few percent of the full buffer's
+    mean where the blur varies smoothly.
+    """
+    camera = camera or camera_for(scene, "thin")
+    w, h = scene.camera.resolution
+    scale = max(1, int(math.sqrt(w * h / max(int(pixels), 1))))
+    small = scene.with_camera(resolution=(max(1, w // scale), max(1, h // scale)))
+    depth = depth_buffer_m(small, camera_for(small, "pinhole"), threads=threads)
+    coc = signed_coc_px(depth, camera)  # in the scene's own pixels
+    return float(pinhole_sample_counts(coc, depth, scene.render.spp, depth_pixel_px=w / small.camera.width_px).mean())
