@@ -25,12 +25,13 @@ def _diameter_px(area_px: float) -> float:
 @pytest.mark.parametrize("spp, area_px, expected", [
     (64, 0.5, 16),   # under a pixel: nothing averages it
     (64, 1.0, 16),
-    (64, 2.0, 8),
-    (64, 3.0, 6),    # ceil(16 / 3)
-    (64, 4.0, 4),
-    (64, 5.0, 4),    # ceil(16 / 5) = 4
-    (64, 50.0, 4),   # the floor
-    (8, 1.5, 6),     # n = min(spp, 16) = 8: ceil(8 / 1.5)
+    (64, 2.0, 12),   # ceil(16 / sqrt(2)) = ceil(11.3)
+    (64, 3.0, 10),   # ceil(9.24)
+    (64, 4.0, 8),
+    (64, 5.0, 8),    # ceil(7.16)
+    (64, 16.0, 4),
+    (64, 50.0, 4),   # ceil(2.26) = 3: the floor
+    (8, 1.5, 7),     # n = min(spp, 16) = 8: ceil(8 / sqrt(1.5)) = ceil(6.53)
     (8, 10.0, 4),
     (2, 10.0, 2),    # the floor never exceeds n
 ])

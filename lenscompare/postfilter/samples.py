@@ -3,10 +3,17 @@
 The spread averages each pixel with the others its blur disk reaches: a
 pixel spread over a disk of area A = pi (c/2)^2 px lands, divided by about
 A, on about A output pixels, each of which gathers about A input pixels'
-worth of independent samples. Its own film-sampling noise is then averaged
-down by about A, so it needs only about n / A of the n samples a sharp
-pixel takes for the same output noise: ``ceil(n / max(1, A))``, never below
-``MIN_PINHOLE_SPP``.
+worth of independent samples (the drawn kernels' 1 / sum of w^2 is A or a
+little more from 1 px up). The variance of a pixel's own film-sampling
+noise is then averaged down by about A. It does not grow as 1/n when n
+falls, though: stratified samples converge faster, as n^-p with p from
+1.5 (an edge across the pixel) to 2 (smooth); on showcase a uniform pass
+of 4, 8 and 16 samples gives noise variances in the ratio 7.7 : 3.4 : 1
+(bench/study_pinhole_spp.py: p = 1.78). So a pixel may draw n / A^(1/p)
+samples; with p = 2, the conservative end, ``ceil(n / sqrt(max(1, A)))``,
+never below ``MIN_PINHOLE_SPP``. (n / A, tried first, raised showcase's
+whole-frame error against the converged thin lens from 2.02 to 2.41 %:
+bench/study_pinhole_counts.py.)
 
 Two kinds of pixel keep all n:
 
@@ -19,9 +26,7 @@ Two kinds of pixel keep all n:
 
 The floor of 4: a 2 x 2 stratified pixel still integrates a texture edge
 across it to a quarter of its area, where 1 or 2 samples would leave the
-edge's position in the pixel to chance; 4 also bounds the variance the
-spread must average at 4x a 16-sample pixel's, which a disk of A >= 4 px
-does.
+edge's position in the pixel to chance.
 """
 
 from __future__ import annotations
@@ -40,7 +45,7 @@ from .edges import DEPTH_JUMP, _neighbour_jumps
 __all__ = ["MIN_PINHOLE_SPP", "RULE", "pinhole_sample_counts", "predicted_pinhole_spp"]
 
 MIN_PINHOLE_SPP = 4
-RULE = ("ceil(n / max(1, pi (c/2)^2)) film samples, at least 4, n = min(spp, 16); "
+RULE = ("ceil(n / sqrt(max(1, pi (c/2)^2))) film samples, at least 4, n = min(spp, 16); "
         "n within c/2 + 1 px of a depth discontinuity")
 
 
@@ -63,14 +68,14 @@ def pinhole_sample_counts(coc_px: np.ndarray, depth_m: np.ndarray, spp: int, *,
     Returns
     -------
     ndarray, uint32, (H, W)
-        ``ceil(n / max(1, pi (c/2)^2))`` clipped to [min(4, n), n]; n within
+        ``ceil(n / sqrt(max(1, pi (c/2)^2)))`` clipped to [min(4, n), n]; n within
         c/2 + 1 px of a depth discontinuity.
     """
     n = pinhole_pass_spp(spp)
     radius_px = np.abs(np.asarray(coc_px, dtype=float)) / 2.0
     area_px = math.pi * radius_px ** 2
     # 1e-9: an area that is an exact divisor of n is not rounded up by float error
-    counts = np.ceil(n / np.maximum(area_px, 1.0) - 1e-9)
+    counts = np.ceil(n / np.sqrt(np.maximum(area_px, 1.0)) - 1e-9)
     counts = np.clip(counts, min(MIN_PINHOLE_SPP, n), n)
     jumps, _ = _neighbour_jumps(depth_m, np.zeros_like(radius_px))
     edges = jumps > DEPTH_JUMP
