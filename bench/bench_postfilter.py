@@ -6,11 +6,10 @@ Prints one JSON object:
 - ``speed``: showcase.toml (360x240) rendered through the thin lens and the
   postfilter at the same requested spp (16, 64, 256), alternating, best of
   ``--repeats``. The postfilter's pinhole pass draws min(spp, 16) film samples
-  (``pinhole_spp``), fewer where the blur averages them (lenscompare.postfilter.samples;
-  ``pinhole_mean_spp``); its seconds include the depth buffer, the pinhole
-  pass and the spread. Goal: >= 5x the thin lens's speed.
-  ``uniform_pinhole_*``: the model before per-pixel counts (a uniform
-  min(spp, 16)-sample pass, depth, spread), timed in the same alternation.
+  (``pinhole_spp``); its seconds include the pinhole pass, the depth buffer
+  and the spread. Goal: >= 5x the thin lens's speed. ``per_pixel_*``: the
+  opt-in per-pixel pinhole counts (lenscompare.postfilter.samples; less
+  accurate, see bench/study_pinhole_counts.py), timed in the same alternation.
 - ``time_to_1_percent``: the fewest seconds each needs to come within 1 %
   relative RMSE of its own converged image (thin: 2048 spp; postfilter: a
   1024-spp pinhole pass spread the same way), spp doubling from 1; the
@@ -43,7 +42,6 @@ from lenscompare.measure import measure_blur_disks
 from lenscompare.metrics import relative_rmse
 from lenscompare.postfilter import (BAND_PX, MAX_PINHOLE_SPP, METHOD, depth_buffer_m, edge_band, edge_band_error,
                                     postfilter_edge_error, signed_coc_px, spread)
-from lenscompare.native_scene import build_native_scene
 from lenscompare.postfilter.samples import RULE as PINHOLE_RULE
 from lenscompare.reference_scenes import shipped_scene
 from lenscompare.render import render
@@ -52,7 +50,7 @@ from lenscompare.scene import load_scene
 REFERENCE_THIN_SPP = 2048
 REFERENCE_PINHOLE_SPP = 1024
 REFERENCE_SEED = 11
-PINHOLE_PASS = f"per pixel: {PINHOLE_RULE}; no lens samples"
+PINHOLE_PASS = f"min(spp, {MAX_PINHOLE_SPP}) film samples, no lens samples (per_pixel_*: {PINHOLE_RULE})"
 
 
 def best_render(scene, model, spp, threads, repeats):
@@ -70,17 +68,6 @@ def composed_postfilter(scene, pinhole_spp, threads, seed=0):
     return image, time.perf_counter() - start
 
 
-def uniform_postfilter_seconds(scene, pinhole_spp, threads):
-    """Seconds of the postfilter with a uniform pinhole pass, timed as render
-    times it (its Embree scene built outside the clock): pass + depth + spread."""
-    pinhole = render(scene, model="pinhole", spp=pinhole_spp, threads=threads, progress=False)
-    native_scene = build_native_scene(scene)
-    start = time.perf_counter()
-    depth = depth_buffer_m(scene, camera_for(scene, "pinhole"), threads=threads, native_scene=native_scene)
-    spread(pinhole.pixels, depth, camera_for(scene, "thin"), threads=threads)
-    return pinhole.metadata["seconds"] + time.perf_counter() - start
-
-
 def converged_postfilter(scene, threads):
     return composed_postfilter(scene, REFERENCE_PINHOLE_SPP, threads, seed=REFERENCE_SEED)[0]
 
@@ -88,20 +75,21 @@ def converged_postfilter(scene, threads):
 def speed(scene, threads, repeats):
     rows = []
     for spp in (16, 64, 256):
-        thin_s, post_s, uniform_s, post = [], [], [], None
+        thin_s, post_s, per_pixel_s, post = [], [], [], None
         for _ in range(repeats):  # alternating, so a loaded machine slows all alike
             thin_s.append(render(scene, model="thin", spp=spp, threads=threads, progress=False).metadata["seconds"])
             image = render(scene, model="postfilter", spp=spp, threads=threads, progress=False)
             post_s.append(image.metadata["seconds"])
             post = image if post is None or image.metadata["seconds"] <= min(post_s) else post
-            # the model before per-pixel counts: a uniform min(spp, 16)-sample pinhole pass
-            uniform_s.append(uniform_postfilter_seconds(scene, min(spp, MAX_PINHOLE_SPP), threads))
+            per_pixel = render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
+                               postfilter_per_pixel_spp=True)
+            per_pixel_s.append(per_pixel.metadata["seconds"])
         info = post.metadata["postfilter"]
-        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"], "pinhole_mean_spp": info["pinhole_mean_spp"],
-                     "thin_seconds_best": min(thin_s),
+        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"], "thin_seconds_best": min(thin_s),
                      "postfilter_seconds_best": min(post_s), "speed_ratio": min(thin_s) / min(post_s),
-                     "uniform_pinhole_seconds_best": min(uniform_s),
-                     "uniform_pinhole_speed_ratio": min(thin_s) / min(uniform_s),
+                     "per_pixel_pinhole_mean_spp": per_pixel.metadata["postfilter"]["pinhole_mean_spp"],
+                     "per_pixel_seconds_best": min(per_pixel_s),
+                     "per_pixel_speed_ratio": min(thin_s) / min(per_pixel_s),
                      "goal_met": min(thin_s) / min(post_s) >= 5.0,
                      "postfilter_parts_seconds": {k: info[k] for k in ("pinhole_seconds", "depth_seconds",
                                                                        "filter_seconds")},

@@ -72,7 +72,8 @@ def main():
             return [spread(render(scene, model="pinhole", spp=spp, seed=s, threads=args.threads,
                                   progress=False).pixels, depth, thin, threads=args.threads)[0] for s in seeds]
 
-        per_pixel = [render(scene, model="postfilter", spp=64, seed=s, threads=args.threads, progress=False)
+        per_pixel = [render(scene, model="postfilter", spp=64, seed=s, threads=args.threads, progress=False,
+                            postfilter_per_pixel_spp=True)
                      for s in seeds]
         mean_spp = per_pixel[0].metadata["postfilter"]["pinhole_mean_spp"]
         out[name] = {"mean_spp": round(mean_spp, 3), "band_fraction": round(float(band.mean()), 4),

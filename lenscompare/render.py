@@ -45,7 +45,7 @@ _BAND_SAMPLES = 2_000_000
 def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sampler: str | None = None,
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
-           camera: CameraModel | None = None, effects=None) -> Image:
+           camera: CameraModel | None = None, effects=None, postfilter_per_pixel_spp: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -84,6 +84,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         (:func:`lenscompare.cameras.camera_for`); its model wins over ``model``.
     progress : bool, optional
         Force the progress bar on or off (default: on for a terminal only).
+    postfilter_per_pixel_spp : bool, optional
+        ``postfilter`` (not adaptive) only: fewer pinhole samples where a
+        pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),
+        the depth buffer first. Off by default: faster, but its error against
+        the converged thin lens is measurably larger (bench/study_pinhole_counts.py).
 
     Returns
     -------
@@ -134,12 +139,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_scene = build_native_scene(scene)
 
     start = time.perf_counter()
-    if postfilter:  # the depth buffer first: each pixel's blur sets its pinhole samples
+    pinhole_counts = depth = None
+    depth_seconds = 0.0
+    if postfilter and postfilter_per_pixel_spp and not settings.adaptive:
+        # the depth buffer first: each pixel's blur sets its pinhole samples
         depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+        pinhole_counts = pinhole_sample_counts(signed_coc_px(depth, camera), depth, settings.spp)
         depth_seconds = time.perf_counter() - start
-        coc_px = signed_coc_px(depth, camera)
-        pinhole_counts = None if settings.adaptive else pinhole_sample_counts(coc_px, depth, settings.spp)
-    if postfilter and pinhole_counts is not None:
+    if pinhole_counts is not None:
         pixels = np.zeros((height, width, 3), dtype=np.float32)
         variance = np.zeros((height, width), dtype=np.float32)
         with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
@@ -164,6 +171,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         adaptive_info = None
     if postfilter:
         pass_seconds = time.perf_counter() - start - depth_seconds
+        if depth is None:
+            depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+            depth_seconds = time.perf_counter() - start - pass_seconds
         pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
         postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
                            "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),

@@ -19,8 +19,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..cameras import COMPOSITE_EFFECTS, camera_for
 from ..image import Image
-from ..postfilter import postfilter_suffices
-from ..postfilter.samples import predicted_pinhole_spp
+from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
 from ..scene import MODELS, Scene
 from .effects import COLOR_EFFECTS, EFFECTS, Effect, ideal_camera
@@ -167,9 +166,8 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
         model = "postfilter" if suffices else model
     costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None) \
         if measure_costs else {}
-    if "pinhole" in costs:  # its pinhole pass draws fewer samples (fewer still where blurred); the spread: ms
-        costs["postfilter"] = costs["pinhole"] * predicted_pinhole_spp(scene, camera=camera, threads=threads) \
-            / scene.render.spp
+    if "pinhole" in costs:  # its pinhole pass draws fewer samples; the spread costs milliseconds
+        costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
     note = "; ".join(filter(None, (note, _color_note(scene, effects, needed))))
     return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,
                 simulated=_simulated(model, parts, effects, needed, color=renders_color(scene)),

@@ -15,6 +15,15 @@ never below ``MIN_PINHOLE_SPP``. (n / A, tried first, raised showcase's
 whole-frame error against the converged thin lens from 2.02 to 2.41 %:
 bench/study_pinhole_counts.py.)
 
+What it costs: n / sqrt(A) still raises showcase's whole-frame error from
+2.02 to 2.24 % (f/1.4 near focus: 1.48 to 1.79 %), far beyond the
+seed-to-seed spread (0.02 %). The spread already averages a blurred
+pixel's noise with the full n; fewer samples there bring its output noise
+up towards a sharp pixel's rather than keeping today's. So
+:func:`lenscompare.render.render` uses these counts only when asked
+(``postfilter_per_pixel_spp=True``). Spent this way, the same samples still
+beat a uniform pass of their mean (2.24 against 2.44 %).
+
 Two kinds of pixel keep all n:
 
 - a pixel within its blur radius + 1 px of a depth discontinuity (relative
@@ -36,13 +45,10 @@ import math
 import numpy as np
 from scipy import ndimage
 
-from ..cameras import CameraModel, camera_for
-from ..scene import Scene
-from .blur import pinhole_pass_spp, signed_coc_px
-from .depth import depth_buffer_m
+from .blur import pinhole_pass_spp
 from .edges import DEPTH_JUMP, _neighbour_jumps
 
-__all__ = ["MIN_PINHOLE_SPP", "RULE", "pinhole_sample_counts", "predicted_pinhole_spp"]
+__all__ = ["MIN_PINHOLE_SPP", "RULE", "pinhole_sample_counts"]
 
 MIN_PINHOLE_SPP = 4
 RULE = ("ceil(n / sqrt(max(1, pi (c/2)^2))) film samples, at least 4, n = min(spp, 16); "
@@ -84,21 +90,3 @@ def pinhole_sample_counts(coc_px: np.ndarray, depth_m: np.ndarray, spp: int, *,
         counts = np.where(near_edge, n, counts)
     return counts.astype(np.uint32)
 
-
-def predicted_pinhole_spp(scene: Scene, *, camera: CameraModel | None = None, pixels: int = 20_000,
-                          threads: int | None = None) -> float:
-    """The mean of :func:`pinhole_sample_counts` for the scene's spp, from a
-    depth buffer of about ``pixels`` pixels (milliseconds), for the planner's
-    cost of the pinhole pass.
-
-    A coarse buffer sees the discontinuities a pixel or two wide, and each
-    blur as its own pixels' mean: within a few percent of the full buffer's
-    mean where the blur varies smoothly.
-    """
-    camera = camera or camera_for(scene, "thin")
-    w, h = scene.camera.resolution
-    scale = max(1, int(math.sqrt(w * h / max(int(pixels), 1))))
-    small = scene.with_camera(resolution=(max(1, w // scale), max(1, h // scale)))
-    depth = depth_buffer_m(small, camera_for(small, "pinhole"), threads=threads)
-    coc = signed_coc_px(depth, camera)  # in the scene's own pixels
-    return float(pinhole_sample_counts(coc, depth, scene.render.spp, depth_pixel_px=w / small.camera.width_px).mean())
