@@ -6,14 +6,16 @@ RMSE against the thin lens at 2048 spp (seed 11), over the whole frame, in
 the edge band (lenscompare.postfilter.edge_band) and elsewhere, mean and
 standard deviation over seeds 0 to ``--seeds`` - 1, of
 
-- ``uniform_16``: the spread of a uniform 16-sample pinhole pass (the model
-  before per-pixel counts);
-- ``per_pixel``: ``render(model="postfilter", spp=64)`` (its counts' mean is
-  ``mean_spp``);
+- ``uniform_16``: the spread of a uniform 16-sample pinhole pass (the
+  default model);
+- ``per_pixel``: ``render(model="postfilter", spp=64,
+  postfilter_per_pixel_spp=True)`` (its counts' mean is ``mean_spp``);
 - ``uniform_mean``: a uniform pass of round(mean_spp) samples, the same cost
   spent evenly (a control: is the allocation better than fewer samples?).
 
 ``*_sd`` is the seed-to-seed standard deviation (the measurement's noise).
+blur_disks tells nothing here: its spheres keep n (depth steps) and its
+background is black, so both passes give the same image.
 Prints one JSON object {scene: {row: figures}}.
 
 Usage: python bench/study_pinhole_counts.py [--threads T] [--seeds S]
