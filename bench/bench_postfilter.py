@@ -7,7 +7,9 @@ Prints one JSON object:
   postfilter at the same requested spp (16, 64, 256), alternating, best of
   ``--repeats``. The postfilter's pinhole pass draws min(spp, 16) film samples
   (``pinhole_spp``); its seconds include the pinhole pass, the depth buffer
-  and the spread. Goal: >= 5x the thin lens's speed.
+  and the spread. Goal: >= 5x the thin lens's speed. ``per_pixel_*``: the
+  opt-in per-pixel pinhole counts (lenscompare.postfilter.samples; less
+  accurate, see bench/study_pinhole_counts.py), timed in the same alternation.
 - ``time_to_1_percent``: the fewest seconds each needs to come within 1 %
   relative RMSE of its own converged image (thin: 2048 spp; postfilter: a
   1024-spp pinhole pass spread the same way), spp doubling from 1; the
@@ -21,7 +23,7 @@ Prints one JSON object:
   spp, on showcase and on showcase at f/1.4 focused on the near blue sphere;
   with the planner's predicted edge error.
 
-Usage: python bench/bench_postfilter.py [--repeats R] [--threads T]
+Usage: python bench/bench_postfilter.py [--repeats R] [--threads T] [--speed-only]
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from lenscompare.measure import measure_blur_disks
 from lenscompare.metrics import relative_rmse
 from lenscompare.postfilter import (BAND_PX, MAX_PINHOLE_SPP, METHOD, depth_buffer_m, edge_band, edge_band_error,
                                     postfilter_edge_error, signed_coc_px, spread)
+from lenscompare.postfilter.samples import RULE as PINHOLE_RULE
 from lenscompare.reference_scenes import shipped_scene
 from lenscompare.render import render
 from lenscompare.scene import load_scene
@@ -47,6 +50,7 @@ from lenscompare.scene import load_scene
 REFERENCE_THIN_SPP = 2048
 REFERENCE_PINHOLE_SPP = 1024
 REFERENCE_SEED = 11
+PINHOLE_PASS = f"min(spp, {MAX_PINHOLE_SPP}) film samples, no lens samples (per_pixel_*: {PINHOLE_RULE})"
 
 
 def best_render(scene, model, spp, threads, repeats):
@@ -71,15 +75,21 @@ def converged_postfilter(scene, threads):
 def speed(scene, threads, repeats):
     rows = []
     for spp in (16, 64, 256):
-        thin_s, post_s, post = [], [], None
-        for _ in range(repeats):  # alternating, so a loaded machine slows both alike
+        thin_s, post_s, per_pixel_s, post = [], [], [], None
+        for _ in range(repeats):  # alternating, so a loaded machine slows all alike
             thin_s.append(render(scene, model="thin", spp=spp, threads=threads, progress=False).metadata["seconds"])
             image = render(scene, model="postfilter", spp=spp, threads=threads, progress=False)
             post_s.append(image.metadata["seconds"])
             post = image if post is None or image.metadata["seconds"] <= min(post_s) else post
+            per_pixel = render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
+                               postfilter_per_pixel_spp=True)
+            per_pixel_s.append(per_pixel.metadata["seconds"])
         info = post.metadata["postfilter"]
         rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"], "thin_seconds_best": min(thin_s),
                      "postfilter_seconds_best": min(post_s), "speed_ratio": min(thin_s) / min(post_s),
+                     "per_pixel_pinhole_mean_spp": per_pixel.metadata["postfilter"]["pinhole_mean_spp"],
+                     "per_pixel_seconds_best": min(per_pixel_s),
+                     "per_pixel_speed_ratio": min(thin_s) / min(per_pixel_s),
                      "goal_met": min(thin_s) / min(post_s) >= 5.0,
                      "postfilter_parts_seconds": {k: info[k] for k in ("pinhole_seconds", "depth_seconds",
                                                                        "filter_seconds")},
@@ -144,15 +154,21 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--speed-only", action="store_true", help="only the speed rows (no references)")
     args = parser.parse_args()
 
     showcase = load_scene(shipped_scene("showcase"))
+    if args.speed_only:
+        print(json.dumps({"benchmark": "postfilter", "scene": "showcase", "threads": args.threads,
+                          "pinhole_pass": PINHOLE_PASS, "speed": speed(showcase, args.threads, args.repeats)},
+                         indent=2))
+        return
     thin_reference = render(showcase, model="thin", spp=REFERENCE_THIN_SPP, seed=REFERENCE_SEED,
                             threads=args.threads, progress=False).pixels
     post_reference = converged_postfilter(showcase, args.threads)
     results = {"benchmark": "postfilter", "scene": "showcase", "resolution": list(showcase.camera.resolution),
                "threads": args.threads, "machine": platform.machine(), "cpu_count": os.cpu_count(),
-               "method": METHOD, "pinhole_pass": f"min(spp, {MAX_PINHOLE_SPP}) film samples, no lens samples",
+               "method": METHOD, "pinhole_pass": PINHOLE_PASS,
                "speed": speed(showcase, args.threads, args.repeats),
                "time_to_1_percent": time_to_one_percent(showcase, thin_reference, post_reference, args.threads,
                                                         args.repeats),

@@ -23,7 +23,8 @@ from .image import Image
 from .limits import MAX_SEED, MAX_SPP, check_render_budget
 from .motion import moves, samples_time
 from .native_scene import build_native_scene
-from .postfilter import depth_buffer_m, pinhole_pass_spp, spread
+from .postfilter import depth_buffer_m, pinhole_pass_spp, pinhole_sample_counts, signed_coc_px, spread
+from .postfilter.samples import RULE as PINHOLE_RULE
 from .progress import progress_bar
 from .render_spectral import make_spectral
 from .scene import RENDER_MODELS, SAMPLERS, Scene
@@ -46,7 +47,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
-           trace_secondaries: bool = True) -> Image:
+           trace_secondaries: bool = True, postfilter_per_pixel_spp: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -91,6 +92,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         Spectral renders through a dispersive camera: trace a ray per hero
         wavelength (4 per sample; the default: 3-4x sooner to a given noise,
         bench/bench_spectral.py) or, when False, the hero's alone.
+    postfilter_per_pixel_spp : bool, optional
+        ``postfilter`` (not adaptive) only: fewer pinhole samples where a
+        pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),
+        the depth buffer first. Off by default: faster, but its error against
+        the converged thin lens is measurably larger (bench/study_pinhole_counts.py).
 
     Returns
     -------
@@ -144,7 +150,24 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                    trace_secondaries=trace_secondaries) if settings.spectral else None)
 
     start = time.perf_counter()
-    if settings.adaptive:
+    pinhole_counts = depth = None
+    depth_seconds = 0.0
+    if postfilter and postfilter_per_pixel_spp and not settings.adaptive:
+        # the depth buffer first: each pixel's blur sets its pinhole samples
+        depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+        pinhole_counts = pinhole_sample_counts(signed_coc_px(depth, camera), depth, settings.spp)
+        depth_seconds = time.perf_counter() - start
+    if pinhole_counts is not None:
+        pixels = np.zeros((height, width, 3), dtype=np.float32)
+        variance = np.zeros((height, width), dtype=np.float32)
+        with progress_bar(height, description=f"{model} {settings.spp} spp", enabled=progress) as bar:
+            samples, rays_passed = _render_bands(
+                lambda row, row_end: _native.render_rows_adaptive(native_scene, native_camera, pinhole_counts, 0,
+                                                                  SAMPLER_CODES[settings.sampler], settings.seed,
+                                                                  threads, row, row_end, pixels, variance),
+                height, width * float(pinhole_counts.mean()), bar)
+        adaptive_info = None
+    elif settings.adaptive:
         pixels, variance, samples, rays_passed, adaptive_info = _render_adaptive(
             native_scene, native_camera, settings, threads, width, height, model, progress)
     else:
@@ -158,13 +181,17 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                 height, width * settings.spp, bar)
         adaptive_info = None
     if postfilter:
-        pass_seconds = time.perf_counter() - start
-        depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
-        depth_seconds = time.perf_counter() - start - pass_seconds
+        pass_seconds = time.perf_counter() - start - depth_seconds
+        if depth is None:
+            depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
+            depth_seconds = time.perf_counter() - start - pass_seconds
         pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
         postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
                            "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),
                            **postfilter_info}
+        if pinhole_counts is not None:
+            postfilter_info.update(pinhole_mean_spp=float(pinhole_counts.mean()),
+                                   pinhole_min_spp=int(pinhole_counts.min()), pinhole_rule=PINHOLE_RULE)
         variance = None  # the spread mixes pixels: no per-pixel variance of the mean
     seconds = time.perf_counter() - start
     if not np.isfinite(pixels).all():  # the schema's bounds promise a finite image; never hand on NaN

@@ -60,7 +60,10 @@ pixel with its neighbours. A requested spp above 16 is recorded but not drawn
 enough: on showcase the postfilter's relative RMSE against the converged
 thin lens is 2.0 % with 16, 3.0 % with 8 and 4.2 % with 4 (edge band: 3.4,
 5.3, 7.1 %; bench/study_pinhole_spp.py), and the 16-sample pass is most of
-the postfilter's time (0.139 of 0.171 s at 360 x 240, 2 threads)."""
+the postfilter's time (0.139 of 0.171 s at 360 x 240, 2 threads). Drawing
+fewer where the blur averages a pixel with its neighbours
+(:func:`~lenscompare.postfilter.pinhole_sample_counts`, opt-in) is faster
+but measurably less accurate (bench/study_pinhole_counts.py)."""
 
 METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front over hole-filled layers"
 SUB_ROWS = 4          # heights per row at which a kernel is integrated
