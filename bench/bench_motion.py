@@ -18,7 +18,7 @@ Prints one JSON object with two studies on showcase.toml (thin lens, f/2.8):
   (only motion and defocus: five small lamps before, at and behind focus,
   each moving its own way, on black): RMSE at 64 spp against a high-spp reference of
   the same moving scene (defocus and motion), for the sobol sampler (film,
-  lens and time from one Owen-scrambled Sobol' sequence, dimensions 0-4)
+  lens and time from one Owen-scrambled Sobol' sequence, dimensions 0-3 and 6)
   against padding (film, lens and time each from their own scrambled Sobol'
   points, paired at random per pixel: ``SAMPLER_SOBOL_PADDED``), mean RMSE
   over ``--seeds`` seeds. Goal: padded / joint >= 1.3.

@@ -60,28 +60,46 @@ def test_random_times_are_uniform_and_seeded():
     assert not np.array_equal(time, other)
 
 
-def test_sobol_time_is_dimension_4_of_the_joe_kuo_sequence():
-    """The unscrambled time points are SciPy's fifth Sobol' dimension (SciPy reads
+def test_sobol_time_is_dimension_6_of_the_joe_kuo_sequence():
+    """The unscrambled time points are SciPy's seventh Sobol' dimension (SciPy reads
     the same new-joe-kuo-6.21201 direction numbers, and yields points in Gray-code
     order: point i of SciPy is point i ^ (i >> 1) of ours)."""
     spp = 256
     _, _, time = samples(diagnostics.SAMPLER_SOBOL_UNSCRAMBLED, spp)
-    scipy_points = qmc.Sobol(d=5, scramble=False).random(spp)
+    scipy_points = qmc.Sobol(d=7, scramble=False).random(spp)
     gray = np.arange(spp) ^ (np.arange(spp) >> 1)
-    assert np.allclose(time[gray], scipy_points[:, 4], atol=2 ** -24)
+    assert np.allclose(time[gray], scipy_points[:, 6], atol=2 ** -24)
+
+
+@pytest.mark.parametrize("pixel", [0, 17, 4242])
+def test_sobol_lens_and_time_fill_every_cell_at_64_spp(pixel):
+    """Why time is dimension 6: with 64 samples, lens-u x time and lens-v x time
+    each put one sample in every cell of an 8 x 8 grid, and lens x time one in
+    every cell of 4 x 4 x 4 (dimension 4 filled 32 of 64 in both), while film x
+    time still fills all of 4 x 4 x 4."""
+    film, lens, time = samples(_native.SAMPLER_SOBOL, 64, seed=3, pixel=pixel)
+    def cells(*columns):
+        bits = {2: 3, 3: 2}[len(columns)]
+        index = sum(np.floor(c * 2 ** bits).astype(int) << (bits * k) for k, c in enumerate(columns))
+        return len(np.unique(index))
+    assert cells(lens[:, 0], time) == 64
+    assert cells(lens[:, 1], time) == 64
+    assert cells(lens[:, 0], lens[:, 1], time) == 64
+    assert cells(film[:, 0], film[:, 1], time) == 64
 
 
 def test_sobol_film_lens_time_form_one_net():
-    """Jointly stratified: with 2^m points, every elementary box of volume
-    2^(t-m) over film x, lens x and time holds exactly 2^t points, where t is
-    the (small) t-value of dimensions 0, 2 and 4 together; padding (each group
-    alone, paired at random) leaves those boxes unevenly filled."""
+    """Jointly stratified: with 64 points, each box of volume 1/64 of these
+    shapes over film y, lens u and time (dimensions 1, 2 and 6) holds one point;
+    padding (each group alone, paired at random) leaves them unevenly filled.
+    (Film x, lens u and time are not: 4 x 4 x 4 holds 16 boxes of 4 points,
+    bench/study_sobol_time_dimension.py.)"""
     spp = 64
     def worst_box_count_error(sampler):
         worst = 0
         for pixel in range(20):
             film, lens, time = samples(sampler, spp, seed=2, pixel=pixel)
-            points = np.stack([film[:, 0], lens[:, 0], time], axis=1)
+            points = np.stack([film[:, 1], lens[:, 0], time], axis=1)
             for bits in ((2, 2, 2), (1, 2, 3), (3, 1, 2), (2, 3, 1)):  # 64 boxes of 1/64
                 index = sum((np.floor(points[:, k] * 2 ** b).astype(int) << sum(bits[k + 1:]))
                             for k, b in enumerate(bits))

@@ -22,8 +22,9 @@
 //   sobol     the first spp points of Sobol' dimensions 0-3, Owen-scrambled per
 //             pixel by hashing (Burley 2020): film from dimensions 0-1 (a
 //             (0,2)-sequence), lens from 2-3, jointly a (3,4)-sequence
-//             (sampler_sobol.cpp); time from dimension 4, a further
-//             dimension of the same net (jointly a (5,5)-sequence)
+//             (sampler_sobol.cpp); time from dimension 6 of the same
+//             sequence (not 4: lens x time is better stratified), so film,
+//             lens and time are stratified jointly
 //
 // Time, for the others: a stratified 1-D set of spp points (one per interval
 // [k/spp, (k+1)/spp)), paired with the film and lens samples by a per-pixel
@@ -36,7 +37,7 @@
 //
 // Wavelength (spectral renders; spectral.h maps it to nm) is drawn the same
 // way as time, from streams of its own: sobol from dimension 5 of the same
-// net (six dimensions, jointly stratified with film, lens and time), the others a
+// sequence (jointly stratified with film, lens and time), the others a
 // stratified 1-D set paired by a per-pixel permutation (regular: interval
 // centres ranked by a lattice other than time's). Drawing wavelengths never
 // changes a pixel's film, lens or time points.
