@@ -118,7 +118,7 @@ def test_installed_report_and_check_run_outside_the_source_tree(installed):
     assert (out / "index.html").is_file() and (out / "results.json").is_file()
     results = json.loads((out / "results.json").read_text())
     assert set(results["scenes"]) == {"blur_disks", "dot_grid", "flat_field", "showcase", "lit_showcase", "mesh_bunny",
-                                        "far_landscape"}
+                                        "far_landscape", "moving_showcase"}
     # the wheel's own Mitsuba (a dependency) rendered the scenes it can
     assert results["scenes"]["lit_showcase"]["vs_mitsuba"]["thin"]["ssim"] > 0.95
 
