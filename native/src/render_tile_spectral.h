@@ -124,7 +124,9 @@ class SpectralRayPacket {
 
 // Samples waiting for the camera. A camera that does not disperse turns a
 // batch of them into rays at once, each ray carrying all four wavelengths; a
-// dispersive one is asked for a ray per traced wavelength.
+// dispersive one is asked for a ray per traced wavelength, the whole batch at
+// once too (the lens system traces its lanes in lockstep, each lane through
+// the glass at its own wavelength).
 template <class Camera>
 class SpectralCameraSampleBatcher {
   public:

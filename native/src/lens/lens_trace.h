@@ -345,7 +345,9 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
     switch (kernel) {
         case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, b); return;
         case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, b); return;
-        case LensTraceKernel::Portable: trace_from_film_batch_portable(elements, LaneGlass{nullptr, nullptr}, b); return;
+        case LensTraceKernel::Portable:
+            trace_from_film_batch_portable(elements, LaneGlass{nullptr, nullptr}, b);
+            return;
     }
 }
 

@@ -54,8 +54,8 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D eta, D eta2, co
 // Not inlined into the trace loop: GCC left it out of line before it had a
 // dispersed variant, and the RGB trace is fastest that way (measured).
 template <class D, class M, bool kDispersed>
-__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, size_t surface, LaneGlass glass, int first,
-                                     LaneGroup<D, M>* l) {
+__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, size_t surface, LaneGlass glass,
+                                                        int first, LaneGroup<D, M>* l) {
     const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
     D t;
