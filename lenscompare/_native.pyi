@@ -276,6 +276,19 @@ class _Diagnostics(types.ModuleType):
         """generate_rays through the render loop's lockstep batch trace (same bits as generate_rays)."""
 
     @staticmethod
+    def generate_lens_rays_at(
+        camera: LensSystemCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+        nm: numpy.ndarray,  # float32 (n, 4)
+        batched: bool,
+        origin: numpy.ndarray,  # float64 (4 n, 3), written
+        direction: numpy.ndarray,  # float64 (4 n, 3), written
+        weight: numpy.ndarray,  # float32 (4 n,), written
+    ) -> None:
+        """Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), scalar or (batched) lockstep."""
+
+    @staticmethod
     def with_brute_force_pupil(camera: LensSystemCamera) -> LensSystemCamera:
         """A copy of camera that aims at a disk 1.5x the rear element: the pupil sampler's reference."""
 

@@ -418,14 +418,15 @@ NB_MODULE(_native, m) {
                  if (n_scene_side.shape(0) != n_nm || n_film_side.shape(0) != n_nm ||
                      n_scene_side.shape(1) != self.elements.size() || n_film_side.shape(1) != self.elements.size())
                      throw std::invalid_argument("indices: one row per nm from 380 to 780, one column per surface");
-                 self.elements_by_nm.assign(n_nm, self.elements);
+                 std::vector<std::vector<LensElement>> by_nm(n_nm, self.elements);
                  for (size_t w = 0; w < n_nm; ++w)
                      for (size_t i = 0; i < self.elements.size(); ++i) {
                          if (!(n_scene_side(w, i) >= 1.0 && n_film_side(w, i) >= 1.0))
                              throw std::invalid_argument("indices must be >= 1");
-                         self.elements_by_nm[w][i].n_scene_side = n_scene_side(w, i);
-                         self.elements_by_nm[w][i].n_film_side = n_film_side(w, i);
+                         by_nm[w][i].n_scene_side = n_scene_side(w, i);
+                         by_nm[w][i].n_film_side = n_film_side(w, i);
                      }
+                 self.set_dispersion(std::move(by_nm));
              },
              "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).")
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },

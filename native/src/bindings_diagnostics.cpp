@@ -107,6 +107,38 @@ void bind_lens(nb::module_& m) {
           nb::call_guard<nb::gil_scoped_release>(),
           "generate_rays through the render loop's lockstep batch trace (same bits as generate_rays).");
 
+    m.def("generate_lens_rays_at",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<const float, -1, kHeroWavelengths> nm, bool batched, CArray<double, -1, 3> origin,
+             CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+              const size_t count = raster_px.shape(0);
+              if (lens.shape(0) != count || nm.shape(0) != count || origin.shape(0) != count * kHeroWavelengths ||
+                  direction.shape(0) != count * kHeroWavelengths || weight.shape(0) != count * kHeroWavelengths)
+                  throw std::invalid_argument("one row per sample, kHeroWavelengths rays per sample");
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              const auto* wavelengths = reinterpret_cast<const float(*)[kHeroWavelengths]>(nm.data());
+              for (size_t first = 0; first < count; first += kLensBatch) {
+                  const int n = int(std::min<size_t>(kLensBatch, count - first));
+                  MaybeRay rays[kLensBatch][kHeroWavelengths];
+                  if (batched)
+                      camera.generate_rays_at_batch(raster + first, u + first, wavelengths + first, n,
+                                                    kHeroWavelengths, rays);
+                  else
+                      for (int i = 0; i < n; ++i)
+                          camera.generate_rays_at(raster[first + i], u[first + i], wavelengths[first + i],
+                                                  kHeroWavelengths, rays[i]);
+                  for (int i = 0; i < n; ++i)
+                      for (int k = 0; k < kHeroWavelengths; ++k)
+                          store_ray(rays[i][k], (first + size_t(i)) * kHeroWavelengths + size_t(k), origin,
+                                    direction, weight);
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "nm"_a, "batched"_a, "origin"_a, "direction"_a, "weight"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), by the scalar per-wavelength "
+          "trace or (batched) the lockstep trace of spectral renders.");
+
     m.def("with_brute_force_pupil", &with_brute_force_pupil, "camera"_a, nb::call_guard<nb::gil_scoped_release>(),
           "A copy of camera that aims at a disk 1.5x the rear element: the pupil sampler's reference.");
 }

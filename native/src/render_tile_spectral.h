@@ -33,6 +33,28 @@ struct HasWavelengthRays<Camera, std::void_t<decltype(std::declval<const Camera&
                                      Point2f{}, Point2f{}, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>>
     : std::true_type {};
 
+// Cameras that turn a batch of samples into rays at their wavelengths at
+// once (the lens system traces them in lockstep) say so with
+// generate_rays_at_batch(raster, lens, nm, n, traced, out).
+template <class Camera, class = void>
+struct HasWavelengthBatches : std::false_type {};
+template <class Camera>
+struct HasWavelengthBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays_at_batch(
+                                        nullptr, nullptr, nullptr, 0, 0,
+                                        static_cast<MaybeRay(*)[kHeroWavelengths]>(nullptr)))>>
+    : std::true_type {};
+
+// Rays for n <= kCameraBatch samples, sample i at wavelengths nm[i][0, traced).
+template <class Camera>
+void wavelength_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens,
+                     const float (*nm)[kHeroWavelengths], int n, int traced, MaybeRay (*out)[kHeroWavelengths]) {
+    if constexpr (HasWavelengthBatches<Camera>::value) {
+        camera.generate_rays_at_batch(raster_px, lens, nm, n, traced, out);
+    } else if constexpr (HasWavelengthRays<Camera>::value) {
+        for (int i = 0; i < n; ++i) camera.generate_rays_at(raster_px[i], lens[i], nm[i], traced, out[i]);
+    }
+}
+
 template <class Camera>
 bool camera_disperses(const Camera& camera) {
     if constexpr (HasWavelengthRays<Camera>::value) return camera.disperses();
@@ -102,7 +124,9 @@ class SpectralRayPacket {
 
 // Samples waiting for the camera. A camera that does not disperse turns a
 // batch of them into rays at once, each ray carrying all four wavelengths; a
-// dispersive one is asked for a ray per traced wavelength.
+// dispersive one is asked for a ray per traced wavelength, the whole batch at
+// once too (the lens system traces its lanes in lockstep, each lane through
+// the glass at its own wavelength).
 template <class Camera>
 class SpectralCameraSampleBatcher {
   public:
@@ -112,21 +136,24 @@ class SpectralCameraSampleBatcher {
           packet_(packet), disperses_(disperses) {}
 
     void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot) {
-        const HeroWavelengths w = sample_hero_wavelengths(spectra_, wavelength_u);
-        if (disperses_) {
-            add_dispersed(raster_px, lens, time_u, w, slot);
-            return;
-        }
         raster_px_[pending_] = raster_px;
         lens_[pending_] = lens;
         time_[pending_] = time_u;
-        wavelengths_[pending_] = w;
+        wavelengths_[pending_] = sample_hero_wavelengths(spectra_, wavelength_u);
         slot_[pending_++] = slot;
         if (pending_ == kCameraBatch) flush();
     }
 
     void flush() {
         if (pending_ == 0) return;
+        if (disperses_) flush_dispersed();
+        else flush_shared();
+        pending_ = 0;
+    }
+
+  private:
+    // One ray per sample, carrying all four wavelengths.
+    void flush_shared() {
         MaybeRay rays[kCameraBatch];
         camera_rays(camera_, raster_px_, lens_, pending_, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -135,22 +162,25 @@ class SpectralCameraSampleBatcher {
             packet_.add(*rays[i], time_[i], wavelengths_[i], 0, rays[i]->weight / float(kHeroWavelengths), true,
                         slot_[i]);
         }
-        pending_ = 0;
     }
 
-  private:
-    void add_dispersed(Point2f raster_px, Point2f lens, float time_u, const HeroWavelengths& w, size_t slot) {
-        if constexpr (HasWavelengthRays<Camera>::value) {
-            const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
-            MaybeRay rays[kHeroWavelengths];
-            camera_.generate_rays_at(raster_px, lens, w.nm, traced, rays);
+    // A ray per traced wavelength, a sample's rays in wavelength order.
+    void flush_dispersed() {
+        const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
+        float nm[kCameraBatch][kHeroWavelengths];
+        for (int i = 0; i < pending_; ++i)
+            for (int k = 0; k < kHeroWavelengths; ++k) nm[i][k] = wavelengths_[i].nm[k];
+        MaybeRay rays[kCameraBatch][kHeroWavelengths];
+        wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
+        for (int i = 0; i < pending_; ++i) {
             int last = -1;
             for (int k = 0; k < traced; ++k)
-                if (rays[k]) last = k;
+                if (rays[i][k]) last = k;
             for (int k = 0; k <= last; ++k) {
-                if (!rays[k]) continue;
-                moved(&*rays[k], time_u);
-                packet_.add(*rays[k], time_u, w, k, rays[k]->weight / float(traced), k == last, slot);
+                if (!rays[i][k]) continue;
+                moved(&*rays[i][k], time_[i]);
+                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k, rays[i][k]->weight / float(traced), k == last,
+                            slot_[i]);
             }
         }
     }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "lens/lens_to_world.h"
 #include "lens/lens_trace.h"
 #include "scene.h"
+#include "spectral.h"
 
 namespace lc {
 
@@ -46,6 +48,7 @@ struct LensSystemCamera {
     // Spectral renders of a lens with dispersion: the elements with their
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
     std::vector<std::vector<LensElement>> elements_by_nm;
+    LensDispersion dispersion;  // the same indices as eta tables, for the batch trace (set_dispersion)
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -87,11 +90,18 @@ struct LensSystemCamera {
 
     bool disperses() const { return !elements_by_nm.empty(); }
 
+    // Each surface's (scene side, film side) indices at every nm from 380 nm
+    // (rows): the glass of spectral renders.
+    void set_dispersion(std::vector<std::vector<LensElement>> by_nm) {
+        elements_by_nm = std::move(by_nm);
+        dispersion = LensDispersion::of(elements_by_nm);
+    }
+
     // The ray at wavelength nm (indices of the nearest nm): the same film and
     // pupil sample traced through the glass at that wavelength, scalar (the
-    // batch trace shares one set of indices between its lanes). The pupil
-    // region is the design wavelength's. A ray that meets total internal
-    // reflection at this wavelength is blocked, like any other.
+    // reference of generate_rays_at_batch). The pupil region is the design
+    // wavelength's. A ray that meets total internal reflection at this
+    // wavelength is blocked, like any other.
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
         MaybeRay ray;
         generate_rays_at(raster_px, lens_sample, &nm, 1, &ray);
@@ -114,9 +124,44 @@ struct LensSystemCamera {
     }
 
     // The elements with their indices at the nm nearest to nm.
-    const std::vector<LensElement>& glass_at(float nm) const {
+    const std::vector<LensElement>& glass_at(float nm) const { return elements_by_nm[size_t(glass_row(nm))]; }
+
+    // The row of elements_by_nm (and of dispersion) nearest to nm.
+    int32_t glass_row(float nm) const {
         const long i = std::lround(double(nm) - 380.0);
-        return elements_by_nm[size_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1))];
+        return int32_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1));
+    }
+
+    // generate_rays_at for up to kLensBatch samples at once: sample i at
+    // wavelengths nm[i][0, traced), out[i][k] its ray at nm[i][k] (the same
+    // bits as generate_rays_at). The samples are aimed once, in lockstep,
+    // then traced once per k, every lane through the glass at its own
+    // wavelength, like generate_rays' RGB trace.
+    void generate_rays_at_batch(const Point2f* raster_px, const Point2f* lens_sample,
+                                const float (*nm)[kHeroWavelengths], int n, int traced,
+                                MaybeRay (*out)[kHeroWavelengths]) const {
+        LensRayBatch aimed;
+        double area_mm2[kLensBatch], cos_theta[kLensBatch];
+        sample_batch(raster_px, lens_sample, n, &aimed, area_mm2);
+        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -aimed.dz[i];
+        const LensToWorld to_world = lens_to_world();
+        for (int k = 0; k < traced; ++k) {
+            LensRayBatch batch = aimed;
+            if (disperses()) {
+                int32_t row[kLensBatch];
+                for (int i = 0; i < kLensBatch; ++i) row[i] = i < n ? glass_row(nm[i][k]) : 0;
+                trace_from_film_batch(elements, LaneGlass{&dispersion, row}, &batch, trace_kernel);
+            } else {
+                trace_from_film_batch(elements, &batch, trace_kernel);
+            }
+            WorldRayBatch world;
+            lens_to_world_batch(to_world, batch, cos_theta, area_mm2, &world);
+            for (int i = 0; i < n; ++i)
+                out[i][k] = batch.alive[i] ? MaybeRay(CameraRay{{world.ox[i], world.oy[i], world.oz[i]},
+                                                                {world.dx[i], world.dy[i], world.dz[i]},
+                                                                float(world.weight[i])})
+                                           : std::nullopt;
+        }
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one

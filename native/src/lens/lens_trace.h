@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "aperture.h"
@@ -181,7 +182,51 @@ struct LensRayBatch {
     bool alive[kLensBatch];
 };
 
-inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
+// A lens with dispersion: every surface's eta = n_film_side / n_scene_side at
+// every nm from 380 nm, for a batch whose lanes trace different wavelengths
+// (one row of the table per lane, looked up per surface). The elements still
+// give each surface's shape and aperture.
+struct LensDispersion {
+    // Per surface, whether it refracts (!is_stop and n_scene_side !=
+    // n_film_side, as cross_toward_scene asks): at no nm, at every nm, or at
+    // some (two glasses whose indices cross): only then is it asked per lane.
+    enum class Bends : unsigned char { Never, Always, Some };
+    size_t rows = 0;                   // nm in the table
+    std::vector<Bends> bends;          // per surface
+    std::vector<double> eta;           // [surface * rows + row]
+    std::vector<double> bends_at;      // [surface * rows + row]: 1 where it refracts, 0 where not
+
+    // From the elements at each nm (rows of elements_by_nm).
+    static LensDispersion of(const std::vector<std::vector<LensElement>>& elements_by_nm) {
+        LensDispersion d;
+        d.rows = elements_by_nm.size();
+        const size_t surfaces = d.rows ? elements_by_nm[0].size() : 0;
+        d.bends.assign(surfaces, Bends::Never);
+        d.eta.assign(surfaces * d.rows, 1.0);
+        d.bends_at.assign(surfaces * d.rows, 0.0);
+        for (size_t s = 0; s < surfaces; ++s) {
+            size_t bending = 0;
+            for (size_t w = 0; w < d.rows; ++w) {
+                const LensElement& e = elements_by_nm[w][s];
+                if (e.is_stop || e.n_scene_side == e.n_film_side) continue;
+                d.eta[s * d.rows + w] = e.n_film_side / e.n_scene_side;  // refract()'s n1 / n2, the same bits
+                d.bends_at[s * d.rows + w] = 1.0;
+                ++bending;
+            }
+            d.bends[s] = bending == 0 ? Bends::Never : bending == d.rows ? Bends::Always : Bends::Some;
+        }
+        return d;
+    }
+};
+
+// Per lane, which row of a LensDispersion it traces (nullptr: the elements'
+// own indices, the same for every lane).
+struct LaneGlass {
+    const LensDispersion* dispersion;
+    const int32_t* row;  // kLensBatch rows, each in [0, dispersion->rows)
+};
+
+inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneGlass glass, LensRayBatch* b) {
     const double c = e.curvature_per_mm, v = e.vertex_z_mm;
     const double semi2 = e.semi_aperture_mm * e.semi_aperture_mm;
     // The surface type is the same for every lane: branch once, outside the
@@ -222,25 +267,42 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
         const double nx = e.edge_normal_x[size_t(k)], ny = e.edge_normal_y[size_t(k)], a = e.apothem_mm;
         for (int i = 0; i < kLensBatch; ++i) ok[i] = ok[i] & !(px[i] * nx + py[i] * ny > a);
     }
+    // Per lane: eta and whether the surface refracts there.
+    double eta[kLensBatch];
+    bool bends[kLensBatch];
+    bool any_bends = false;
+    if (glass.dispersion == nullptr) {
+        const bool uniform = !(e.is_stop || e.n_scene_side == e.n_film_side);
+        for (int i = 0; i < kLensBatch; ++i) eta[i] = e.n_film_side / e.n_scene_side, bends[i] = uniform;
+        any_bends = uniform;
+    } else if (glass.dispersion->bends[surface] != LensDispersion::Bends::Never) {
+        const size_t first = surface * glass.dispersion->rows;
+        for (int i = 0; i < kLensBatch; ++i) {
+            eta[i] = glass.dispersion->eta[first + size_t(glass.row[i])];
+            bends[i] = glass.dispersion->bends_at[first + size_t(glass.row[i])] != 0.0;
+        }
+        any_bends = true;
+    }
     double nx[kLensBatch], ny[kLensBatch], nz[kLensBatch];
-    if (e.is_stop || e.n_scene_side == e.n_film_side) {
+    if (!any_bends) {
         for (int i = 0; i < kLensBatch; ++i) nx[i] = b->dx[i], ny[i] = b->dy[i], nz[i] = b->dz[i];
     } else {
-        const double eta = e.n_film_side / e.n_scene_side;
         for (int i = 0; i < kLensBatch; ++i) {
             const double dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             // Normal (0,0,1) - c (p - vertex)
             const double mx = -c * px[i], my = -c * py[i], mz = 1.0 - c * (pz[i] - v);
             const double cos_i = -(mx * dx + my * dy + mz * dz);
             const double sin2_i = 1.0 - cos_i * cos_i;
-            const double sin2_t = eta * eta * (sin2_i > 0.0 ? sin2_i : 0.0);
+            const double sin2_t = eta[i] * eta[i] * (sin2_i > 0.0 ? sin2_i : 0.0);
             const double cos_t = std::sqrt(sin2_t < 1.0 ? 1.0 - sin2_t : 0.0);
             // refract() turns the normal to face the ray (m and cos_i negated
             // when cos_i < 0); negating cos_t instead negates s: the same bits.
-            const double s = eta * cos_i - (cos_i < 0.0 ? -cos_t : cos_t);
-            nx[i] = dx * eta + mx * s, ny[i] = dy * eta + my * s, nz[i] = dz * eta + mz * s;
+            const double s = eta[i] * cos_i - (cos_i < 0.0 ? -cos_t : cos_t);
+            nx[i] = bends[i] ? dx * eta[i] + mx * s : dx;
+            ny[i] = bends[i] ? dy * eta[i] + my * s : dy;
+            nz[i] = bends[i] ? dz * eta[i] + mz * s : dz;
             // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
-            ok[i] = ok[i] & (sin2_t < 1.0) & (nz[i] < 0.0);
+            ok[i] = ok[i] & (!bends[i] | ((sin2_t < 1.0) & (nz[i] < 0.0)));
         }
     }
     // Dead lanes keep their old values: nothing undefined travels on.
@@ -251,10 +313,11 @@ inline void cross_toward_scene_batch(const LensElement& e, LensRayBatch* b) {
     }
 }
 
-inline void trace_from_film_batch_portable(const std::vector<LensElement>& elements, LensRayBatch* b) {
+inline void trace_from_film_batch_portable(const std::vector<LensElement>& elements, LaneGlass glass,
+                                           LensRayBatch* b) {
     for (int i = 0; i < kLensBatch; ++i) b->alive[i] = b->alive[i] && b->dz[i] < 0.0;
-    for (auto e = elements.rbegin(); e != elements.rend(); ++e) {
-        cross_toward_scene_batch(*e, b);
+    for (size_t s = elements.size(); s-- > 0;) {
+        cross_toward_scene_batch(elements[s], s, glass, b);
         bool any = false;
         for (int i = 0; i < kLensBatch; ++i) any |= b->alive[i];
         if (!any) return;
@@ -266,6 +329,8 @@ inline void trace_from_film_batch_portable(const std::vector<LensElement>& eleme
 // has its instruction set.
 void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LensRayBatch* b);
 void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, LensRayBatch* b);
+void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
+void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
 
 enum class LensTraceKernel { Portable, Avx2, Avx512 };
 constexpr LensTraceKernel kLensTraceKernels[] = {LensTraceKernel::Portable, LensTraceKernel::Avx2,
@@ -280,7 +345,21 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
     switch (kernel) {
         case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, b); return;
         case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, b); return;
-        case LensTraceKernel::Portable: trace_from_film_batch_portable(elements, b); return;
+        case LensTraceKernel::Portable:
+            trace_from_film_batch_portable(elements, LaneGlass{nullptr, nullptr}, b);
+            return;
+    }
+}
+
+// The same with each lane at its own wavelength: lane i refracts with the
+// indices of row glass.row[i] of glass.dispersion (the scalar trace through
+// that row's elements, bit for bit).
+inline void trace_from_film_batch(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b,
+                                  LensTraceKernel kernel) {
+    switch (kernel) {
+        case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, glass, b); return;
+        case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, glass, b); return;
+        case LensTraceKernel::Portable: trace_from_film_batch_portable(elements, glass, b); return;
     }
 }
 

@@ -39,6 +39,11 @@ struct D8 {
     D8(__m256d l, __m256d h) : lo(l), hi(h) {}
     explicit D8(double v) : lo(_mm256_set1_pd(v)), hi(lo) {}
     static D8 load(const double* p) { return {_mm256_loadu_pd(p), _mm256_loadu_pd(p + 4)}; }
+    // base[index[i]] in lane i
+    static D8 gather(const double* base, const int32_t* index) {
+        return {_mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(index)), 8),
+                _mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(index + 4)), 8)};
+    }
     void store(double* p) const { _mm256_storeu_pd(p, lo), _mm256_storeu_pd(p + 4, hi); }
 };
 
@@ -86,7 +91,12 @@ inline D8 select(M8 m, D8 a, D8 b) { return {_mm256_blendv_pd(b.lo, a.lo, m.lo),
 namespace lc {
 
 void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LensRayBatch* b) {
-    trace_from_film_lanes<avx2::D8, avx2::M8>(elements.data(), elements.size(), b);
+    trace_from_film_lanes<avx2::D8, avx2::M8, false>(elements.data(), elements.size(), LaneGlass{nullptr, nullptr},
+                                                     b);
+}
+
+void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b) {
+    trace_from_film_lanes<avx2::D8, avx2::M8, true>(elements.data(), elements.size(), glass, b);
 }
 
 void aim_batch_avx2(const LensAimBatch& in, AimPlanes planes, LensRayBatch* out) {

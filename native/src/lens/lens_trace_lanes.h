@@ -27,8 +27,35 @@ struct LaneGroup {
     M alive;
 };
 
+// Snell refraction of l's directions at the surface points p with index ratio
+// eta (its square eta2) into n; the lanes that transmit and go on toward the
+// scene (not totally reflected, not turned back toward the film: pbrt-v3 #92).
 template <class D, class M>
-inline void cross_toward_scene_lanes(const LensElement& e, LaneGroup<D, M>* l) {
+inline M refract_lanes(const LensElement& e, D px, D py, D pz, D eta, D eta2, const LaneGroup<D, M>& l, D* nx,
+                       D* ny, D* nz) {
+    const D zero(0.0), one(1.0), c(e.curvature_per_mm), v(e.vertex_z_mm);
+    // Normal (0,0,1) - c (p - vertex)
+    const D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
+    const D cos_i = -(mx * l.dx + my * l.dy + mz * l.dz);
+    const D sin2_t = eta2 * max(one - cos_i * cos_i, zero);
+    const M transmits = sin2_t < one;
+    const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
+    // refract() turns the normal to face the ray (m and cos_i negated when
+    // cos_i < 0); negating cos_t instead negates s, the same bits for fewer
+    // instructions.
+    const D s = eta * cos_i - select(cos_i < zero, -cos_t, cos_t);
+    *nx = l.dx * eta + mx * s, *ny = l.dy * eta + my * s, *nz = l.dz * eta + mz * s;
+    return transmits & (*nz < zero);
+}
+
+// kDispersed: each lane refracts with its own row of glass.dispersion
+// (gathered per surface); otherwise every lane with e's indices, and glass,
+// surface and first go unused.
+// Not inlined into the trace loop: GCC left it out of line before it had a
+// dispersed variant, and the RGB trace is fastest that way (measured).
+template <class D, class M, bool kDispersed>
+__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, size_t surface, LaneGlass glass,
+                                                        int first, LaneGroup<D, M>* l) {
     const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
     D t;
@@ -60,22 +87,24 @@ inline void cross_toward_scene_lanes(const LensElement& e, LaneGroup<D, M>* l) {
         ok = ok & not_greater(px * D(e.edge_normal_x[size_t(k)]) + py * D(e.edge_normal_y[size_t(k)]),
                               D(e.apothem_mm));
     D nx = l->dx, ny = l->dy, nz = l->dz;
-    if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
+    if constexpr (kDispersed) {
+        const LensDispersion& d = *glass.dispersion;
+        if (d.bends[surface] != LensDispersion::Bends::Never) {
+            const size_t table = surface * d.rows;
+            const D eta = D::gather(d.eta.data() + table, glass.row + first);
+            M passes = refract_lanes(e, px, py, pz, eta, eta * eta, *l, &nx, &ny, &nz);
+            if (d.bends[surface] == LensDispersion::Bends::Some) {
+                // Lanes where this surface does not refract go straight on, untested.
+                const D bends_at = D::gather(d.bends_at.data() + table, glass.row + first);
+                const M bends = bends_at > zero;
+                nx = select(bends, nx, l->dx), ny = select(bends, ny, l->dy), nz = select(bends, nz, l->dz);
+                passes = passes | not_greater(bends_at, zero);
+            }
+            ok = ok & passes;
+        }
+    } else if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
         const double eta_scalar = e.n_film_side / e.n_scene_side;
-        const D eta(eta_scalar);
-        // Normal (0,0,1) - c (p - vertex)
-        const D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
-        const D cos_i = -(mx * l->dx + my * l->dy + mz * l->dz);
-        const D sin2_t = D(eta_scalar * eta_scalar) * max(one - cos_i * cos_i, zero);
-        const M transmits = sin2_t < one;
-        const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
-        // refract() turns the normal to face the ray (m and cos_i negated when
-        // cos_i < 0); negating cos_t instead negates s, the same bits for
-        // fewer instructions.
-        const D s = eta * cos_i - select(cos_i < zero, -cos_t, cos_t);
-        nx = l->dx * eta + mx * s, ny = l->dy * eta + my * s, nz = l->dz * eta + mz * s;
-        // Total internal reflection, or a ray turned back toward the film (pbrt-v3 #92)
-        ok = ok & transmits & (nz < zero);
+        ok = ok & refract_lanes(e, px, py, pz, D(eta_scalar), D(eta_scalar * eta_scalar), *l, &nx, &ny, &nz);
     }
     // Dead lanes keep their old values
     l->ox = select(ok, px, l->ox), l->oy = select(ok, py, l->oy), l->oz = select(ok, pz, l->oz);
@@ -85,8 +114,8 @@ inline void cross_toward_scene_lanes(const LensElement& e, LaneGroup<D, M>* l) {
 
 // trace_from_film_batch_portable's work for the whole batch, in groups of
 // D::kLanes lanes side by side so that their latencies overlap.
-template <class D, class M>
-inline void trace_from_film_lanes(const LensElement* elements, size_t count, LensRayBatch* b) {
+template <class D, class M, bool kDispersed>
+inline void trace_from_film_lanes(const LensElement* elements, size_t count, LaneGlass glass, LensRayBatch* b) {
     constexpr int kWidth = D::kLanes;
     static_assert(kLensBatch % kWidth == 0, "whole groups of lanes");
     constexpr int kGroups = kLensBatch / kWidth;
@@ -101,7 +130,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Len
     for (size_t s = count; s-- > 0;) {
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
-            cross_toward_scene_lanes(elements[s], &lanes[g]);
+            cross_toward_scene_lanes<D, M, kDispersed>(elements[s], s, glass, kWidth * g, &lanes[g]);
             any_alive |= any(lanes[g].alive);
         }
         if (!any_alive) break;
