@@ -164,6 +164,7 @@ def main():
     parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--reference-spp", type=int, default=4096)
+    parser.add_argument("--speed-only", action="store_true", help="the samples/s ratios alone (a minute, not an hour)")
     args = parser.parse_args()
 
     still = load_scene(SCENE)
@@ -177,6 +178,15 @@ def main():
         "cpu_count": os.cpu_count(),
         "speed": speed(still, moved, spp=args.spp, threads=args.threads, repeats=args.repeats),
         "speed_one_mover": speed(still, one_mover(still), spp=args.spp, threads=args.threads, repeats=args.repeats),
+    }
+    if not args.speed_only:
+        result.update(stratification_studies(still, small, args))
+    print(json.dumps(result, indent=2))
+
+
+def stratification_studies(still, small, args) -> dict:
+    """RMSE at args.spp, padded against joint sobol, on the moving scenes."""
+    return {
         "joint_stratification": joint_stratification(small, spp=args.spp, seeds=args.seeds,
                                                      reference_spp=args.reference_spp, threads=args.threads),
         "joint_stratification_streaks": joint_stratification(streaks(still.with_camera(resolution=(180, 120))),
@@ -185,7 +195,6 @@ def main():
         "joint_stratification_sweep": sweep(still.with_camera(resolution=(180, 120)), spp=args.spp, seeds=args.seeds,
                                             reference_spp=args.reference_spp, threads=args.threads),
     }
-    print(json.dumps(result, indent=2))
 
 
 if __name__ == "__main__":
