@@ -7,10 +7,10 @@ defocus widens the streak and softens its ends but not its length (measured
 between the half-plateau crossings, :func:`lenscompare.metrics.measure_streak`).
 
 Bottom: where one pixel's 64 samples fall in lens u x time, coloured by the
-quarter of the pixel (film x) they come from, for the sobol sampler (film,
+quarter of the pixel (film y) they come from, for the sobol sampler (film,
 lens and time from one Owen-scrambled Sobol' sequence) and for padding (each
 dimension group stratified alone, paired at random). sobol puts exactly one
-sample in each of the 4 x 4 x 4 film-x x lens-u x time cells; padding leaves
+sample in each of the 4 x 4 x 4 film-y x lens-u x time cells; padding leaves
 some empty and doubles others.
 """
 
@@ -37,7 +37,7 @@ DEPTH_M, RADIUS_M = 4.0, 0.05
 SPEED_M_PER_S, SHUTTER_S = 30.0, (0.0, 1.0 / 30.0)  # 1 m across at 4 m: about 100 px
 START_X_M = -0.5
 SAMPLES = 64                 # the scatter's samples per pixel
-CELLS = 4                    # per axis of the film-x x lens-u x time stratification count
+CELLS = 4                    # per axis of the film-y x lens-u x time stratification count
 
 
 def streak_scene(*, focus_distance_m: float, f_number: float = 2.0) -> Scene:
@@ -77,8 +77,8 @@ def pixel_samples(sampler_code: int, *, spp: int = SAMPLES, seed: int = 1, pixel
 
 
 def occupied_cells(film: np.ndarray, lens: np.ndarray, time: np.ndarray, cells: int = CELLS) -> int:
-    """How many of the cells^3 film-x x lens-u x time cells hold a sample."""
-    index = np.stack([film[:, 0], lens[:, 0], time], axis=1)
+    """How many of the cells^3 film-y x lens-u x time cells hold a sample."""
+    index = np.stack([film[:, 1], lens[:, 0], time], axis=1)
     return len({tuple(row) for row in np.minimum((index * cells).astype(int), cells - 1)})
 
 
@@ -102,7 +102,7 @@ class MotionGeometry:
     samples : dict of str to (film, lens, time)
         ``"sobol"`` and ``"padded"``: one pixel's 64 samples.
     occupied : dict of str to int
-        Occupied film-x x lens-u x time cells (of CELLS**3) for each.
+        Occupied film-y x lens-u x time cells (of CELLS**3) for each.
     """
 
     expected_length_px: float
@@ -155,15 +155,15 @@ def motion_figure(geometry: MotionGeometry):
             ax.set_title(f"{title}; v T projected {expected:.1f} px", fontsize=9)
             ax.set_xticks([])
             ax.set_yticks([])
-        colours = list(_style.BUNDLES) + [_style.FOCUS_PLANE]  # four film-x quarters
+        colours = list(_style.BUNDLES) + [_style.FOCUS_PLANE]  # four film-y quarters
         titles = {"sobol": "sobol: film, lens, time one sequence", "padded": "padded: each stratified alone, paired at random"}
         for col, name in enumerate(("sobol", "padded")):
             film, lens, time = g.samples[name]
             ax = fig.add_subplot(grid[2, col])
-            quarter = np.minimum((film[:, 0] * CELLS).astype(int), CELLS - 1)
+            quarter = np.minimum((film[:, 1] * CELLS).astype(int), CELLS - 1)
             for q in range(CELLS):
                 ax.plot(lens[quarter == q, 0], time[quarter == q], "o", ms=4.5, color=colours[q], gid=f"samples-{name}-{q}",
-                        label=f"film x in [{q / CELLS:g}, {(q + 1) / CELLS:g})")
+                        label=f"film y in [{q / CELLS:g}, {(q + 1) / CELLS:g})")
             for k in range(1, CELLS):
                 ax.axvline(k / CELLS, color=_style.MUTED, lw=0.6)
                 ax.axhline(k / CELLS, color=_style.MUTED, lw=0.6)
@@ -172,7 +172,7 @@ def motion_figure(geometry: MotionGeometry):
             ax.set_aspect("equal")
             ax.set_xlabel("lens sample u")
             ax.set_ylabel("time (fraction of the shutter)")
-            ax.set_title(f"{titles[name]}\n{g.occupied[name]} of {CELLS ** 3} film x \u00d7 lens u \u00d7 time cells hold a "
+            ax.set_title(f"{titles[name]}\n{g.occupied[name]} of {CELLS ** 3} film y \u00d7 lens u \u00d7 time cells hold a "
                          f"sample ({SAMPLES} spp)", fontsize=8.5)
             if col == 1:
                 ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7.5, frameon=False)
