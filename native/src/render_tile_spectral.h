@@ -139,7 +139,7 @@ class SpectralCameraSampleBatcher {
         raster_px_[pending_] = raster_px;
         lens_[pending_] = lens;
         time_[pending_] = time_u;
-        wavelengths_[pending_] = sample_hero_wavelengths(spectra_, wavelength_u);
+        sample_hero_wavelengths(spectra_, wavelength_u, &wavelengths_[pending_]);
         slot_[pending_++] = slot;
         if (pending_ == kCameraBatch) flush();
     }
