@@ -246,15 +246,10 @@ Scene::~Scene() {
 }
 
 void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     CameraHits hits;
-    trace_camera_rays(rays, context, hits);
+    trace_camera_rays(rays, hits);
 
     // Surface points of the diffuse hits; misses and emitters are final already.
-    bool diffuse[kPacketSize] = {};
-    Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];
     for (int i = 0; i < rays.count; ++i) {
         if (hits.missed(i)) {
             out[i] = background_;
@@ -265,17 +260,16 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
             out[i] = m.color;
             continue;
         }
-        diffuse[i] = true;
-        diffuse_surface(rays, hits, i, m, p[i], n[i], albedo[i]);
+        diffuse_surface(rays, hits, i, m);
         out[i] = m.emission;
     }
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, rays, diffuse, p, n, context, shadow)) continue;
+        if (!trace_shadow_rays(light, rays, hits, shadow)) continue;
         for (int i = 0; i < rays.count; ++i)
-            if (shadow.lit(i)) out[i] += albedo[i] * light.intensity * (shadow.cos_theta[i] * shadow.falloff[i]);
+            if (shadow.lit(i)) out[i] += hits.albedo[i] * light.intensity * (shadow.cos_theta[i] * shadow.falloff[i]);
     }
 }
 

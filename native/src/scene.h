@@ -111,9 +111,12 @@ class Scene {
 
     // The stages radiance and spectral_radiance share (scene_trace.cpp), so
     // that both see the same hits, surfaces and shadows.
-    struct CameraHits {  // one packet of camera rays, traced
+    struct CameraHits {  // one packet of camera rays, traced, and its diffuse hits
+        RTCIntersectContext context;  // coherent rays; shadow rays reuse it
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
+        bool diffuse[kPacketSize] = {};    // set by diffuse_surface, with the next three
+        Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];  // point (m), normal facing the ray, albedo
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
@@ -123,15 +126,13 @@ class Scene {
         float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
         bool lit(int i) const;            // traced and not blocked
     };
-    void trace_camera_rays(const RayBatch& rays, RTCIntersectContext& context, CameraHits& hits) const;
+    void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
     // The material index of hit i (not a miss).
     int material_of(const CameraHits& hits, int i) const;
-    // Diffuse hit i's point (m), normal facing the ray, and albedo there.
-    void diffuse_surface(const RayBatch& rays, const CameraHits& hits, int i, const Material& m, Vec3f& p,
-                         Vec3f& n, Vec3f& albedo) const;
-    // Shadow rays from the diffuse points toward light, traced; false when none was needed.
-    bool trace_shadow_rays(const PointLight& light, const RayBatch& rays, const bool* diffuse, const Vec3f* p,
-                           const Vec3f* n, RTCIntersectContext& context, ShadowRays& shadow) const;
+    // Marks hit i diffuse and finds its point, normal and albedo there.
+    void diffuse_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const;
+    // Shadow rays from the diffuse hits toward light, traced; false when none was needed.
+    bool trace_shadow_rays(const PointLight& light, const RayBatch& rays, CameraHits& hits, ShadowRays& shadow) const;
     void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
                           bool* hit_mover) const;
     void occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const;

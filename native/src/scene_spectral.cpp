@@ -11,15 +11,10 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
                               const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
                               float (*out)[kHeroWavelengths]) const {
     const SpectralTables& spectra = *spectral_;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     CameraHits hits;
-    trace_camera_rays(rays, context, hits);
+    trace_camera_rays(rays, hits);
 
     // A colour c is dot(c, basis) at each ray's wavelengths.
-    bool diffuse[kPacketSize] = {};
-    Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];
     for (int i = 0; i < rays.count; ++i) {
         if (hits.missed(i)) {
             for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(background_, basis[i][k]);
@@ -34,20 +29,19 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
                 out[i][k] = line ? spectra.line_at(material, wavelengths_nm[i][k]) : dot(m.color, basis[i][k]);
             continue;
         }
-        diffuse[i] = true;
-        diffuse_surface(rays, hits, i, m, p[i], n[i], albedo[i]);
+        diffuse_surface(rays, hits, i, m);
         for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(m.emission, basis[i][k]);
     }
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, rays, diffuse, p, n, context, shadow)) continue;
+        if (!trace_shadow_rays(light, rays, hits, shadow)) continue;
         for (int i = 0; i < rays.count; ++i)
             if (shadow.lit(i))
                 // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
                 for (int k = 0; k < n_wavelengths; ++k)
-                    out[i][k] += dot(albedo[i], basis[i][k]) * dot(light.intensity, basis[i][k]) *
+                    out[i][k] += dot(hits.albedo[i], basis[i][k]) * dot(light.intensity, basis[i][k]) *
                                  (shadow.cos_theta[i] * shadow.falloff[i]);
     }
 }

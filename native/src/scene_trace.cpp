@@ -29,7 +29,10 @@ float surface_offset(const Vec3f& p) {
 
 bool Scene::ShadowRays::lit(int i) const { return valid[i] && packet.tfar[i] != -kInf; }
 
-void Scene::trace_camera_rays(const RayBatch& rays, RTCIntersectContext& context, CameraHits& hits) const {
+void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
+    RTCIntersectContext& context = hits.context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(kPacketAlignment) int valid[kPacketSize];
     RTCRayHitPacket& packet = hits.packet;
     for (int i = 0; i < kPacketSize; ++i) {
@@ -56,9 +59,11 @@ int Scene::material_of(const CameraHits& hits, int i) const {
     return table.material[hits.packet.hit.primID[i]];
 }
 
-void Scene::diffuse_surface(const RayBatch& rays, const CameraHits& hits, int i, const Material& m, Vec3f& p,
-                            Vec3f& n, Vec3f& albedo) const {
+void Scene::diffuse_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const {
     const RTCRayHitPacket& packet = hits.packet;
+    Vec3f& p = hits.p[i];
+    Vec3f& n = hits.n[i];
+    hits.diffuse[i] = true;
     p = rays.origin[i] + rays.direction[i] * packet.ray.tfar[i];
     n = normalize(Vec3f{packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]});
     if (dot(n, rays.direction[i]) > 0.0f) n = -n;  // two-sided: shade the side the ray sees
@@ -67,11 +72,16 @@ void Scene::diffuse_surface(const RayBatch& rays, const CameraHits& hits, int i,
     Vec3f p_texture = p;
     if (!table.velocity.empty())
         p_texture = p - table.velocity[packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
-    albedo = (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
+    hits.albedo[i] =
+        (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
 }
 
-bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, const bool* diffuse, const Vec3f* p,
-                              const Vec3f* n, RTCIntersectContext& context, ShadowRays& shadow) const {
+bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, CameraHits& hits,
+                              ShadowRays& shadow) const {
+    const bool* diffuse = hits.diffuse;
+    const Vec3f* p = hits.p;
+    const Vec3f* n = hits.n;
+    RTCIntersectContext& context = hits.context;
     RTCRayPacket& packet = shadow.packet;
     bool any = false;
     for (int i = 0; i < kPacketSize; ++i) {
