@@ -73,6 +73,9 @@ class SweptBounds {
     // box (slab test; conservative: a NaN never culls).
     bool may_hit(const Vec3f& origin, const Vec3f& direction, float t_max) const {
         const float o[3] = {origin.x, origin.y, origin.z}, d[3] = {direction.x, direction.y, direction.z};
+        // The reciprocals once per ray, not once per box: a division costs as
+        // much as the rest of a box's test.
+        const float inv[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
         for (const Box& b : boxes_) {
             float t0 = 0.0f, t1 = t_max;
             bool inside = true;
@@ -81,8 +84,7 @@ class SweptBounds {
                     inside = o[a] >= b.lo[a] && o[a] <= b.hi[a];
                     continue;
                 }
-                const float inv = 1.0f / d[a];
-                float near = (b.lo[a] - o[a]) * inv, far = (b.hi[a] - o[a]) * inv;
+                float near = (b.lo[a] - o[a]) * inv[a], far = (b.hi[a] - o[a]) * inv[a];
                 if (near > far) std::swap(near, far);
                 t0 = near > t0 ? near : t0;
                 t1 = far < t1 ? far : t1;
