@@ -32,9 +32,19 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
     CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     PixelSamples samples(s.spp, scene.motion().samples_time());
     RenderStats stats;
-    stats.samples = walk_tile_samples(s, tile, samples, sums, [&](Point2f raster_px, int i, size_t slot) {
-        batcher.add(raster_px, samples.lens[size_t(i)], samples.time_of(i), slot);
-    });
+    for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
+        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+            const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+            const auto [first, end] = s.samples_of(pixel_index);
+            if (end == first) continue;
+            samples.fill(s, pixel_index, end);
+            stats.samples += uint64_t(end - first);
+            const size_t slot = sums.slot(x, y);
+            for (int i = first; i < end; ++i)
+                batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
+                            samples.lens[size_t(i)], samples.time_of(i), slot);
+        }
+    }
     // The last, partly filled batch and packet
     batcher.flush();
     packet.flush();

@@ -106,27 +106,6 @@ class TileAccumulator {
     std::vector<double> sums_, squares_;
 };
 
-// Walks a tile's pixels row by row, and each pixel's samples in sample order,
-// handing each to add(raster_px, i, slot); returns how many were drawn.
-template <class AddSample>
-uint64_t walk_tile_samples(const RenderSettings& s, const Tile& tile, PixelSamples& samples,
-                           const TileAccumulator& sums, AddSample&& add) {
-    uint64_t drawn = 0;
-    for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
-        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
-            const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
-            const auto [first, end] = s.samples_of(pixel_index);
-            if (end == first) continue;
-            samples.fill(s, pixel_index, end);
-            drawn += uint64_t(end - first);
-            const size_t slot = sums.slot(x, y);
-            for (int i = first; i < end; ++i)
-                add(Point2f{float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y}, i, slot);
-        }
-    }
-    return drawn;
-}
-
 // Rays waiting for the scene: Embree traces a full 8-wide packet faster than
 // its rays one at a time, camera rays and shadow rays alike.
 class RayPacket {
