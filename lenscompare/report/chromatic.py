@@ -87,5 +87,6 @@ def chromatic_section(plans: dict[str, tuple[Scene, Plan | dict]], *, figure: st
     note += ("" if dispersing else "None of the report's lenses disperses (no Abbe number or glass in the lens "
              "file's 5th column), so every size is 0; run the report with --lens on a lens that does. ")
     note += ("Measured on spectral renders." if measured else
-             "Not measured: the report's renders are RGB (spectral rendering is not part of this build).")
+             "Not measured: the report's renders are RGB (spectral renders, [render] spectral, are not "
+             "part of the report yet).")
     return {"rows": rows, "figure": figure, "spectral_renders": bool(measured), "note": note}
