@@ -265,7 +265,7 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
         t->cdf.push_back(i + 1 == probabilities.shape(0) ? 1.0f : float(cdf));
     }
     for (size_t i = 0; i < edges_nm.shape(0); ++i) t->edges_nm.push_back(float(edges_nm(i)));
-    t->build_guide();
+    t->build_sampling_tables();
     for (size_t i = 0; i < line_nm.shape(0); ++i) {
         t->line_nm.push_back(float(line_nm(i)));
         t->line_radiance.push_back(float(line_radiance(i)));

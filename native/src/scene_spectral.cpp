@@ -13,6 +13,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);
+    float reflectance[kPacketSize][kHeroWavelengths];  // the diffuse hits' albedo spectra at the ray's wavelengths
 
     // A colour c is dot(c, basis) at each ray's wavelengths.
     for (int i = 0; i < rays.count; ++i) {
@@ -30,7 +31,10 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
             continue;
         }
         diffuse_surface(rays, hits, i, m);
-        for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(m.emission, basis[i][k]);
+        for (int k = 0; k < n_wavelengths; ++k) {
+            out[i][k] = dot(m.emission, basis[i][k]);
+            reflectance[i][k] = dot(hits.albedo[i], basis[i][k]);
+        }
     }
 
     // Shadow rays, one packet per light
@@ -41,7 +45,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
             if (shadow.lit(i))
                 // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
                 for (int k = 0; k < n_wavelengths; ++k)
-                    out[i][k] += dot(hits.albedo[i], basis[i][k]) * dot(light.intensity, basis[i][k]) *
+                    out[i][k] += reflectance[i][k] * dot(light.intensity, basis[i][k]) *
                                  (shadow.cos_theta[i] * shadow.falloff[i]);
     }
 }

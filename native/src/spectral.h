@@ -29,29 +29,44 @@ struct SpectralTables {
     std::vector<Vec3f> basis;  // Mallett–Yuksel basis spectra (r, g, b) per nm
     std::vector<Vec3f> film;   // linear-sRGB response per nm of radiance
     // Wavelength density, piecewise constant: segment i is [edges_nm[i],
-    // edges_nm[i+1]) with probability cdf[i+1] - cdf[i].
+    // edges_nm[i+1]) with probability cdf[i+1] - cdf[i] (lenscompare/spectral.py).
     std::vector<float> edges_nm, cdf;
-    // guide[j]: the segment holding u = j / kGuideCells, where the search for
-    // u in [j, j + 1) / kGuideCells starts (a binary search's unpredictable
-    // branches, four per sample, cost a fifth of a spectral render).
-    static constexpr int kGuideCells = 2048;
-    std::vector<uint32_t> guide;
+    // What a sample draws from: that density's inverse CDF at kInverseCells + 1
+    // evenly spaced u, linear between. A wavelength is then one table row
+    // away, with no search: nm = nm_at_u[j] + t * nm_per_cell[j] for u in
+    // cell j at fraction t, and its density 1 / (nm_per_cell[j] *
+    // kInverseCells), exact for this piecewise-linear inverse CDF. The
+    // density it samples differs from the one above only within cells that
+    // hold a segment edge (a fraction of a nm of continuum per cell; a line's
+    // 1 nm band spans hundreds): still every wavelength, each with its exact density,
+    // so the estimate stays unbiased. (A search per wavelength, even guided,
+    // was a fifth of a spectral thin-lens render: perf, session 7.)
+    static constexpr int kInverseCells = 2048;
+    struct InverseCell {
+        float nm, nm_per_cell;
+    };
+    std::vector<InverseCell> inverse_cdf;  // kInverseCells + 1 rows, the last a sentinel
 
-    // Fills guide, density and inverse_density from edges_nm and cdf.
-    void build_guide() {
-        density.clear(), inverse_density.clear();
-        for (size_t i = 0; i + 1 < cdf.size(); ++i) {
-            const float p = cdf[i + 1] - cdf[i], width = edges_nm[i + 1] - edges_nm[i];
-            density.push_back(p / width);
-            inverse_density.push_back(p > 0.0f ? width / p : 0.0f);
+    // Fills inverse_cdf from edges_nm and cdf, and per_nm from basis and film.
+    void build_sampling_tables() {
+        per_nm.clear();
+        for (size_t i = 0; i < basis.size(); ++i) {
+            const size_t next = std::min(i + 1, basis.size() - 1);
+            per_nm.push_back({basis[i], basis[next] - basis[i], film[i], film[next] - film[i]});
         }
-        guide.assign(kGuideCells, 0);
+        std::vector<float> nm_at_u(size_t(kInverseCells) + 1);
         size_t i = 0;
-        for (int j = 0; j < kGuideCells; ++j) {
-            const float u = float(j) / kGuideCells;
-            while (i + 2 < cdf.size() && cdf[i + 1] <= u) ++i;
-            guide[size_t(j)] = uint32_t(i);
+        for (int j = 0; j <= kInverseCells; ++j) {
+            const double u = double(j) / kInverseCells;
+            while (i + 2 < cdf.size() && double(cdf[i + 1]) <= u) ++i;
+            const double p = double(cdf[i + 1]) - double(cdf[i]);
+            const double t = p > 0.0 ? std::clamp((u - double(cdf[i])) / p, 0.0, 1.0) : 0.0;
+            nm_at_u[size_t(j)] = float(double(edges_nm[i]) + t * (double(edges_nm[i + 1]) - double(edges_nm[i])));
         }
+        nm_at_u.front() = edges_nm.front(), nm_at_u.back() = edges_nm.back();
+        inverse_cdf.assign(size_t(kInverseCells) + 1, InverseCell{edges_nm.back(), 0.0f});
+        for (int j = 0; j < kInverseCells; ++j)
+            inverse_cdf[size_t(j)] = {nm_at_u[size_t(j)], nm_at_u[size_t(j) + 1] - nm_at_u[size_t(j)]};
     }
     // Per material: its line (nm; 0: none) and the radiance per nm in the line's band.
     std::vector<float> line_nm, line_radiance;
@@ -61,19 +76,23 @@ struct SpectralTables {
     // TerminateSecondary).
     bool trace_secondaries = true;
 
-    // Per segment, derived once (build_guide): density (1/nm) and its inverse,
-    // which is also the nm per unit of u.
-    std::vector<float> density, inverse_density;
-
     // The basis and the film's response over the density at nm (inverse_pdf: 1 / the density
     // there), by linear interpolation in the per-nm tables.
     void at(float nm, float inverse_pdf, Vec3f* basis_out, Vec3f* film_over_pdf_out) const {
         const float x = std::clamp(nm - kMinNm, 0.0f, kMaxNm - kMinNm);
-        const int i = std::min(int(x), int(basis.size()) - 2);
+        const int i = std::min(int(x), int(per_nm.size()) - 2);
         const float t = x - float(i);
-        *basis_out = basis[size_t(i)] * (1.0f - t) + basis[size_t(i) + 1] * t;
-        *film_over_pdf_out = (film[size_t(i)] * (1.0f - t) + film[size_t(i) + 1] * t) * inverse_pdf;
+        const NmRow& row = per_nm[size_t(i)];
+        *basis_out = row.basis + row.basis_step * t;
+        *film_over_pdf_out = (row.film + row.film_step * t) * inverse_pdf;
     }
+
+    // basis and film, with each row's step to the next: one row per look-up
+    // and a multiply-add per interpolation (built by build_sampling_tables).
+    struct NmRow {
+        Vec3f basis, basis_step, film, film_step;
+    };
+    std::vector<NmRow> per_nm;
 
     // Spectral radiance of a material's line at nm (0 outside its band, or with no line).
     float line_at(int material, float nm) const {
@@ -91,32 +110,21 @@ struct HeroWavelengths {
     Vec3f film_over_pdf[kHeroWavelengths];  // the film's response over the density there
 };
 
-// Fills *w in place (the caller's batch slot: no 112-byte copy per sample).
-// Each wavelength by the inverse CDF: u in [0, 1) -> its segment, cdf[i] <=
-// u < cdf[i+1] (the last one for u past every cdf), then nm and 1 / the
-// density there. Stage by stage over the four wavelengths: each one's table
-// lookups are a chain of dependent loads, and four chains side by side
-// overlap (perf put this function at a tenth of a spectral thin-lens render).
+// Fills *w in place (the caller's batch slot: no 112-byte copy per sample):
+// wavelength k from u + k / 4 (mod 1) through the inverse-CDF table, then the
+// basis and film response there.
 inline void sample_hero_wavelengths(const SpectralTables& t, float u, HeroWavelengths* w) {
-    float uk[kHeroWavelengths], inverse_pdf[kHeroWavelengths];
-    size_t segment[kHeroWavelengths];
+    constexpr int cells = SpectralTables::kInverseCells;
+    const SpectralTables::InverseCell* table = t.inverse_cdf.data();
+    float inverse_pdf[kHeroWavelengths];
     for (int k = 0; k < kHeroWavelengths; ++k) {
-        uk[k] = u + float(k) / kHeroWavelengths;
-        if (uk[k] >= 1.0f) uk[k] -= 1.0f;
-    }
-    const float* cdf = t.cdf.data();
-    const size_t n_cdf = t.cdf.size();
-    constexpr int cells = SpectralTables::kGuideCells;
-    for (int k = 0; k < kHeroWavelengths; ++k) segment[k] = t.guide[size_t(std::min(int(uk[k] * cells), cells - 1))];
-    for (int k = 0; k < kHeroWavelengths; ++k)  // the one step a cell mostly needs, without a branch
-        segment[k] += size_t((segment[k] + 2 < n_cdf) & (cdf[segment[k] + 1] <= uk[k]));
-    for (int k = 0; k < kHeroWavelengths; ++k)
-        while (segment[k] + 2 < n_cdf && cdf[segment[k] + 1] <= uk[k]) ++segment[k];
-    const float *edges = t.edges_nm.data(), *inverse_density = t.inverse_density.data();
-    for (int k = 0; k < kHeroWavelengths; ++k) {
-        const size_t i = segment[k];
-        w->nm[k] = std::clamp(edges[i] + (uk[k] - cdf[i]) * inverse_density[i], edges[i], edges[i + 1]);
-        inverse_pdf[k] = inverse_density[i];
+        float uk = u + float(k) / kHeroWavelengths;
+        if (uk >= 1.0f) uk -= 1.0f;
+        const float x = uk * float(cells);
+        const int j = std::min(int(x), cells - 1);
+        const SpectralTables::InverseCell cell = table[j];
+        w->nm[k] = cell.nm + (x - float(j)) * cell.nm_per_cell;
+        inverse_pdf[k] = cell.nm_per_cell * float(cells);
     }
     for (int k = 0; k < kHeroWavelengths; ++k) t.at(w->nm[k], inverse_pdf[k], &w->basis[k], &w->film_over_pdf[k]);
 }
