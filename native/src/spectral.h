@@ -115,15 +115,15 @@ struct HeroWavelengths {
 // basis and film response there.
 inline void sample_hero_wavelengths(const SpectralTables& t, float u, HeroWavelengths* w) {
     constexpr int cells = SpectralTables::kInverseCells;
+    static_assert(cells % kHeroWavelengths == 0, "u + k / 4 falls at the same place in its cell for every k");
     const SpectralTables::InverseCell* table = t.inverse_cdf.data();
+    const float x = u * float(cells);
+    const int j = std::min(int(x), cells - 1);
+    const float within = x - float(j);
     float inverse_pdf[kHeroWavelengths];
     for (int k = 0; k < kHeroWavelengths; ++k) {
-        float uk = u + float(k) / kHeroWavelengths;
-        if (uk >= 1.0f) uk -= 1.0f;
-        const float x = uk * float(cells);
-        const int j = std::min(int(x), cells - 1);
-        const SpectralTables::InverseCell cell = table[j];
-        w->nm[k] = cell.nm + (x - float(j)) * cell.nm_per_cell;
+        const SpectralTables::InverseCell cell = table[(j + k * (cells / kHeroWavelengths)) % cells];
+        w->nm[k] = cell.nm + within * cell.nm_per_cell;
         inverse_pdf[k] = cell.nm_per_cell * float(cells);
     }
     for (int k = 0; k < kHeroWavelengths; ++k) t.at(w->nm[k], inverse_pdf[k], &w->basis[k], &w->film_over_pdf[k]);
