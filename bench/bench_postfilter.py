@@ -75,18 +75,23 @@ def converged_postfilter(scene, threads):
 def speed(scene, threads, repeats):
     rows = []
     for spp in (16, 64, 256):
-        thin_s, post_s, per_pixel_s, post = [], [], [], None
+        thin_s, post_s, uniform_s, per_pixel_s, post = [], [], [], [], None
         for _ in range(repeats):  # alternating, so a loaded machine slows all alike
             thin_s.append(render(scene, model="thin", spp=spp, threads=threads, progress=False).metadata["seconds"])
             image = render(scene, model="postfilter", spp=spp, threads=threads, progress=False)
             post_s.append(image.metadata["seconds"])
             post = image if post is None or image.metadata["seconds"] <= min(post_s) else post
+            uniform_s.append(render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
+                                    postfilter_uniform_pass=True).metadata["seconds"])
             per_pixel = render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
                                postfilter_per_pixel_spp=True)
             per_pixel_s.append(per_pixel.metadata["seconds"])
         info = post.metadata["postfilter"]
-        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"], "thin_seconds_best": min(thin_s),
+        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"],
+                     "pinhole_mean_spp": info.get("pinhole_mean_spp", info["pinhole_spp"]),
+                     "thin_seconds_best": min(thin_s),
                      "postfilter_seconds_best": min(post_s), "speed_ratio": min(thin_s) / min(post_s),
+                     "uniform_pass_seconds_best": min(uniform_s), "uniform_pass_speed_ratio": min(thin_s) / min(uniform_s),
                      "per_pixel_pinhole_mean_spp": per_pixel.metadata["postfilter"]["pinhole_mean_spp"],
                      "per_pixel_seconds_best": min(per_pixel_s),
                      "per_pixel_speed_ratio": min(thin_s) / min(per_pixel_s),
