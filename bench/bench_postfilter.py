@@ -131,12 +131,16 @@ def blur_disks(threads):
     scene = load_scene(shipped_scene("blur_disks"))
     runs = [SimpleNamespace(label=m, image=render(scene, model=m, spp=64, threads=threads, progress=False))
             for m in ("postfilter", "thin")]
+    runs.append(SimpleNamespace(label="uniform", image=render(scene, model="postfilter", spp=64, threads=threads,
+                                                              progress=False, postfilter_uniform_pass=True)))
     table = measure_blur_disks(scene, runs)
     rows = []
-    for post, thin in zip(table["renders"]["postfilter"], table["renders"]["thin"]):
+    for post, thin, uniform in zip(table["renders"]["postfilter"], table["renders"]["thin"],
+                                   table["renders"]["uniform"]):
         if post is None or thin is None:
             continue
         rows.append({"depth_m": post["depth_m"], "eq5_px": post["eq5_px"], "postfilter_px": post["measured_px"],
+                     "postfilter_uniform_pass_px": uniform["measured_px"] if uniform else None,
                      "thin_px": thin["measured_px"], "postfilter_vs_eq5_percent": post["departure_from_eq5_percent"],
                      "thin_vs_eq5_percent": thin["departure_from_eq5_percent"],
                      "postfilter_vs_thin_percent": 100.0 * (post["measured_px"] / thin["measured_px"] - 1.0)})
@@ -148,7 +152,13 @@ def edges(scene, thin_reference, post_converged, threads):
     coc = signed_coc_px(depth, camera_for(scene, "thin"))
     band = edge_band(depth, coc)
     thin64 = render(scene, model="thin", spp=64, threads=threads, progress=False).pixels
-    return {"max_coc_px": float(np.abs(coc).max()), "predicted": postfilter_edge_error(scene).to_json(),
+    at_64 = {}
+    for label, uniform in (("postfilter_64spp", False), ("postfilter_uniform_pass_64spp", True)):
+        pixels = render(scene, model="postfilter", spp=64, threads=threads, progress=False,
+                        postfilter_uniform_pass=uniform).pixels
+        at_64[label] = {**edge_band_error(thin_reference, pixels, band),
+                        "whole_relative_rmse": relative_rmse(thin_reference, pixels)}
+    return {**at_64,"max_coc_px": float(np.abs(coc).max()), "predicted": postfilter_edge_error(scene).to_json(),
             "postfilter_converged": {**edge_band_error(thin_reference, post_converged, band),
                                      "whole_relative_rmse": relative_rmse(thin_reference, post_converged)},
             "thin_64spp": {**edge_band_error(thin_reference, thin64, band),
