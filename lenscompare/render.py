@@ -197,7 +197,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         if depth is None:
             depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
             depth_seconds = time.perf_counter() - start - pass_seconds
-        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
+        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads,
+                                            coc_px=coc if refined_info is not None else None)
         postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
                            "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),
                            **postfilter_info}

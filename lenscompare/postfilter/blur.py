@@ -119,12 +119,16 @@ def depth_layers(coc_px: np.ndarray) -> tuple[np.ndarray, int]:
     stretched = np.where(size < LINEAR_LAYERS_PX, size,
                          LINEAR_LAYERS_PX * (1.0 + np.log(np.maximum(size, LINEAR_LAYERS_PX) / LINEAR_LAYERS_PX)))
     bins = np.floor(np.sign(coc_px) * stretched).astype(np.int64)
-    values, inverse = np.unique(bins, return_inverse=True)
-    return (len(values) - 1 - inverse.reshape(coc_px.shape)).astype(np.int32), len(values)
+    # the rank of each bin among those present (np.unique's inverse, without its sort)
+    offset = bins - bins.min()
+    present = np.bincount(offset.ravel()) > 0
+    rank = np.cumsum(present) - 1
+    n_layers = int(rank[-1]) + 1
+    return (n_layers - 1 - rank[offset]).astype(np.int32), n_layers
 
 
 def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
-           threads: int | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
+           threads: int | None = None, coc_px: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
     """The pinhole image with each pixel spread over its blur disk.
 
     Parameters
@@ -137,6 +141,8 @@ def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
         The thin lens whose defocus is imitated (its aperture's blades too).
     threads : int, optional
         Worker threads (default all cores); the image does not depend on it.
+    coc_px : ndarray, float32, (H, W), optional
+        :func:`signed_coc_px` of ``depth_m`` and ``camera``, when the caller has it.
 
     Returns
     -------
@@ -146,7 +152,7 @@ def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
         (``method``, ``layers``, ``kernel``, ``max_coc_px``, ``seconds``).
     """
     start = time.perf_counter()
-    coc = signed_coc_px(depth_m, camera)
+    coc = signed_coc_px(depth_m, camera) if coc_px is None else np.asarray(coc_px, dtype=np.float32)
     layer, n_layers = depth_layers(coc)
     out = np.empty_like(pixels, dtype=np.float32)
     coverage = np.empty(coc.shape, dtype=np.float32)

@@ -35,9 +35,7 @@ References
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
-
-from .edges import DEPTH_JUMP, _neighbour_jumps
+from .edges import DEPTH_JUMP
 
 __all__ = ["BASE_PINHOLE_SPP", "CONTRAST_FRACTION", "NOISE_FRACTION", "RULE", "silhouette_pixels", "refine_pixels"]
 
@@ -56,9 +54,26 @@ RULE = (f"{BASE_PINHOLE_SPP} film samples everywhere; n = min(spp, 16) on depth 
 
 
 def silhouette_pixels(depth_m: np.ndarray) -> np.ndarray:
-    """Pixels with a relative depth step over ``DEPTH_JUMP`` to a 4-neighbour (bool)."""
-    jumps, _ = _neighbour_jumps(depth_m, np.zeros(np.shape(depth_m)))
-    return jumps > DEPTH_JUMP
+    """Pixels with a relative depth step over ``DEPTH_JUMP`` to a 4-neighbour
+    (bool; ``inf`` against a finite depth is a step, ``inf`` against ``inf`` none),
+    as :func:`~lenscompare.postfilter.edges.occlusion_edges` counts them."""
+    depth = np.asarray(depth_m, dtype=np.float32)
+    out = np.zeros(depth.shape, dtype=bool)
+    with np.errstate(invalid="ignore"):
+        for a, b in (((slice(1, None), slice(None)), (slice(None, -1), slice(None))),
+                     ((slice(None), slice(1, None)), (slice(None), slice(None, -1)))):
+            step = np.abs(depth[a] - depth[b]) > DEPTH_JUMP * np.minimum(depth[a], depth[b])
+            out[a] |= step
+            out[b] |= step
+    return out
+
+
+def _neighbourhood(values: np.ndarray, op) -> np.ndarray:
+    """``op`` (np.maximum or np.minimum) over each pixel's 3 x 3 neighbourhood,
+    edges repeated (separable: rows, then columns)."""
+    padded = np.pad(values, [(1, 1), (1, 1)] + [(0, 0)] * (values.ndim - 2), mode="edge")
+    rows = op(op(padded[:-2], padded[1:-1]), padded[2:])
+    return op(op(rows[:, :-2], rows[:, 1:-1]), rows[:, 2:])
 
 
 def refine_pixels(first_pixels: np.ndarray, first_variance: np.ndarray, coc_px: np.ndarray,
@@ -83,9 +98,8 @@ def refine_pixels(first_pixels: np.ndarray, first_variance: np.ndarray, coc_px: 
     mean = float(np.mean(first_pixels))
     if not mean > 0.0:
         return ~drawn_full  # a black first pass tells nothing: draw everything
-    spread = (ndimage.maximum_filter(first_pixels, size=(3, 3, 1), mode="nearest")
-              - ndimage.minimum_filter(first_pixels, size=(3, 3, 1), mode="nearest")).max(axis=2)
-    noise = ndimage.maximum_filter(np.sqrt(np.maximum(first_variance, 0.0) / 3.0), size=3, mode="nearest")
-    averaged = np.sqrt(np.maximum(np.pi * (np.abs(coc_px.astype(float)) / 2.0) ** 2, 1.0))
+    spread = (_neighbourhood(first_pixels, np.maximum) - _neighbourhood(first_pixels, np.minimum)).max(axis=2)
+    noise = _neighbourhood(np.sqrt(np.maximum(first_variance, 0.0) / 3.0), np.maximum)
+    averaged = np.sqrt(np.maximum(np.float32(np.pi / 4.0) * np.square(coc_px, dtype=np.float32), 1.0))
     busy = (spread > CONTRAST_FRACTION * mean * averaged) | (noise > NOISE_FRACTION * mean * averaged)
     return busy & ~drawn_full
