@@ -5,9 +5,12 @@ Prints one JSON object:
 
 - ``speed``: showcase.toml (360x240) rendered through the thin lens and the
   postfilter at the same requested spp (16, 64, 256), alternating, best of
-  ``--repeats``. The postfilter's pinhole pass draws min(spp, 16) film samples
-  (``pinhole_spp``); its seconds include the pinhole pass, the depth buffer
-  and the spread. Goal: >= 5x the thin lens's speed. ``per_pixel_*``: the
+  ``--repeats``. The postfilter's pinhole pass draws at most min(spp, 16) film
+  samples (``pinhole_spp``): 2 everywhere, that many on silhouettes and where
+  those 2 show an edge (lenscompare.postfilter.refine; ``pinhole_mean_spp``);
+  its seconds include the pinhole pass, the depth buffer and the spread. Goal:
+  >= 5x the thin lens's speed. ``uniform_pass_*``: min(spp, 16) in every pixel
+  (the model before the refined pass), timed in the same alternation. ``per_pixel_*``: the
   opt-in per-pixel pinhole counts (lenscompare.postfilter.samples; less
   accurate, see bench/study_pinhole_counts.py), timed in the same alternation.
 - ``time_to_1_percent``: the fewest seconds each needs to come within 1 %
@@ -19,8 +22,8 @@ Prints one JSON object:
   eq. 5, postfilter and thin lens, %.
 - ``edges``: relative RMSE against the converged thin lens in the band of
   ``BAND_PX`` px round the occlusion edges (lenscompare.postfilter.edges) and
-  elsewhere, for the postfilter (converged pinhole) and the thin lens at 64
-  spp, on showcase and on showcase at f/1.4 focused on the near blue sphere;
+  elsewhere, for the postfilter (converged pinhole; and the render at 64 spp,
+  refined and uniform pass) and the thin lens at 64 spp, on showcase and on showcase at f/1.4 focused on the near blue sphere;
   with the planner's predicted edge error.
 
 Usage: python bench/bench_postfilter.py [--repeats R] [--threads T] [--speed-only]
@@ -42,6 +45,7 @@ from lenscompare.measure import measure_blur_disks
 from lenscompare.metrics import relative_rmse
 from lenscompare.postfilter import (BAND_PX, MAX_PINHOLE_SPP, METHOD, depth_buffer_m, edge_band, edge_band_error,
                                     postfilter_edge_error, signed_coc_px, spread)
+from lenscompare.postfilter.refine import RULE as REFINE_RULE
 from lenscompare.postfilter.samples import RULE as PINHOLE_RULE
 from lenscompare.reference_scenes import shipped_scene
 from lenscompare.render import render
@@ -50,7 +54,8 @@ from lenscompare.scene import load_scene
 REFERENCE_THIN_SPP = 2048
 REFERENCE_PINHOLE_SPP = 1024
 REFERENCE_SEED = 11
-PINHOLE_PASS = f"min(spp, {MAX_PINHOLE_SPP}) film samples, no lens samples (per_pixel_*: {PINHOLE_RULE})"
+PINHOLE_PASS = (f"{REFINE_RULE}; no lens samples (uniform_pass_*: min(spp, {MAX_PINHOLE_SPP}) everywhere; "
+                f"per_pixel_*: {PINHOLE_RULE})")
 
 
 def best_render(scene, model, spp, threads, repeats):

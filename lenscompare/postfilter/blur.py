@@ -52,18 +52,19 @@ from ..units import mm_from_m
 __all__ = ["MAX_PINHOLE_SPP", "METHOD", "SUB_ROWS", "pinhole_pass_spp", "signed_coc_px", "depth_layers", "spread"]
 
 MAX_PINHOLE_SPP = 16
-"""The pinhole pass draws min(spp, 16) samples per pixel. It samples only the
+"""The pinhole pass draws at most min(spp, 16) samples per pixel. It samples only the
 film (antialiasing), not the lens: 16 stratified film samples resolve an
 edge to 1/16 of a pixel's area, and the spread then averages a defocused
 pixel with its neighbours. A requested spp above 16 is recorded but not drawn
-(``metadata["postfilter"]["pinhole_spp"]`` says what was). Fewer are not
-enough: on showcase the postfilter's relative RMSE against the converged
+(``metadata["postfilter"]["pinhole_spp"]`` says what was). Fewer everywhere are
+not enough: on showcase the postfilter's relative RMSE against the converged
 thin lens is 2.0 % with 16, 3.0 % with 8 and 4.2 % with 4 (edge band: 3.4,
-5.3, 7.1 %; bench/study_pinhole_spp.py), and the 16-sample pass is most of
-the postfilter's time (0.139 of 0.171 s at 360 x 240, 2 threads). Drawing
-fewer where the blur averages a pixel with its neighbours
-(:func:`~lenscompare.postfilter.pinhole_sample_counts`, opt-in) is faster
-but measurably less accurate (bench/study_pinhole_counts.py)."""
+5.3, 7.1 %; bench/study_pinhole_spp.py). By default the pass draws 16 only
+where a first pass of 2 shows an edge (:mod:`lenscompare.postfilter.refine`;
+about 6.6 a pixel on average on showcase, at the uniform pass's error);
+drawing fewer where the blur averages a pixel with its neighbours
+(:func:`~lenscompare.postfilter.pinhole_sample_counts`, opt-in) is measurably
+less accurate (bench/study_pinhole_counts.py)."""
 
 METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front over hole-filled layers"
 SUB_ROWS = 4          # heights per row at which a kernel is integrated
