@@ -23,7 +23,8 @@ Prints one JSON object:
 - ``edges``: relative RMSE against the converged thin lens in the band of
   ``BAND_PX`` px round the occlusion edges (lenscompare.postfilter.edges) and
   elsewhere, for the postfilter (converged pinhole; and the render at 64 spp,
-  refined and uniform pass) and the thin lens at 64 spp, on showcase and on showcase at f/1.4 focused on the near blue sphere;
+  refined and uniform pass) and the thin lens at 64 spp, on showcase and on
+  showcase at f/1.4 focused on the near blue sphere;
   with the planner's predicted edge error.
 
 Usage: python bench/bench_postfilter.py [--repeats R] [--threads T] [--speed-only]
@@ -96,7 +97,8 @@ def speed(scene, threads, repeats):
                      "pinhole_mean_spp": info.get("pinhole_mean_spp", info["pinhole_spp"]),
                      "thin_seconds_best": min(thin_s),
                      "postfilter_seconds_best": min(post_s), "speed_ratio": min(thin_s) / min(post_s),
-                     "uniform_pass_seconds_best": min(uniform_s), "uniform_pass_speed_ratio": min(thin_s) / min(uniform_s),
+                     "uniform_pass_seconds_best": min(uniform_s),
+                     "uniform_pass_speed_ratio": min(thin_s) / min(uniform_s),
                      "per_pixel_pinhole_mean_spp": per_pixel.metadata["postfilter"]["pinhole_mean_spp"],
                      "per_pixel_seconds_best": min(per_pixel_s),
                      "per_pixel_speed_ratio": min(thin_s) / min(per_pixel_s),

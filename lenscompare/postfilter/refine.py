@@ -40,8 +40,10 @@ from .edges import DEPTH_JUMP
 __all__ = ["BASE_PINHOLE_SPP", "CONTRAST_FRACTION", "NOISE_FRACTION", "RULE", "silhouette_pixels", "refine_pixels"]
 
 BASE_PINHOLE_SPP = 2
-"""Film samples every pixel draws first (1 misses edges the contrast test then
-cannot see; 4 costs a third more for no measurable gain on showcase)."""
+"""Film samples every pixel draws first. On showcase (2 threads, error against the
+converged thin lens): 1 sample misses edges the contrast test then cannot see
+(2.15 % against the uniform pass's 2.06 %); 4 draw a quarter more in all (8.3
+against 6.6 a pixel) for 0.01 pp less error (2.06 against 2.075 %)."""
 CONTRAST_FRACTION = 0.1
 """A pixel is redrawn when the colour spread of its 3 x 3 neighbourhood (any
 channel) exceeds this fraction of the image's mean, times sqrt(blur area)."""
