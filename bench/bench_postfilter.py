@@ -5,9 +5,12 @@ Prints one JSON object:
 
 - ``speed``: showcase.toml (360x240) rendered through the thin lens and the
   postfilter at the same requested spp (16, 64, 256), alternating, best of
-  ``--repeats``. The postfilter's pinhole pass draws min(spp, 16) film samples
-  (``pinhole_spp``); its seconds include the pinhole pass, the depth buffer
-  and the spread. Goal: >= 5x the thin lens's speed. ``per_pixel_*``: the
+  ``--repeats``. The postfilter's pinhole pass draws at most min(spp, 16) film
+  samples (``pinhole_spp``): 2 everywhere, that many on silhouettes and where
+  those 2 show an edge (lenscompare.postfilter.refine; ``pinhole_mean_spp``);
+  its seconds include the pinhole pass, the depth buffer and the spread. Goal:
+  >= 5x the thin lens's speed. ``uniform_pass_*``: min(spp, 16) in every pixel
+  (the model before the refined pass), timed in the same alternation. ``per_pixel_*``: the
   opt-in per-pixel pinhole counts (lenscompare.postfilter.samples; less
   accurate, see bench/study_pinhole_counts.py), timed in the same alternation.
 - ``time_to_1_percent``: the fewest seconds each needs to come within 1 %
@@ -19,8 +22,9 @@ Prints one JSON object:
   eq. 5, postfilter and thin lens, %.
 - ``edges``: relative RMSE against the converged thin lens in the band of
   ``BAND_PX`` px round the occlusion edges (lenscompare.postfilter.edges) and
-  elsewhere, for the postfilter (converged pinhole) and the thin lens at 64
-  spp, on showcase and on showcase at f/1.4 focused on the near blue sphere;
+  elsewhere, for the postfilter (converged pinhole; and the render at 64 spp,
+  refined and uniform pass) and the thin lens at 64 spp, on showcase and on
+  showcase at f/1.4 focused on the near blue sphere;
   with the planner's predicted edge error.
 
 Usage: python bench/bench_postfilter.py [--repeats R] [--threads T] [--speed-only]
@@ -42,6 +46,7 @@ from lenscompare.measure import measure_blur_disks
 from lenscompare.metrics import relative_rmse
 from lenscompare.postfilter import (BAND_PX, MAX_PINHOLE_SPP, METHOD, depth_buffer_m, edge_band, edge_band_error,
                                     postfilter_edge_error, signed_coc_px, spread)
+from lenscompare.postfilter.refine import RULE as REFINE_RULE
 from lenscompare.postfilter.samples import RULE as PINHOLE_RULE
 from lenscompare.reference_scenes import shipped_scene
 from lenscompare.render import render
@@ -50,7 +55,8 @@ from lenscompare.scene import load_scene
 REFERENCE_THIN_SPP = 2048
 REFERENCE_PINHOLE_SPP = 1024
 REFERENCE_SEED = 11
-PINHOLE_PASS = f"min(spp, {MAX_PINHOLE_SPP}) film samples, no lens samples (per_pixel_*: {PINHOLE_RULE})"
+PINHOLE_PASS = (f"{REFINE_RULE}; no lens samples (uniform_pass_*: min(spp, {MAX_PINHOLE_SPP}) everywhere; "
+                f"per_pixel_*: {PINHOLE_RULE})")
 
 
 def best_render(scene, model, spp, threads, repeats):
@@ -75,18 +81,24 @@ def converged_postfilter(scene, threads):
 def speed(scene, threads, repeats):
     rows = []
     for spp in (16, 64, 256):
-        thin_s, post_s, per_pixel_s, post = [], [], [], None
+        thin_s, post_s, uniform_s, per_pixel_s, post = [], [], [], [], None
         for _ in range(repeats):  # alternating, so a loaded machine slows all alike
             thin_s.append(render(scene, model="thin", spp=spp, threads=threads, progress=False).metadata["seconds"])
             image = render(scene, model="postfilter", spp=spp, threads=threads, progress=False)
             post_s.append(image.metadata["seconds"])
             post = image if post is None or image.metadata["seconds"] <= min(post_s) else post
+            uniform_s.append(render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
+                                    postfilter_uniform_pass=True).metadata["seconds"])
             per_pixel = render(scene, model="postfilter", spp=spp, threads=threads, progress=False,
                                postfilter_per_pixel_spp=True)
             per_pixel_s.append(per_pixel.metadata["seconds"])
         info = post.metadata["postfilter"]
-        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"], "thin_seconds_best": min(thin_s),
+        rows.append({"spp": spp, "pinhole_spp": info["pinhole_spp"],
+                     "pinhole_mean_spp": info.get("pinhole_mean_spp", info["pinhole_spp"]),
+                     "thin_seconds_best": min(thin_s),
                      "postfilter_seconds_best": min(post_s), "speed_ratio": min(thin_s) / min(post_s),
+                     "uniform_pass_seconds_best": min(uniform_s),
+                     "uniform_pass_speed_ratio": min(thin_s) / min(uniform_s),
                      "per_pixel_pinhole_mean_spp": per_pixel.metadata["postfilter"]["pinhole_mean_spp"],
                      "per_pixel_seconds_best": min(per_pixel_s),
                      "per_pixel_speed_ratio": min(thin_s) / min(per_pixel_s),
@@ -126,12 +138,16 @@ def blur_disks(threads):
     scene = load_scene(shipped_scene("blur_disks"))
     runs = [SimpleNamespace(label=m, image=render(scene, model=m, spp=64, threads=threads, progress=False))
             for m in ("postfilter", "thin")]
+    runs.append(SimpleNamespace(label="uniform", image=render(scene, model="postfilter", spp=64, threads=threads,
+                                                              progress=False, postfilter_uniform_pass=True)))
     table = measure_blur_disks(scene, runs)
     rows = []
-    for post, thin in zip(table["renders"]["postfilter"], table["renders"]["thin"]):
+    for post, thin, uniform in zip(table["renders"]["postfilter"], table["renders"]["thin"],
+                                   table["renders"]["uniform"]):
         if post is None or thin is None:
             continue
         rows.append({"depth_m": post["depth_m"], "eq5_px": post["eq5_px"], "postfilter_px": post["measured_px"],
+                     "postfilter_uniform_pass_px": uniform["measured_px"] if uniform else None,
                      "thin_px": thin["measured_px"], "postfilter_vs_eq5_percent": post["departure_from_eq5_percent"],
                      "thin_vs_eq5_percent": thin["departure_from_eq5_percent"],
                      "postfilter_vs_thin_percent": 100.0 * (post["measured_px"] / thin["measured_px"] - 1.0)})
@@ -143,7 +159,13 @@ def edges(scene, thin_reference, post_converged, threads):
     coc = signed_coc_px(depth, camera_for(scene, "thin"))
     band = edge_band(depth, coc)
     thin64 = render(scene, model="thin", spp=64, threads=threads, progress=False).pixels
-    return {"max_coc_px": float(np.abs(coc).max()), "predicted": postfilter_edge_error(scene).to_json(),
+    at_64 = {}
+    for label, uniform in (("postfilter_64spp", False), ("postfilter_uniform_pass_64spp", True)):
+        pixels = render(scene, model="postfilter", spp=64, threads=threads, progress=False,
+                        postfilter_uniform_pass=uniform).pixels
+        at_64[label] = {**edge_band_error(thin_reference, pixels, band),
+                        "whole_relative_rmse": relative_rmse(thin_reference, pixels)}
+    return {**at_64,"max_coc_px": float(np.abs(coc).max()), "predicted": postfilter_edge_error(scene).to_json(),
             "postfilter_converged": {**edge_band_error(thin_reference, post_converged, band),
                                      "whole_relative_rmse": relative_rmse(thin_reference, post_converged)},
             "thin_64spp": {**edge_band_error(thin_reference, thin64, band),

@@ -24,6 +24,7 @@ from .limits import MAX_SEED, MAX_SPP, check_render_budget
 from .motion import moves, samples_time
 from .native_scene import build_native_scene
 from .postfilter import depth_buffer_m, pinhole_pass_spp, pinhole_sample_counts, signed_coc_px, spread
+from .postfilter.refine import BASE_PINHOLE_SPP, RULE as REFINE_RULE, refine_pixels, silhouette_pixels
 from .postfilter.samples import RULE as PINHOLE_RULE
 from .progress import progress_bar
 from .render_spectral import make_spectral
@@ -47,7 +48,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
-           trace_secondaries: bool = True, postfilter_per_pixel_spp: bool = False) -> Image:
+           trace_secondaries: bool = True, postfilter_per_pixel_spp: bool = False,
+           postfilter_uniform_pass: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -59,8 +61,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         when the scene has ``[render] effects``. (``--model auto`` is the
         planner's: :func:`lenscompare.plan.render_planned`.)
         ``postfilter`` renders the pinhole with at most
-        :data:`~lenscompare.postfilter.MAX_PINHOLE_SPP` film samples and
-        spreads it by its depth buffer into the thin lens's defocus
+        :data:`~lenscompare.postfilter.MAX_PINHOLE_SPP` film samples per pixel,
+        that many only where a first pass of a few shows an edge
+        (:mod:`lenscompare.postfilter.refine`), and spreads it by its depth buffer into the thin lens's defocus
         (:mod:`lenscompare.postfilter`); ``seconds`` includes the depth
         buffer and the spread, ``metadata["postfilter"]`` says what was drawn
         and what the spread cost, and ``image.camera`` is the thin lens.
@@ -97,6 +100,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),
         the depth buffer first. Off by default: faster, but its error against
         the converged thin lens is measurably larger (bench/study_pinhole_counts.py).
+    postfilter_uniform_pass : bool, optional
+        ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
+        as before the refined pass (a reference for bench/bench_postfilter.py).
 
     Returns
     -------
@@ -150,12 +156,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                    trace_secondaries=trace_secondaries) if settings.spectral else None)
 
     start = time.perf_counter()
-    pinhole_counts = depth = None
+    pinhole_counts = depth = refined_info = None
     depth_seconds = 0.0
-    if postfilter and postfilter_per_pixel_spp and not settings.adaptive:
-        # the depth buffer first: each pixel's blur sets its pinhole samples
+    if postfilter and not settings.adaptive and (postfilter_per_pixel_spp or not postfilter_uniform_pass):
+        # the depth buffer first: its silhouettes and each pixel's blur set the pinhole samples
         depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
-        pinhole_counts = pinhole_sample_counts(signed_coc_px(depth, camera), depth, settings.spp)
+        coc = signed_coc_px(depth, camera)
+        if postfilter_per_pixel_spp:
+            pinhole_counts = pinhole_sample_counts(coc, depth, settings.spp)
         depth_seconds = time.perf_counter() - start
     if pinhole_counts is not None:
         pixels = np.zeros((height, width, 3), dtype=np.float32)
@@ -166,6 +174,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                                                   SAMPLER_CODES[settings.sampler], settings.seed,
                                                                   threads, row, row_end, pixels, variance),
                 height, width * float(pinhole_counts.mean()), bar)
+        adaptive_info = None
+    elif depth is not None:
+        pixels, variance, samples, rays_passed, refined_info = _render_refined_pinhole(
+            native_scene, native_camera, settings, threads, coc, silhouette_pixels(depth), model, progress)
         adaptive_info = None
     elif settings.adaptive:
         pixels, variance, samples, rays_passed, adaptive_info = _render_adaptive(
@@ -185,13 +197,16 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         if depth is None:
             depth = depth_buffer_m(scene, pinhole, threads=threads, native_scene=native_scene)
             depth_seconds = time.perf_counter() - start - pass_seconds
-        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads)
+        pixels, _, postfilter_info = spread(pixels, depth, camera, threads=threads,
+                                            coc_px=coc if refined_info is not None else None)
         postfilter_info = {"pinhole_spp": settings.spp, "pinhole_seconds": pass_seconds,
                            "depth_seconds": depth_seconds, "filter_seconds": postfilter_info.pop("seconds"),
                            **postfilter_info}
         if pinhole_counts is not None:
             postfilter_info.update(pinhole_mean_spp=float(pinhole_counts.mean()),
                                    pinhole_min_spp=int(pinhole_counts.min()), pinhole_rule=PINHOLE_RULE)
+        elif refined_info is not None:
+            postfilter_info.update(refined_info)
         variance = None  # the spread mixes pixels: no per-pixel variance of the mean
     seconds = time.perf_counter() - start
     if not np.isfinite(pixels).all():  # the schema's bounds promise a finite image; never hand on NaN
@@ -241,6 +256,42 @@ def _render_bands(render_rows, height: int, samples_per_row: float, bar) -> tupl
         samples, passed = samples + drawn, passed + through
         bar.update(row_end - row)
     return samples, passed
+
+
+def _render_refined_pinhole(native_scene, camera, settings, threads: int, coc_px: np.ndarray,
+                            silhouettes: np.ndarray, model: str, progress: bool | None):
+    """The postfilter's pinhole pass in two steps (:mod:`lenscompare.postfilter.refine`):
+    ``BASE_PINHOLE_SPP`` film samples (n on silhouettes), then n, the same
+    seed's, where the first pass shows an edge. Returns the image, the
+    variance of each pixel's mean, the samples drawn, the rays that passed
+    and what the pass did."""
+    n = settings.spp
+    base = min(BASE_PINHOLE_SPP, n)
+    height, width = coc_px.shape
+    sampler = SAMPLER_CODES[settings.sampler]
+
+    def run_pass(counts: np.ndarray, bar):
+        image = np.zeros((height, width, 3), dtype=np.float32)
+        variance = np.zeros((height, width), dtype=np.float32)
+        samples, passed = _render_bands(
+            lambda row, row_end: _native.render_rows_adaptive(native_scene, camera, counts, 0, sampler, settings.seed,
+                                                              threads, row, row_end, image, variance),
+            height, width * float(counts.mean()), bar)
+        return image, variance, samples, passed
+
+    with progress_bar(2 * height, description=f"{model} {n} spp", enabled=progress) as bar:
+        full = silhouettes if base < n else np.ones(coc_px.shape, dtype=bool)
+        pixels, variance, samples, passed = run_pass(np.where(full, n, base).astype(np.uint32), bar)
+        redraw = refine_pixels(pixels, variance, coc_px, full)
+        if redraw.any():  # n afresh under the same seed: the uniform pass's pixel bit for bit
+            second, second_variance, more, more_passed = run_pass(np.where(redraw, n, 0).astype(np.uint32), bar)
+            pixels = np.where(redraw[..., None], second, pixels)
+            variance = np.where(redraw, second_variance, variance)
+            samples, passed = samples + more, passed + more_passed
+    drawn = full | redraw
+    info = {"pinhole_base_spp": base, "pinhole_mean_spp": samples / (width * height),
+            "pinhole_full_fraction": float(drawn.mean()), "pinhole_rule": REFINE_RULE}
+    return pixels, variance, samples, passed, info
 
 
 def _second_pass_seed(seed: int) -> int:

@@ -81,9 +81,10 @@ def test_same_image_for_one_and_two_threads_with_fewer_samples():
 
 
 
-def test_the_default_pass_stays_uniform():
+def test_the_uniform_pass_draws_n_everywhere():
+    # the default pass is the refined one (tests/test_postfilter_refine.py); the uniform one is asked for
     scene = load_scene(shipped_scene("showcase")).with_camera(resolution=(120, 80), f_number=1.4,
                                                               focus_distance_m=1.9)
-    image = render(scene, model="postfilter", spp=64, progress=False)
+    image = render(scene, model="postfilter", spp=64, progress=False, postfilter_uniform_pass=True)
     assert "pinhole_mean_spp" not in image.metadata["postfilter"]
     assert image.metadata["samples_per_second"] * image.metadata["seconds"] == pytest.approx(120 * 80 * 16)

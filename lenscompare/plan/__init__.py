@@ -166,7 +166,8 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
         model = "postfilter" if suffices else model
     costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None) \
         if measure_costs else {}
-    if "pinhole" in costs:  # its pinhole pass draws fewer samples; the spread costs milliseconds
+    # at most min(spp, 16) pinhole samples (the refined pass draws fewer: a bound); the spread costs ms
+    if "pinhole" in costs:
         costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
     note = "; ".join(filter(None, (note, _color_note(scene, effects, needed))))
     return Plan(model, effects, needed, tolerance_px, tolerance_percent, costs,

@@ -4,7 +4,8 @@ over its own eq.-5 circle of confusion.
 
 - :mod:`.depth`: the depth buffer (native, one ray per pixel centre);
 - :mod:`.blur`: each pixel's signed blur diameter, the depth layers, the spread;
-- :mod:`.samples`: each pixel's pinhole samples, fewer where its blur averages them;
+- :mod:`.refine`: the default pinhole pass: 2 film samples, 16 where they show an edge;
+- :mod:`.samples`: each pixel's pinhole samples, fewer where its blur averages them (opt-in);
 - :mod:`.edges`: where it is wrong (occlusion edges) and the planner's predicate.
 
 :func:`lenscompare.render.render` runs the pinhole pass and calls :func:`spread`.

@@ -52,18 +52,19 @@ from ..units import mm_from_m
 __all__ = ["MAX_PINHOLE_SPP", "METHOD", "SUB_ROWS", "pinhole_pass_spp", "signed_coc_px", "depth_layers", "spread"]
 
 MAX_PINHOLE_SPP = 16
-"""The pinhole pass draws min(spp, 16) samples per pixel. It samples only the
+"""The pinhole pass draws at most min(spp, 16) samples per pixel. It samples only the
 film (antialiasing), not the lens: 16 stratified film samples resolve an
 edge to 1/16 of a pixel's area, and the spread then averages a defocused
 pixel with its neighbours. A requested spp above 16 is recorded but not drawn
-(``metadata["postfilter"]["pinhole_spp"]`` says what was). Fewer are not
-enough: on showcase the postfilter's relative RMSE against the converged
+(``metadata["postfilter"]["pinhole_spp"]`` says what was). Fewer everywhere are
+not enough: on showcase the postfilter's relative RMSE against the converged
 thin lens is 2.0 % with 16, 3.0 % with 8 and 4.2 % with 4 (edge band: 3.4,
-5.3, 7.1 %; bench/study_pinhole_spp.py), and the 16-sample pass is most of
-the postfilter's time (0.139 of 0.171 s at 360 x 240, 2 threads). Drawing
-fewer where the blur averages a pixel with its neighbours
-(:func:`~lenscompare.postfilter.pinhole_sample_counts`, opt-in) is faster
-but measurably less accurate (bench/study_pinhole_counts.py)."""
+5.3, 7.1 %; bench/study_pinhole_spp.py). By default the pass draws 16 only
+where a first pass of 2 shows an edge (:mod:`lenscompare.postfilter.refine`;
+about 6.6 a pixel on average on showcase, at the uniform pass's error);
+drawing fewer where the blur averages a pixel with its neighbours
+(:func:`~lenscompare.postfilter.pinhole_sample_counts`, opt-in) is measurably
+less accurate (bench/study_pinhole_counts.py)."""
 
 METHOD = "scatter: per-pixel eq.-5 kernel, depth layers composited back to front over hole-filled layers"
 SUB_ROWS = 4          # heights per row at which a kernel is integrated
@@ -119,12 +120,16 @@ def depth_layers(coc_px: np.ndarray) -> tuple[np.ndarray, int]:
     stretched = np.where(size < LINEAR_LAYERS_PX, size,
                          LINEAR_LAYERS_PX * (1.0 + np.log(np.maximum(size, LINEAR_LAYERS_PX) / LINEAR_LAYERS_PX)))
     bins = np.floor(np.sign(coc_px) * stretched).astype(np.int64)
-    values, inverse = np.unique(bins, return_inverse=True)
-    return (len(values) - 1 - inverse.reshape(coc_px.shape)).astype(np.int32), len(values)
+    # the rank of each bin among those present (np.unique's inverse, without its sort)
+    offset = bins - bins.min()
+    present = np.bincount(offset.ravel()) > 0
+    rank = np.cumsum(present) - 1
+    n_layers = int(rank[-1]) + 1
+    return (n_layers - 1 - rank[offset]).astype(np.int32), n_layers
 
 
 def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
-           threads: int | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
+           threads: int | None = None, coc_px: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
     """The pinhole image with each pixel spread over its blur disk.
 
     Parameters
@@ -137,6 +142,8 @@ def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
         The thin lens whose defocus is imitated (its aperture's blades too).
     threads : int, optional
         Worker threads (default all cores); the image does not depend on it.
+    coc_px : ndarray, float32, (H, W), optional
+        :func:`signed_coc_px` of ``depth_m`` and ``camera``, when the caller has it.
 
     Returns
     -------
@@ -146,7 +153,7 @@ def spread(pixels: np.ndarray, depth_m: np.ndarray, camera: CameraModel, *,
         (``method``, ``layers``, ``kernel``, ``max_coc_px``, ``seconds``).
     """
     start = time.perf_counter()
-    coc = signed_coc_px(depth_m, camera)
+    coc = signed_coc_px(depth_m, camera) if coc_px is None else np.asarray(coc_px, dtype=np.float32)
     layer, n_layers = depth_layers(coc)
     out = np.empty_like(pixels, dtype=np.float32)
     coverage = np.empty(coc.shape, dtype=np.float32)
