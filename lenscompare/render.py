@@ -16,7 +16,7 @@ import numpy as np
 
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
-from .cameras import CameraModel, camera_for
+from .cameras import CameraModel, camera_for, check_spectral_parts
 from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
@@ -135,6 +135,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     postfilter = model == "postfilter"
     # The postfilter imitates the thin lens (its image carries that camera) from a pinhole pass.
     camera = camera or camera_for(scene, "thin" if postfilter else model, effects=effects)
+    from_option = effects is not None
+    check_spectral_parts(getattr(camera, "effects", ()), spectral=settings.spectral,
+                         source="--effects" if from_option else scene.source,
+                         key=None if from_option else "render.effects")
     if "diffraction" in getattr(camera, "effects", ()) and diffraction is None:  # the post-filter part
         scene = scene.with_render(diffraction=True)
         settings = scene.render
