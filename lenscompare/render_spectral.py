@@ -76,11 +76,17 @@ def _set_composite_dispersion(native_camera, lens, camera) -> bool:
     if "lateral_color" in camera.effects:
         native_camera.set_lateral_color(*camera.lateral_color_arrays(with_distortion="distortion" in camera.effects))
     if "longitudinal_color" in camera.effects:
-        focal_length_mm = paraxial_data(lens).effective_focal_length_mm
-        focus_mm = 1e3 * camera.focus_distance_m
-        native_camera.set_dispersion(inverse_focus_per_m(
-            lens, film_distance_mm=1.0 / (1.0 / focal_length_mm - 1.0 / focus_mm), focal_length_mm=focal_length_mm))
+        native_camera.set_dispersion(composite_inverse_focus_per_m(lens, focus_distance_m=camera.focus_distance_m))
     return "lateral_color" in camera.effects or "longitudinal_color" in camera.effects
+
+
+def composite_inverse_focus_per_m(lens, *, focus_distance_m: float) -> np.ndarray:
+    """1 / (plane of focus) at every nm, 1/m, for the composite's thin lens
+    focused at ``focus_distance_m`` in d light: 1/d(λ) = 1/d + P(λ) − P_d,
+    P the prescription's paraxial power (the film stays where d focuses)."""
+    focal_length_mm = paraxial_data(lens).effective_focal_length_mm
+    film_distance_mm = 1.0 / (1.0 / focal_length_mm - 1.0 / (1e3 * focus_distance_m))
+    return inverse_focus_per_m(lens, film_distance_mm=film_distance_mm, focal_length_mm=focal_length_mm)
 
 
 def inverse_focus_per_m(lens, *, film_distance_mm: float, focal_length_mm: float) -> np.ndarray:

@@ -124,6 +124,22 @@ def test_the_lateral_colour_map_without_distortion_leaves_d_light_undistorted():
     assert (plain[0] != plain[-1]).any()  # the colours still differ
 
 
+def test_the_composite_focus_per_wavelength_is_the_prescription_power_change():
+    """Longitudinal colour: the composite's thin lens is focused at the scene's
+    distance in d light, and 1/d(F) - 1/d(C) is the power difference P_F - P_C."""
+    from lenscompare.lenses import load_prescription, paraxial_data
+    from lenscompare.lenses.glass import C_NM, D_NM, F_NM
+    from lenscompare.render_spectral import composite_inverse_focus_per_m
+
+    lens = load_prescription("landscape.125mm")
+    table = composite_inverse_focus_per_m(lens, focus_distance_m=5.0)
+    at = lambda nm: float(np.interp(nm, wavelengths_nm(), table))  # noqa: E731
+    power_per_m = {nm: 1e3 / paraxial_data(lens.at_wavelength(nm)).effective_focal_length_mm for nm in (F_NM, C_NM)}
+    assert at(D_NM) == pytest.approx(1.0 / 5.0, abs=2e-4)
+    assert at(F_NM) - at(C_NM) == pytest.approx(power_per_m[F_NM] - power_per_m[C_NM], rel=0.01)
+    assert at(F_NM) - at(C_NM) > 0.1  # blue focuses nearer: a real shift of the plane of focus
+
+
 def test_an_rgb_render_asked_for_colour_is_refused_with_exit_2(tmp_path):
     path = tmp_path / "landscape.toml"
     path.write_text(_landscape_text(f_number=22.0).replace("spectral = true\n", ""))
