@@ -33,7 +33,7 @@ from lenscompare.render import render
 from lenscompare.scene import load_scene
 
 SCENE = scenes_dir() / "effects" / "landscape_color.toml"
-SPP_VALUES = (4, 16, 64, 256)
+SPP_VALUES = (16, 64, 256, 512)
 TARGET = 0.01
 
 
@@ -59,7 +59,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=2)
-    parser.add_argument("--reference-spp", type=int, default=1024)
+    parser.add_argument("--reference-spp", type=int, default=2048)
     args = parser.parse_args()
 
     scene = load_scene(SCENE)

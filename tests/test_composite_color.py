@@ -180,3 +180,13 @@ def test_the_planner_picks_the_colour_composite_when_colour_not_aberration_is_ab
     # Its aberrations above tolerance (f/11): the lens system, as before.
     wide = plan_scene(parse_scene(_landscape_text(f_number=11.0)), measure_costs=False, tolerance_px=0.6)
     assert wide.needed["aberrations"] and wide.model == "lens"
+
+
+def test_the_colour_composite_is_deterministic_whatever_the_thread_count(tmp_path):
+    path = tmp_path / "landscape.toml"
+    path.write_text(_landscape_text(f_number=22.0).replace("resolution = [360, 240]", "resolution = [72, 48]"))
+    scene = load_scene(path)
+    effects = ("defocus", "distortion", "vignetting", "lateral_color", "longitudinal_color")
+    one, two = (render(scene, effects=effects, spp=8, seed=3, threads=t, progress=False).pixels for t in (1, 2))
+    assert np.isfinite(one).all() and one.max() > 0.0
+    assert np.array_equal(one, two)
