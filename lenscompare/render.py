@@ -132,13 +132,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     # Before anything is allocated: too many samples, or more memory than the machine has.
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
+    if model == "composite":  # before its maps are traced: colour needs wavelengths
+        from_option = camera is None and effects is not None
+        asked = camera.effects if camera is not None else (effects if from_option else scene.render.effects) or ()
+        check_spectral_parts(asked, spectral=settings.spectral, source="--effects" if from_option else scene.source,
+                             key=None if from_option else "render.effects")
     postfilter = model == "postfilter"
     # The postfilter imitates the thin lens (its image carries that camera) from a pinhole pass.
     camera = camera or camera_for(scene, "thin" if postfilter else model, effects=effects)
-    from_option = effects is not None
-    check_spectral_parts(getattr(camera, "effects", ()), spectral=settings.spectral,
-                         source="--effects" if from_option else scene.source,
-                         key=None if from_option else "render.effects")
     if "diffraction" in getattr(camera, "effects", ()) and diffraction is None:  # the post-filter part
         scene = scene.with_render(diffraction=True)
         settings = scene.render
