@@ -144,7 +144,8 @@ def test_an_rgb_render_asked_for_colour_is_refused_with_exit_2(tmp_path):
     lens = tmp_path / "f2_stop_ahead.dat"  # Abbe numbers: no glass catalogue to load in the subprocess
     lens.write_text(STOP_AHEAD_F2)
     path = tmp_path / "rgb.toml"
-    path.write_text(_landscape_text(f_number=22.0).replace("spectral = true\n", "").replace("landscape.125mm", str(lens)))
+    text = _landscape_text(f_number=22.0).replace("spectral = true\n", "")
+    path.write_text(text.replace("landscape.125mm", str(lens)))
     result = run_cli("render", str(path), "-o", str(tmp_path / "out.exr"), "--effects", "distortion,lateral_color")
     assert result.returncode == 2, result.stderr
     assert result.stderr.count("\n") == 1 and "--effects" in result.stderr

@@ -483,7 +483,8 @@ NB_MODULE(_native, m) {
              [](CompositeCamera& self, CArray<const double, -1> inverse_focus_per_m) {
                  self.lens.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
              },
-             "inverse_focus_per_m"_a, "Longitudinal colour: 1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
+             "inverse_focus_per_m"_a,
+             "Longitudinal colour: 1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
 
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);
