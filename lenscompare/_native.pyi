@@ -147,6 +147,17 @@ class CompositeCamera:
     ) -> None:
         """With both tables empty and max_radius_mm infinite, the thin lens bit for bit."""
 
+    def set_lateral_color(
+        self,
+        wavelengths_nm: numpy.ndarray,  # float64 (k,), increasing
+        screen_scale: numpy.ndarray,  # float64 (k, entries): the distortion table at each wavelength
+        radius_step_mm: float,
+    ) -> None:
+        """Lateral colour (spectral renders): each ray's screen scale from its wavelength's row."""
+
+    def set_dispersion(self, inverse_focus_per_m: numpy.ndarray) -> None:
+        """Longitudinal colour (spectral renders): 1 / (plane of focus at λ), 1/m, every nm from 380 to 780."""
+
 Camera: TypeAlias = PinholeCamera | ThinLensCamera | ThickLensCamera | LensSystemCamera | CompositeCamera
 
 def render_rows(

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
-from .cameras import CameraModel, camera_for
+from .cameras import CameraModel, camera_for, check_spectral_parts
 from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
@@ -138,6 +138,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     # Before anything is allocated: too many samples, or more memory than the machine has.
     check_render_budget(width, height, settings.spp, adaptive=settings.adaptive, source=scene.source)
 
+    if model == "composite":  # before its maps are traced: colour needs wavelengths
+        from_option = camera is None and effects is not None
+        asked = camera.effects if camera is not None else (effects if from_option else scene.render.effects) or ()
+        check_spectral_parts(asked, spectral=settings.spectral, source="--effects" if from_option else scene.source,
+                             key=None if from_option else "render.effects")
     postfilter = model == "postfilter"
     # The postfilter imitates the thin lens (its image carries that camera) from a pinhole pass.
     camera = camera or camera_for(scene, "thin" if postfilter else model, effects=effects)

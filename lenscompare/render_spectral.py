@@ -9,7 +9,9 @@ in its 5th column), gets its dispersion:
   it, i.e. the plane of focus 1/d(λ) = 1/f(λ) − 1/d'. Only the plane of
   focus moves: the principal planes stay at their d-line places, so these
   models show longitudinal colour but no lateral colour (a thin lens has none).
-- lens system: every surface's indices at each nm, traced exactly.
+- lens system: every surface's indices at each nm, traced exactly;
+- composite: its colour parts, when its effects name them (lateral colour as
+  the distortion map per wavelength, longitudinal colour as the thin lens's).
 
 The d-line values are shifted to equal the file's n_d ones, so that the d line
 renders as the RGB render does (a catalogue glass's own index may differ from
@@ -54,14 +56,37 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_se
 
 def _set_dispersion(native_camera, scene: Scene, camera) -> bool:
     lens = scene.camera.lens
-    if lens is None or not lens.disperses or camera.model not in ("thin", "thick", "lens"):
+    if lens is None or not lens.disperses or camera.model not in ("thin", "thick", "lens", "composite"):
         return False
+    if camera.model == "composite":
+        return _set_composite_dispersion(native_camera, lens, camera)
     if camera.model == "lens":
         native_camera.set_dispersion(*lens_indices(camera.prescription))
     else:
         native_camera.set_dispersion(inverse_focus_per_m(lens, film_distance_mm=camera.film_distance_mm,
                                                          focal_length_mm=camera.focal_length_mm))
     return True
+
+
+def _set_composite_dispersion(native_camera, lens, camera) -> bool:
+    """The composite's colour parts: lateral colour as the distortion map per
+    wavelength, longitudinal colour as the thin lens's (its lens at the
+    entrance pupil, focused at the camera's focus distance, taking the
+    prescription's change of power with wavelength). False when it has neither."""
+    if "lateral_color" in camera.effects:
+        native_camera.set_lateral_color(*camera.lateral_color_arrays(with_distortion="distortion" in camera.effects))
+    if "longitudinal_color" in camera.effects:
+        native_camera.set_dispersion(composite_inverse_focus_per_m(lens, focus_distance_m=camera.focus_distance_m))
+    return "lateral_color" in camera.effects or "longitudinal_color" in camera.effects
+
+
+def composite_inverse_focus_per_m(lens, *, focus_distance_m: float) -> np.ndarray:
+    """1 / (plane of focus) at every nm, 1/m, for the composite's thin lens
+    focused at ``focus_distance_m`` in d light: 1/d(λ) = 1/d + P(λ) − P_d,
+    P the prescription's paraxial power (the film stays where d focuses)."""
+    focal_length_mm = paraxial_data(lens).effective_focal_length_mm
+    film_distance_mm = 1.0 / (1.0 / focal_length_mm - 1.0 / (1e3 * focus_distance_m))
+    return inverse_focus_per_m(lens, film_distance_mm=film_distance_mm, focal_length_mm=focal_length_mm)
 
 
 def inverse_focus_per_m(lens, *, film_distance_mm: float, focal_length_mm: float) -> np.ndarray:

@@ -26,8 +26,8 @@ def _error(text: str) -> InputError:
     return info.value
 
 
-def test_the_four_classics_are_shipped():
-    assert shipped_lens_names() == CLASSICS
+def test_the_four_classics_and_the_dispersive_landscape_lens_are_shipped():
+    assert shipped_lens_names() == tuple(sorted(CLASSICS + ("landscape.125mm",)))
 
 
 @pytest.mark.parametrize("name", CLASSICS)

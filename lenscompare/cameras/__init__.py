@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from ..errors import InputError
 from .base import CameraModel, check_camera_numbers
-from .composite import COMPOSITE_EFFECTS, POST_FILTER_EFFECTS, CompositeCamera, check_composite_effects
+from .composite import (COLOR_PARTS, COMPOSITE_EFFECTS, POST_FILTER_EFFECTS, CompositeCamera, check_composite_effects,
+                        check_spectral_parts)
 from .frame import CameraFrame, Film
 from .lens import LensSystemCamera
 from .pinhole import PinholeCamera
@@ -17,8 +18,8 @@ from .thick import ThickLensCamera
 from .thin import ThinLensCamera
 
 __all__ = ["camera_for", "CameraModel", "CameraFrame", "Film", "PinholeCamera", "ThinLensCamera",
-           "ThickLensCamera", "LensSystemCamera", "CompositeCamera", "COMPOSITE_EFFECTS", "POST_FILTER_EFFECTS",
-           "check_composite_effects", "CAMERA_TYPES"]
+           "ThickLensCamera", "LensSystemCamera", "CompositeCamera", "COMPOSITE_EFFECTS", "COLOR_PARTS",
+           "POST_FILTER_EFFECTS", "check_composite_effects", "check_spectral_parts", "CAMERA_TYPES"]
 
 CAMERA_TYPES = {cls.model: cls for cls in (PinholeCamera, ThinLensCamera, ThickLensCamera, LensSystemCamera,
                                             CompositeCamera)}

@@ -5,7 +5,9 @@
 Parameter           Type   Unit  Meaning
 ==================  =====  ====  ===========================================
 effects             list   -     what to simulate, from ``defocus``,
-                                 ``distortion``, ``vignetting`` (and
+                                 ``distortion``, ``vignetting``, in a
+                                 spectral render ``lateral_color`` and
+                                 ``longitudinal_color`` (and
                                  ``diffraction``, the post-filter)
 lens                str    -     the prescription the parts are traced from
                                  (needed for distortion and vignetting)
@@ -24,12 +26,22 @@ each ray by the relative illumination at its film radius (a table, not
 noise). Without a lens the composite is the thin lens (or pinhole) of the
 scene's focal length, and only ``defocus`` is available.
 
-Lateral colour is the distortion map per wavelength
-(:meth:`CompositeCamera.lateral_color_map`, traced on demand). The native
-composite does not read it yet: it needs the spectral render loop, which will
-hand each ray's wavelength to the lookup (:meth:`CompositeCamera.lateral_color_arrays`
-gives the arrays it will take). Until then ``lateral_color`` is not a
-composite part.
+The colour parts exist only in a spectral render (``[render] spectral``),
+where each camera ray has a wavelength; they make the native composite a
+camera that disperses (its rays depend on the wavelength), set by
+:mod:`lenscompare.render_spectral`:
+
+- ``lateral_color``: the distortion map per wavelength
+  (:meth:`CompositeCamera.lateral_color_map`), each ray looking along the
+  chief ray of its own wavelength. Without ``distortion`` each row is divided
+  by the d row, so that d light is undistorted and only the colour fringes
+  remain;
+- ``longitudinal_color``: the thin lens's plane of focus per wavelength, from
+  the prescription's paraxial focal length at each wavelength, as the thin
+  lens model (:func:`lenscompare.render_spectral.inverse_focus_per_m`).
+
+An RGB render asked for either is refused (:func:`check_spectral_parts`):
+``--effects`` promises exactly those effects, and an RGB render shows no colour.
 """
 
 from __future__ import annotations
@@ -43,6 +55,7 @@ import numpy as np
 from .. import _native
 from ..errors import InputError
 from ..lenses import LateralColorMap, RadialMaps, lateral_color_map, radial_maps
+from ..lenses.glass import D_NM
 from ..units import m_from_mm
 from .base import CameraModel
 from .frame import CameraFrame, Film
@@ -50,26 +63,41 @@ from .lens import LensSystemCamera
 from .pinhole import PinholeCamera
 from .thin import DISK_MAPPING_CODES, ThinLensCamera
 
-__all__ = ["CompositeCamera", "COMPOSITE_EFFECTS", "POST_FILTER_EFFECTS", "check_composite_effects"]
+__all__ = ["CompositeCamera", "COMPOSITE_EFFECTS", "COLOR_PARTS", "POST_FILTER_EFFECTS", "check_composite_effects",
+           "check_spectral_parts"]
 
-# The effects a composite's parts simulate in the render itself.
+# The effects a composite's parts simulate in the render itself, in any render.
 COMPOSITE_EFFECTS = ("defocus", "distortion", "vignetting")
+# Those it simulates in a spectral render only (each ray's wavelength picks its table row or focus).
+COLOR_PARTS = ("lateral_color", "longitudinal_color")
 # Effects applied to any render's image afterwards (lenscompare.diffraction).
 POST_FILTER_EFFECTS = ("diffraction",)
 # Those that need the prescription's traced maps.
-_MAPPED_EFFECTS = ("distortion", "vignetting")
+_MAPPED_EFFECTS = ("distortion", "vignetting", "lateral_color")
 
 
 def check_composite_effects(effects, *, source: str, key: str | None = None) -> tuple[str, ...]:
     """``effects`` as a tuple in contract order, or an InputError naming
     ``source`` (and ``key``) when a composite cannot simulate one of them."""
     effects = tuple(dict.fromkeys(effects))
-    missing = [e for e in effects if e not in COMPOSITE_EFFECTS + POST_FILTER_EFFECTS]
+    parts = COMPOSITE_EFFECTS + COLOR_PARTS + POST_FILTER_EFFECTS
+    missing = [e for e in effects if e not in parts]
     if missing:
         raise InputError(source, f"a composite cannot simulate {', '.join(missing)} (its parts simulate "
-                         f"{', '.join(COMPOSITE_EFFECTS + POST_FILTER_EFFECTS)}): render with --model lens",
-                         key=key)
+                         f"{', '.join(parts)}): render with --model lens", key=key)
     return effects
+
+
+def check_spectral_parts(effects, *, spectral: bool, source: str, key: str | None = None) -> None:
+    """An InputError naming ``source`` (and ``key``) when a colour part is asked of an RGB render.
+
+    ``--effects`` renders exactly the effects named; colour exists only where
+    each ray has a wavelength, so an RGB render cannot keep that promise.
+    """
+    color = [e for e in effects if e in COLOR_PARTS]
+    if color and not spectral:
+        raise InputError(source, f"{', '.join(color)} needs a spectral render: an RGB render shows no colour "
+                         "(set [render] spectral = true, or leave the colour effects out)", key=key)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,8 +107,8 @@ class CompositeCamera(CameraModel):
     Attributes (beyond :class:`CameraModel`)
     ----------------------------------------
     effects : tuple of str
-        The effects this render simulates (of :data:`COMPOSITE_EFFECTS` and
-        :data:`POST_FILTER_EFFECTS`).
+        The effects this render simulates (of :data:`COMPOSITE_EFFECTS`,
+        :data:`COLOR_PARTS` and :data:`POST_FILTER_EFFECTS`).
     lens_system : LensSystemCamera or None
         The lens system the parts stand in for (None without ``camera.lens``).
     maps : RadialMaps or None
@@ -105,8 +133,9 @@ class CompositeCamera(CameraModel):
         effects = check_composite_effects(effects, source=source, key=effects_key if source != "--effects" else None)
         mapped = [e for e in effects if e in _MAPPED_EFFECTS]
         if scene.camera.lens is None:
-            if mapped:
-                raise InputError(scene.source, f"{', '.join(mapped)} in a composite is traced from a lens: "
+            traced = [e for e in effects if e in _MAPPED_EFFECTS + COLOR_PARTS]
+            if traced:
+                raise InputError(scene.source, f"{', '.join(traced)} in a composite is traced from a lens: "
                                  "give camera.lens", key="camera.lens")
             return cls._without_lens(scene, effects)
         lens = LensSystemCamera.from_scene(scene)
@@ -181,13 +210,18 @@ class CompositeCamera(CameraModel):
                                  focus_distance_m=lens.focus_distance_m,
                                  film_half_diagonal_mm=lens.film.half_diagonal_mm)
 
-    def lateral_color_arrays(self) -> tuple[np.ndarray, np.ndarray, float]:
+    def lateral_color_arrays(self, *, with_distortion: bool = True) -> tuple[np.ndarray, np.ndarray, float]:
         """``(wavelengths_nm (k,), screen_scale (k, entries), radius_step_mm)``
-        as the spectral composite will take them: contiguous float64, the
-        screen-direction scale per wavelength (see :class:`LateralColorMap`)."""
+        as the spectral composite takes them: contiguous float64, the
+        screen-direction scale per wavelength (see :class:`LateralColorMap`).
+        Without ``with_distortion`` each row is divided by the d row (d light
+        then lands where the paraxial image does)."""
         table = self.lateral_color_map()
+        scale = table.screen_scale
+        if not with_distortion:
+            scale = scale / scale[list(table.wavelengths_nm).index(D_NM)]
         return (np.ascontiguousarray(table.wavelengths_nm, dtype=np.float64),
-                np.ascontiguousarray(table.screen_scale, dtype=np.float64), table.radius_step_mm)
+                np.ascontiguousarray(scale, dtype=np.float64), table.radius_step_mm)
 
     def to_json(self) -> dict:
         info = {**super().to_json(), "effects": list(self.effects), "lens_radius_mm": self.lens_radius_mm}

@@ -5,7 +5,8 @@ tolerance, and predict the time that saves.
 Effects are the unit: each effect names the cheapest part that simulates it
 (``Effect.needed_by``). The render is the pinhole when nothing is needed, the
 thin lens for defocus alone, the composite of the needed effects when one of
-them is a composite part (distortion, vignetting), and the full lens system
+them is a composite part (distortion, vignetting; in a spectral render
+lateral colour too), and the full lens system
 when a needed effect has no part (or the composite cannot stand in for the
 lens on this film). Post-filter effects (diffraction) go on any render. The
 image-based depth of field (``postfilter``) stands in for the thin lens when
@@ -17,7 +18,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..cameras import COMPOSITE_EFFECTS, camera_for
+from ..cameras import COLOR_PARTS, COMPOSITE_EFFECTS, camera_for
 from ..image import Image
 from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
@@ -107,7 +108,8 @@ def _choose(scene: Scene, effects: dict[str, Effect], needed: dict[str, bool]) -
         model = "thin"
     if model != "composite":
         return model, (), ""
-    parts = tuple(name for name in COMPOSITE_EFFECTS if name in wanted)
+    # The colour parts are wanted only when the render is spectral (above).
+    parts = tuple(name for name in COMPOSITE_EFFECTS + COLOR_PARTS if name in wanted)
     try:  # the parts exist, but may not cover this film (a fisheye's corners)
         camera_for(scene, "composite", effects=parts)
     except InputError as error:

@@ -190,20 +190,21 @@ def lateral_color(scene: Scene, camera: CameraModel) -> Effect:
     film corner, px: the field imaged at the corner (in d light), the object
     on the plane of focus, the film where the lens system puts it. The thin
     and thick lens derived from a prescription have none (they keep only its
-    focal shift); the lens system traces it."""
+    focal shift); the composite's distortion map per wavelength simulates it
+    in a spectral render, as the lens system does by tracing."""
     why = _no_dispersion(scene)
     if why:
-        return Effect("lateral_color", 0.0, "px", why, "lens")
+        return Effect("lateral_color", 0.0, "px", why, "composite")
     lens = scene.camera.lens
     system = camera_for(scene, "lens")
     angle = corner_field_deg(scene, camera)
     try:
         shift_mm = lateral_color_mm(lens, angle, film_z_mm=system.film_z_mm, focus_distance_m=system.focus_distance_m)
     except InputError:  # no chief ray there at F or C: outside the image circle
-        return Effect("lateral_color", 0.0, "px", f"no chief ray at the corner field {angle:.3g} deg", "lens")
+        return Effect("lateral_color", 0.0, "px", f"no chief ray at the corner field {angle:.3g} deg", "composite")
     return Effect("lateral_color", abs(shift_mm) / camera.pixel_pitch_mm, "px",
                   f"F minus C chief-ray height {1000 * shift_mm:+.3g} um at the corner field {angle:.3g} deg "
-                  f"({lens.name}, {system.focus_mode} focus)", "lens")
+                  f"({lens.name}, {system.focus_mode} focus)", "composite")
 
 
 def longitudinal_color(scene: Scene, camera: CameraModel) -> Effect:

@@ -448,7 +448,43 @@ NB_MODULE(_native, m) {
                                             max_radius_mm};
              },
              "lens"_a, "film_width_mm"_a, "film_height_mm"_a, "screen_scale"_a, "illumination"_a, "radius_step_mm"_a,
-             "max_radius_mm"_a);
+             "max_radius_mm"_a)
+        .def("set_lateral_color",
+             [](CompositeCamera& self, CArray<const double, -1> wavelengths_nm, CArray<const double, -1, -1> scale,
+                double radius_step_mm) {
+                 const size_t rows = wavelengths_nm.shape(0);
+                 if (rows < 2 || scale.shape(0) != rows || scale.shape(1) < 2)
+                     throw std::invalid_argument("lateral colour: two wavelengths or more, a row of two values or "
+                                                 "more for each");
+                 if (!(radius_step_mm > 0.0 && std::isfinite(radius_step_mm)))
+                     throw std::invalid_argument("radius_step_mm must be finite and > 0");
+                 std::vector<double> nm;
+                 std::vector<RadialTable> tables;
+                 for (size_t j = 0; j < rows; ++j) {
+                     if (!(std::isfinite(wavelengths_nm(j)) && (j == 0 || wavelengths_nm(j) > nm.back())))
+                         throw std::invalid_argument("lateral colour: wavelengths must be finite and increasing");
+                     nm.push_back(wavelengths_nm(j));
+                     RadialTable table;
+                     table.radius_step_mm = radius_step_mm;
+                     for (size_t i = 0; i < scale.shape(1); ++i) {
+                         if (!(std::isfinite(scale(j, i)) && scale(j, i) >= 0.0))
+                             throw std::invalid_argument("lateral colour: values must be finite and >= 0");
+                         table.values.push_back(scale(j, i));
+                     }
+                     tables.push_back(std::move(table));
+                 }
+                 self.color_nm = std::move(nm);
+                 self.screen_scale_by_color = std::move(tables);
+             },
+             "wavelengths_nm"_a, "screen_scale"_a, "radius_step_mm"_a,
+             "Lateral colour: the screen-scale table (rows) at each wavelength (increasing), read linearly in "
+             "wavelength and film radius.")
+        .def("set_dispersion",
+             [](CompositeCamera& self, CArray<const double, -1> inverse_focus_per_m) {
+                 self.lens.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+             },
+             "inverse_focus_per_m"_a,
+             "Longitudinal colour: 1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
 
     bind_camera_functions<PinholeCamera>(m);
     bind_camera_functions<ThinLensCamera>(m);

@@ -9,6 +9,13 @@
 // with linear interpolation; beyond max_radius_mm (the image circle, or where
 // the chief ray fails) no ray leaves. With both tables empty the composite is
 // the thin lens, bit for bit.
+// In a spectral render two more parts make it a camera that disperses
+// (render_tile_spectral.h: disperses(), generate_rays_at):
+//   - lateral colour: the distortion table once per wavelength (a few rows,
+//     read linearly in wavelength too), so that each wavelength's ray looks
+//     along that wavelength's chief ray;
+//   - longitudinal colour: the thin lens's plane of focus per wavelength
+//     (ThinLensCamera::inverse_focus_per_m_by_nm), as the thin lens model.
 #pragma once
 
 #include <cmath>
@@ -43,32 +50,91 @@ struct CompositeCamera {
     RadialTable screen_scale;    // distortion: real chief-ray tangent over the paraxial one (1 on the axis)
     RadialTable illumination;    // vignetting: RI(r), 1 on the axis
     double max_radius_mm;        // film radius beyond which nothing gets through (infinity: none)
+    // Lateral colour: screen_scale at each of color_nm (increasing; empty: none).
+    std::vector<double> color_nm;
+    std::vector<RadialTable> screen_scale_by_color;
+
+    bool disperses() const { return !color_nm.empty() || lens.disperses(); }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
         if (screen_scale.empty() && illumination.empty() && std::isinf(max_radius_mm))
             return lens.generate_ray(raster_px, lens_sample);  // the thin lens, bit for bit
+        FilmSample film;
+        if (!film_sample(raster_px, lens_sample, &film)) return std::nullopt;
+        const double k = screen_scale.empty() ? 1.0 : screen_scale.at(film.r_mm);
+        return ray_through(film, k, 1.0 / lens.focus_distance_m);
+    }
+
+    // The ray at wavelength nm: its screen point scaled by that wavelength's
+    // chief-ray table, its plane of focus that wavelength's.
+    MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
+        MaybeRay ray;
+        generate_rays_at(raster_px, lens_sample, &nm, 1, &ray);
+        return ray;
+    }
+
+    // One film and lens sample, rays at n wavelengths: the sample's radius,
+    // weight and pupil point are shared, only the table row and focus differ.
+    void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
+        FilmSample film;
+        if (!film_sample(raster_px, lens_sample, &film)) {
+            for (int k = 0; k < n; ++k) out[k] = std::nullopt;
+            return;
+        }
+        for (int k = 0; k < n; ++k) {
+            const double scale = !color_nm.empty() ? scale_at(nm[k], film.r_mm)
+                                 : screen_scale.empty() ? 1.0 : screen_scale.at(film.r_mm);
+            const double inverse_focus = lens.disperses() ? lens.inverse_focus_per_m_at(nm[k])
+                                                          : 1.0 / lens.focus_distance_m;
+            out[k] = ray_through(film, scale, inverse_focus);
+        }
+    }
+
+  private:
+    struct FilmSample {
+        Vec3d screen;   // paraxial screen point (tangents, z = 1)
+        Vec3d p_lens;   // point on the entrance pupil, m
+        double r_mm;    // film radius
+        float weight;   // relative illumination
+    };
+
+    // False when the sample lies outside the image circle or gets no light.
+    bool film_sample(Point2f raster_px, Point2f lens_sample, FilmSample* out) const {
         // Film radius of the sample, mm (the film centre is the raster centre)
         const FilmToScreen& film = lens.film;
         const double x_mm = (double(raster_px.x) / film.width_px - 0.5) * film_width_mm;
         const double y_mm = (double(raster_px.y) / film.height_px - 0.5) * film_height_mm;
-        const double r_mm = std::sqrt(x_mm * x_mm + y_mm * y_mm);
-        if (!(r_mm <= max_radius_mm)) return std::nullopt;  // outside the image circle: black
-        const float weight = illumination.empty() ? 1.0f : float(illumination.at(r_mm));
-        if (!(weight > 0.0f)) return std::nullopt;
-        // Screen point (paraxial tangent), pushed out or in to the real chief ray's
-        Vec3d screen = film.direction(raster_px);
-        if (!screen_scale.empty()) {
-            const double k = screen_scale.at(r_mm);
-            screen.x *= k, screen.y *= k;
-        }
-        // Sample point on the entrance pupil, aimed through the screen point's
-        // image on the plane of focus (as ThinLensCamera, divided by the distance)
+        out->r_mm = std::sqrt(x_mm * x_mm + y_mm * y_mm);
+        if (!(out->r_mm <= max_radius_mm)) return false;  // outside the image circle: black
+        out->weight = illumination.empty() ? 1.0f : float(illumination.at(out->r_mm));
+        if (!(out->weight > 0.0f)) return false;
+        out->screen = film.direction(raster_px);
         double ax, ay;
         lens.aperture.sample(lens_sample, lens.disk_mapping, &ax, &ay);
-        Vec3d p_lens{lens.lens_radius_m * ax, lens.lens_radius_m * ay, 0.0};
-        Vec3d dir_camera = normalize(screen - p_lens * (1.0 / lens.focus_distance_m));
+        out->p_lens = Vec3d{lens.lens_radius_m * ax, lens.lens_radius_m * ay, 0.0};
+        return true;
+    }
+
+    // Lateral colour's screen scale at (nm, r): linear between rows, clamped at the ends.
+    double scale_at(float nm, double r_mm) const {
+        const size_t last = color_nm.size() - 1;
+        if (!(double(nm) > color_nm[0])) return screen_scale_by_color[0].at(r_mm);
+        if (!(double(nm) < color_nm[last])) return screen_scale_by_color[last].at(r_mm);
+        size_t i = 0;
+        while (color_nm[i + 1] <= double(nm)) ++i;  // a handful of rows
+        const double t = (double(nm) - color_nm[i]) / (color_nm[i + 1] - color_nm[i]);
+        return screen_scale_by_color[i].at(r_mm) * (1.0 - t) + screen_scale_by_color[i + 1].at(r_mm) * t;
+    }
+
+    // The screen point pushed out or in by scale, the pupil point aimed through
+    // its image on the plane of focus (as ThinLensCamera, divided by the distance).
+    MaybeRay ray_through(const FilmSample& film, double scale, double inverse_focus_per_m) const {
+        Vec3d screen = film.screen;
+        screen.x *= scale, screen.y *= scale;
+        Vec3d dir_camera = normalize(screen - film.p_lens * inverse_focus_per_m);
         const Frame& frame = lens.world_from_camera;
-        return CameraRay{frame.world_from_camera_point(p_lens), frame.world_from_camera_vector(dir_camera), weight};
+        return CameraRay{frame.world_from_camera_point(film.p_lens), frame.world_from_camera_vector(dir_camera),
+                         film.weight};
     }
 };
 

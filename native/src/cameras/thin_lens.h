@@ -34,11 +34,15 @@ struct ThinLensCamera {
     // chief ray through its centre, so only the plane of focus moves.
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {
         if (!disperses()) return generate_ray(raster_px, lens_sample);
+        return generate_ray_focused(raster_px, lens_sample, inverse_focus_per_m_at(nm));
+    }
+
+    // 1 / (plane of focus at nm), 1/m (linear between whole nm); needs disperses().
+    double inverse_focus_per_m_at(float nm) const {
         const double x = std::clamp(double(nm) - 380.0, 0.0, double(inverse_focus_per_m_by_nm.size() - 1));
         const size_t i = std::min(size_t(x), inverse_focus_per_m_by_nm.size() - 2);
         const double t = x - double(i);
-        return generate_ray_focused(raster_px, lens_sample,
-                                    inverse_focus_per_m_by_nm[i] * (1.0 - t) + inverse_focus_per_m_by_nm[i + 1] * t);
+        return inverse_focus_per_m_by_nm[i] * (1.0 - t) + inverse_focus_per_m_by_nm[i + 1] * t;
     }
 
     void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
