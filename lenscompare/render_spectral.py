@@ -51,7 +51,15 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_se
     return {"wavelengths_nm": [float(wavelengths_nm()[0]), float(wavelengths_nm()[-1])],
             "method": "hero wavelengths (Wilkie et al. 2014), Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
             "camera_disperses": disperses,
-            "secondaries": ("traced" if trace_secondaries else "terminated") if disperses else "shared ray"}
+            "secondaries": _secondaries(trace_secondaries, camera.model) if disperses else "shared ray"}
+
+
+def _secondaries(trace_secondaries: bool, model: str) -> str:
+    """What the render did with the secondary wavelengths (render_tile_spectral.h)."""
+    if not trace_secondaries:
+        return "terminated"
+    # The thin and thick lens know when a wavelength's own ray is the hero's.
+    return "on the hero's ray where it is theirs, else traced" if model in ("thin", "thick") else "traced"
 
 
 def _set_dispersion(native_camera, scene: Scene, camera) -> bool:

@@ -31,6 +31,10 @@ struct ThickLensCamera {
     void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
         at_front_principal_plane.generate_rays_at(raster_px, lens_sample, nm, n, out);
     }
+    void generate_rays_sharing(Point2f raster_px, Point2f lens_sample, const float* nm, MaybeRay* out,
+                               bool* shares) const {
+        at_front_principal_plane.generate_rays_sharing(raster_px, lens_sample, nm, out, shares);
+    }
 };
 
 }  // namespace lc

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "aperture.h"
 #include "cameras/camera_ray.h"
 #include "samplers.h"
+#include "spectral.h"
 
 namespace lc {
 
@@ -49,11 +51,52 @@ struct ThinLensCamera {
         for (int k = 0; k < n; ++k) out[k] = generate_ray_at(raster_px, lens_sample, nm[k]);
     }
 
+    // A sample's rays at its four wavelengths, sharing one where it can:
+    // out[k] is wavelength k's ray; shares[k] says it is out[0], the hero's.
+    // Every wavelength's thin lens sends a lens point toward its own plane of
+    // focus, so the ray wavelength k traces from film point
+    //     x_k = x_0 + p_lens (1/focus_k - 1/focus_0)     (screen units)
+    // is the hero's ray from x_0. Given the lens point, x_0 is uniform over the
+    // pixel, and so is x_k wrapped back into it (a shift modulo the pixel):
+    // each wavelength draws film and lens points as its own camera would, and
+    // where x_k needs no wrap its ray is the hero's and is traced once.
+    void generate_rays_sharing(Point2f raster_px, Point2f lens_sample, const float* nm, MaybeRay* out,
+                               bool* shares) const {
+        double ax, ay;
+        aperture.sample(lens_sample, disk_mapping, &ax, &ay);
+        const double lens_x = lens_radius_m * ax, lens_y = lens_radius_m * ay;
+        const double inverse_focus_0 = inverse_focus_per_m_at(nm[0]);
+        out[0] = ray_from_lens_point(raster_px, lens_x, lens_y, inverse_focus_0);
+        shares[0] = true;
+        const double pixel_x = std::floor(double(raster_px.x)), pixel_y = std::floor(double(raster_px.y));
+        for (int k = 1; k < kHeroWavelengths; ++k) {
+            const double inverse_focus = inverse_focus_per_m_at(nm[k]);
+            const double shift = inverse_focus - inverse_focus_0;
+            // Screen x grows with raster x, screen y against raster y (FilmToScreen).
+            const double x = double(raster_px.x) + lens_x * shift * (0.5 * film.width_px / film.screen_half_width);
+            const double y = double(raster_px.y) - lens_y * shift * (0.5 * film.height_px / film.screen_half_height);
+            shares[k] = std::floor(x) == pixel_x && std::floor(y) == pixel_y;
+            if (shares[k]) {
+                out[k] = out[0];
+                continue;
+            }
+            const Point2f wrapped{float(pixel_x + (x - std::floor(x))), float(pixel_y + (y - std::floor(y)))};
+            out[k] = ray_from_lens_point(wrapped, lens_x, lens_y, inverse_focus);
+        }
+    }
+
     MaybeRay generate_ray_focused(Point2f raster_px, Point2f lens_sample, double inverse_focus_per_m) const {
         // Sample point on lens
         double ax, ay;
         aperture.sample(lens_sample, disk_mapping, &ax, &ay);
-        Vec3d p_lens{lens_radius_m * ax, lens_radius_m * ay, 0.0};
+        return ray_from_lens_point(raster_px, lens_radius_m * ax, lens_radius_m * ay, inverse_focus_per_m);
+    }
+
+    // The ray from lens point (x, y) (m, camera frame) through the film point's
+    // image on the plane of focus 1 / inverse_focus_per_m away.
+    MaybeRay ray_from_lens_point(Point2f raster_px, double lens_x_m, double lens_y_m,
+                                 double inverse_focus_per_m) const {
+        Vec3d p_lens{lens_x_m, lens_y_m, 0.0};
         // Ray from the lens point through the film point's image on the plane of
         // focus, film.direction * focus_distance; written divided by the focus
         // distance (normalize does not mind the scale), so that any finite focus
