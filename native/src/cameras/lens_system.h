@@ -165,19 +165,12 @@ struct LensSystemCamera {
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one
-    // ray: film points and pupil picks (table look-ups: lane by lane, or with
-    // AVX-512 gathers on the AVX-512 kernel), then the aim, with its square
-    // roots and divisions, in SIMD. Lanes outside the image circle or past n
-    // are dead.
+    // ray: film points and pupil picks lane by lane (table look-ups), then the
+    // aim, with its square roots and divisions, in SIMD. Lanes outside the
+    // image circle or past n are dead.
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                       double* area_mm2) const {
         LensAimBatch aim;
-        if (trace_kernel == LensTraceKernel::Avx512) {
-            pick_batch_avx512(*pupil, FilmGrid{width_px, height_px, film_mm_per_px_x, film_mm_per_px_y}, raster_px,
-                              lens_sample, n, &aim, batch->alive, area_mm2);
-            aim_batch(aim, aim_planes(), batch, trace_kernel);
-            return;
-        }
         // Film points first, in a loop of their own: their square roots then
         // overlap instead of waiting behind the picks' branches.
         for (int i = 0; i < kLensBatch; ++i)

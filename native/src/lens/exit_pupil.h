@@ -20,11 +20,7 @@ namespace lc {
 
 constexpr int kPupilSegments = 64;
 constexpr int kPupilAngles = 64;
-// A power of two: u * cells is exact. 1024, not 128: with 64 triangles a cell
-// then rarely holds a CDF step, so the search after the guide seldom loops and
-// its branch is predicted (the same picks; 3.5x fewer mispredictions in
-// sample_batch, callgrind).
-constexpr int kPupilGuideCells = 1024;
+constexpr int kPupilGuideCells = 128;  // a power of two: u * cells is exact
 
 struct PupilPolygon {
     bool empty = true;          // no light from this film ring: outside the image circle
@@ -80,10 +76,6 @@ class ExitPupil {
 
     double plane_z_mm() const { return plane_z_mm_; }
     const PupilPolygon& segment(int i) const { return segments_[size_t(i)]; }
-    // The rings in order, and how many per mm of film radius: what pick reads,
-    // for pick_batch_avx512's gathers.
-    const PupilPolygon* segments() const { return segments_.data(); }
-    double segments_per_mm() const { return segments_per_mm_; }
 
   private:
     // The rings' common set-up: the plane at the rear vertex and the radius lookup.
@@ -94,19 +86,5 @@ class ExitPupil {
     double max_film_radius_mm_ = 1.0;
     double segments_per_mm_ = kPupilSegments;  // kPupilSegments / max_film_radius_mm_
 };
-
-// Where raster positions lie on the film (LensSystemCamera::film_point's numbers).
-struct FilmGrid {
-    int width_px, height_px;
-    double mm_per_px_x, mm_per_px_y;
-};
-
-// LensSystemCamera::sample_batch's film points and pupil picks for a whole
-// batch, sixteen lanes at a time with AVX-512 gathers instead of a lane-by-lane
-// loop (whose table look-ups and search branches cost more than the aim):
-// the same operations, the same bits. Lanes [n, kLensBatch) take sample 0's
-// inputs and are dead; dead lanes get a pick of zeros.
-void pick_batch_avx512(const ExitPupil& pupil, const FilmGrid& film, const Point2f* raster_px,
-                       const Point2f* lens_sample, int n, LensAimBatch* aim, bool* alive, double* area_mm2);
 
 }  // namespace lc
