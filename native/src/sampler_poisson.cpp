@@ -231,7 +231,7 @@ PatternPool& pool_for(int spp) {
 
 float wrap_unit(float v) {
     v -= std::floor(v);
-    return std::fmin(v, kOneMinusEpsilon);  // v - floor(v) rounds to 1 for tiny negative v
+    return below_one(v);  // v - floor(v) rounds to 1 for tiny negative v
 }
 
 // One pattern from the pool under a random square symmetry and toroidal shift.

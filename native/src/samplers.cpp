@@ -30,7 +30,7 @@ void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
             // (ix + u) / nx stays below 1 because u <= 1 - 2^-24.
             float x = (float(ix) + rng.next_float()) / float(nx);
             float y = (float(iy) + rng.next_float()) / float(ny);
-            out[iy * nx + ix] = {std::fmin(x, kOneMinusEpsilon), std::fmin(y, kOneMinusEpsilon)};
+            out[iy * nx + ix] = {below_one(x), below_one(y)};
         }
 }
 
@@ -109,7 +109,7 @@ void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, f
         for (int i = 0; i < spp; ++i) time[i] = rng.next_float();
         return;
     }
-    for (int k = 0; k < spp; ++k) time[k] = std::fmin((float(k) + rng.next_float()) / float(spp), kOneMinusEpsilon);
+    for (int k = 0; k < spp; ++k) time[k] = below_one((float(k) + rng.next_float()) / float(spp));
     for (int i = spp - 1; i > 0; --i) std::swap(time[i], time[rng.next_below(uint32_t(i + 1))]);
 }
 

