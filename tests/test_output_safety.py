@@ -304,7 +304,7 @@ def test_a_missing_lens_names_where_it_was_asked_for_and_the_shipped_lenses(tmp_
     assert main(argv) == 2
     line = one_error_line(capsys.readouterr().err)
     assert (f"{scene}: camera.lens" if where == "scene" else "--lens:") in line
-    assert "'nosuch.dat'" in line and "dgauss.50mm, fisheye.10mm, telephoto.250mm, wide.22mm" in line
+    assert "'nosuch.dat'" in line and "dgauss.50mm, fisheye.10mm, landscape.125mm, telephoto.250mm, wide.22mm" in line
 
 
 def test_interrupted_is_a_keyboard_interrupt_with_the_shell_status():
