@@ -1,5 +1,8 @@
 #include "motion.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace lc {
 
 // Lane by lane without branches, so that GCC runs the rays side by side, once
@@ -44,35 +47,51 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) bool swept_boxes_me
     return any != 0;
 }
 
-// The squared distance from each ray's line to the nearest point of a
-// capsule's axis, against the squared radius with a margin for the rounding
-// of both (float cancellation grows with the squared distance to the axis);
-// NaN keeps the ray.
-__attribute__((target_clones("default", "avx2", "avx512f"))) void swept_spheres_met(
-    const float* capsules, int n, const float* const origin[3], const float* const direction[3], int* hit) {
+// Each sphere where Embree puts it at the ray's time (its centre interpolated
+// between open and close), against the ray's segment: the squared distance
+// from the centre to the segment's nearest point, against the squared radius
+// with margins for the rounding of both tests. NaN keeps the ray.
+__attribute__((target_clones("default", "avx2", "avx512f"))) bool moving_spheres_met(
+    const float* spheres, int n, const float* const origin[3], const float* const direction[3],
+    const float* t_max, const float* time, const int* active, int* hit) {
     constexpr int N = SweptBounds::kLanes;
+    float inv_dd[N];
+    for (int i = 0; i < N; ++i)
+        inv_dd[i] = 1.0f / (direction[0][i] * direction[0][i] + direction[1][i] * direction[1][i] +
+                            direction[2][i] * direction[2][i]);
+    // Rounding grows with the coordinates: each lane's origin, each sphere's centre.
+    float origin_size[N];
+    for (int i = 0; i < N; ++i) {
+        const float x = std::fabs(origin[0][i]), y = std::fabs(origin[1][i]), z = std::fabs(origin[2][i]);
+        origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+    }
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
-        const float* c = capsules + 7 * k;
+        const float* c = spheres + 7 * k;
         const float ex = c[3] - c[0], ey = c[4] - c[1], ez = c[5] - c[2], r = c[6];
+        float centre_size = 1.0f;
+        for (int a = 0; a < 6; ++a) centre_size = std::max(centre_size, std::fabs(c[a]));
         for (int i = 0; i < N; ++i) {
-            const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
-            const float wx = c[0] - origin[0][i], wy = c[1] - origin[1][i], wz = c[2] - origin[2][i];
-            const float dd = dx * dx + dy * dy + dz * dz, ed = ex * dx + ey * dy + ez * dz;
-            const float wd = wx * dx + wy * dy + wz * dz;
-            // |w + s e|^2 - ((w + s e).d)^2 / dd is least over s in [0, 1] at s:
-            const float a = (ex * ex + ey * ey + ez * ez) - ed * ed / dd;
-            const float b = (wx * ex + wy * ey + wz * ez) - wd * ed / dd;
-            float s = a > 0.0f ? -b / a : (b < 0.0f ? 1.0f : 0.0f);
-            s = s > 1.0f ? 1.0f : (s < 0.0f ? 0.0f : s);
-            const float qx = wx + s * ex, qy = wy + s * ey, qz = wz + s * ez;
-            const float qq = qx * qx + qy * qy + qz * qz, qd = qx * dx + qy * dy + qz * dz;
-            const float distance2 = qq - qd * qd / dd;
-            const float limit = r * r * 1.0001f + 1e-5f * qq + 1e-12f;
-            met[i] |= distance2 > limit ? 0 : 1;
+            const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i], u = time[i];
+            const float wx = c[0] + u * ex - origin[0][i], wy = c[1] + u * ey - origin[1][i],
+                        wz = c[2] + u * ez - origin[2][i];
+            // Nearest point of the segment t in [0, t_max] to the centre
+            float t = (wx * dx + wy * dy + wz * dz) * inv_dd[i];
+            t = t > t_max[i] ? t_max[i] : t;
+            t = t < 0.0f ? 0.0f : t;
+            const float qx = wx - t * dx, qy = wy - t * dy, qz = wz - t * dz;
+            const float distance2 = qx * qx + qy * qy + qz * qz;
+            // A margin of some 250 float steps of the largest coordinate, and 0.1 % of the radius
+            const float reach = r * 1.001f + 3e-5f * (centre_size + origin_size[i]);
+            met[i] |= distance2 > reach * reach ? 0 : 1;
         }
     }
-    for (int i = 0; i < N; ++i) hit[i] = hit[i] && met[i] ? -1 : 0;
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        hit[i] = active[i] && met[i] ? -1 : 0;
+        any |= hit[i];
+    }
+    return any != 0;
 }
 
 }  // namespace lc

@@ -41,10 +41,10 @@ struct SceneMotion {
 bool swept_boxes_met(const float* lo_hi, int n_boxes, const float* const origin[3], const float* const direction[3],
                      const float* t_max, const int* active, int* hit);
 
-// Keeps hit[i] (-1) only for the rays whose line passes within a capsule:
-// n capsules as centre at open xyz, centre at close xyz, radius (m) each.
-void swept_spheres_met(const float* capsules, int n, const float* const origin[3], const float* const direction[3],
-                       int* hit);
+// The same for n moving spheres (centre at open xyz, centre at close xyz,
+// radius, m, each), each where it is at the ray's own time in [0, 1).
+bool moving_spheres_met(const float* spheres, int n, const float* const origin[3], const float* const direction[3],
+                        const float* t_max, const float* time, const int* active, int* hit);
 
 // Where the moving primitives can be during the shutter: one box per distinct
 // velocity (an object's primitives share one), each the union of the
@@ -53,9 +53,11 @@ void swept_spheres_met(const float* capsules, int n, const float* const origin[3
 // through one of these boxes: each Embree scene costs a fixed amount per
 // packet whatever it holds, and most rays never come near what moves.
 //
-// When only spheres move (and at most kMaxCapsules of them), a ray that passes
-// a box is also tested against each sphere's path, a capsule: a box round a
-// sphere holds corners the sphere never reaches.
+// When only spheres move (at most kMaxSpheres of them), each ray is tested
+// against the spheres themselves where they are at its time instead: a box
+// round a sphere's path holds corners and times the sphere never reaches, and
+// most shadow rays that passed the boxes (from a moving sphere's own surface,
+// or from the floor beneath it) met no sphere.
 class SweptBounds {
   public:
     // A vertex of a moving quad or triangle at open or close (m).
@@ -68,7 +70,7 @@ class SweptBounds {
     void add_sphere(const Vec3f& velocity, const float* centre_open, const float* centre_close, float radius_m) {
         grow(velocity, centre_open, radius_m);
         grow(velocity, centre_close, radius_m);
-        capsules_.insert(capsules_.end(), {centre_open[0], centre_open[1], centre_open[2], centre_close[0],
+        spheres_.insert(spheres_.end(), {centre_open[0], centre_open[1], centre_open[2], centre_close[0],
                                            centre_close[1], centre_close[2], radius_m});
     }
 
@@ -88,7 +90,7 @@ class SweptBounds {
             }
         lo_hi_.clear();
         for (const Box& b : boxes_) lo_hi_.insert(lo_hi_.end(), {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]});
-        if (!only_spheres_ || capsules_.size() > 7 * kMaxCapsules) capsules_.clear();
+        if (!only_spheres_ || spheres_.size() > 7 * kMaxSpheres) spheres_.clear();
     }
 
     // How many rays may_hit tests at once: the render's packet width (embree_packet.h).
@@ -100,20 +102,17 @@ class SweptBounds {
     // NaN never culls); a direction component of exactly 0 tests the origin
     // against that slab instead (motion.cpp).
     bool may_hit(const float* const origin[3], const float* const direction[3], const float* t_max,
-                 const int* active, int* hit) const {
-        if (!swept_boxes_met(lo_hi_.data(), int(lo_hi_.size() / 6), origin, direction, t_max, active, hit))
-            return false;
-        if (capsules_.empty()) return true;
-        swept_spheres_met(capsules_.data(), int(capsules_.size() / 7), origin, direction, hit);
-        int any = 0;
-        for (int i = 0; i < kLanes; ++i) any |= hit[i];
-        return any != 0;
+                 const float* time, const int* active, int* hit) const {
+        if (!spheres_.empty())
+            return moving_spheres_met(spheres_.data(), int(spheres_.size() / 7), origin, direction, t_max, time,
+                                      active, hit);
+        return swept_boxes_met(lo_hi_.data(), int(lo_hi_.size() / 6), origin, direction, t_max, active, hit);
     }
 
     bool empty() const { return boxes_.empty(); }
 
   private:
-    static constexpr size_t kMaxBoxes = 16, kMaxCapsules = 16;
+    static constexpr size_t kMaxBoxes = 16, kMaxSpheres = 16;
     struct Box {
         Vec3f velocity;
         float lo[3], hi[3];
@@ -138,7 +137,7 @@ class SweptBounds {
 
     std::vector<Box> boxes_;
     std::vector<float> lo_hi_;  // per box: lo xyz, hi xyz (m), after finish()
-    std::vector<float> capsules_;  // per sphere: centre at open xyz, at close xyz, radius (m)
+    std::vector<float> spheres_;  // per sphere: centre at open xyz, at close xyz, radius (m)
     bool only_spheres_ = true;
 };
 

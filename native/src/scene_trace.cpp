@@ -133,7 +133,7 @@ void Scene::intersect_movers(const RayBatch& rays, RTCIntersectContext& context,
     for (int i = 0; i < kPacketSize; ++i) active[i] = i < rays.count;
     const float* origin[3] = {hits.ray.org_x, hits.ray.org_y, hits.ray.org_z};
     const float* direction[3] = {hits.ray.dir_x, hits.ray.dir_y, hits.ray.dir_z};
-    if (!movers_.may_hit(origin, direction, hits.ray.tfar, active, valid)) return;
+    if (!movers_.may_hit(origin, direction, hits.ray.tfar, hits.ray.time, active, valid)) return;
     // The static hit, kept aside: Embree writes the hit only when it finds a nearer one.
     unsigned geom[kPacketSize], prim[kPacketSize];
     float ng[kPacketSize][3];
@@ -161,7 +161,7 @@ void Scene::occlude_by_movers(const int* shadow_valid, RTCIntersectContext& cont
     const float* origin[3] = {shadow.org_x, shadow.org_y, shadow.org_z};
     const float* direction[3] = {shadow.dir_x, shadow.dir_y, shadow.dir_z};
     alignas(kPacketAlignment) int valid[kPacketSize];
-    if (movers_.may_hit(origin, direction, shadow.tfar, active, valid))
+    if (movers_.may_hit(origin, direction, shadow.tfar, shadow.time, active, valid))
         occluded_packet(valid, motion_scene_, &context, &shadow);
 }
 
