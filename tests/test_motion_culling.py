@@ -84,3 +84,23 @@ def test_the_sphere_is_where_it_is_at_the_ray_time():
     direction = np.array([[0.0, 0.0, 1.0]] * 2, np.float32)
     kept = may_hit(spheres, origin, direction, [100.0, 100.0], np.array([0.0, 0.999], np.float32))
     assert kept.tolist() == [True, False]
+
+
+def test_shadow_rays_leaving_a_sphere_surface_are_dropped():
+    """A shadow ray starts 1e-4 x the coordinates off the surface it lights (scene_trace.cpp); from a
+    moving sphere's own surface, outward, it cannot meet that sphere, and the test must know it."""
+    spheres = np.array([[0.3, 0.35, 3.0, 0.4, 0.35, 3.0, 0.35]], dtype=np.float32)
+    n = 4000
+    time = RNG.random(n).astype(np.float32)
+    centre = spheres[0, 0:3] + time[:, None] * (spheres[0, 3:6] - spheres[0, 0:3])
+    normal = RNG.normal(size=(n, 3))
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    point = centre + 0.35 * normal
+    lift = 1e-4 * np.maximum(np.abs(point).max(axis=1), 1.0)
+    origin = (point + normal * lift[:, None]).astype(np.float32)
+    toward = normal + 0.9 * np.cross(normal, RNG.normal(size=(n, 3)))  # any outward direction
+    toward /= np.linalg.norm(toward, axis=1, keepdims=True)
+    outward = np.einsum("ij,ij->i", toward, normal) > 0.05
+    kept = may_hit(spheres, origin[outward], toward[outward].astype(np.float32), np.full(outward.sum(), 10.0),
+                   time[outward])
+    assert not kept.any()

@@ -81,8 +81,12 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) bool moving_spheres
             t = t < 0.0f ? 0.0f : t;
             const float qx = wx - t * dx, qy = wy - t * dy, qz = wz - t * dz;
             const float distance2 = qx * qx + qy * qy + qz * qz;
-            // A margin of some 250 float steps of the largest coordinate, and 0.1 % of the radius
-            const float reach = r * 1.001f + 3e-5f * (centre_size + origin_size[i]);
+            // A margin of some 300 float steps of the largest coordinates: Embree's
+            // own test (the same distance, with an approximate reciprocal) may
+            // meet a sphere a few steps outside it; but less than the lift off
+            // a surface (scene_trace.cpp), so that shadow rays from a moving
+            // sphere's own surface are not asked about it.
+            const float reach = r * (1.0f + 2e-5f) + 2e-5f * (centre_size + origin_size[i]);
             met[i] |= distance2 > reach * reach ? 0 : 1;
         }
     }
