@@ -96,11 +96,12 @@ class SweptBounds {
     // How many rays may_hit tests at once: the render's packet width (embree_packet.h).
     static constexpr int kLanes = 16;
 
-    // Which of kLanes rays (SoA: origins, directions, segments t in [0, t_max])
-    // may meet a box: lanes with active[i] set get -1 in hit[i] where one is
-    // met, the rest 0. Returns whether any is. A slab test, conservative (a
-    // NaN never culls); a direction component of exactly 0 tests the origin
-    // against that slab instead (motion.cpp).
+    // Which of kLanes rays (SoA: origins, directions, segments t in [0, t_max],
+    // shutter times in [0, 1)) may meet what moves: lanes with active[i] set
+    // get -1 in hit[i] where they may, the rest 0. Returns whether any may.
+    // The moving spheres at each ray's time when only spheres move, else the
+    // swept boxes (a slab test; a direction component of exactly 0 tests the
+    // origin against that slab instead). Conservative: a NaN never culls (motion.cpp).
     bool may_hit(const float* const origin[3], const float* const direction[3], const float* t_max,
                  const float* time, const int* active, int* hit) const {
         if (!spheres_.empty())
