@@ -40,6 +40,7 @@ void bind_samplers(nb::module_& m) {
     m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);
 
     m.attr("SAMPLER_SOBOL_PADDED") = int(SamplerKind::SobolPadded);
+    m.attr("SAMPLER_SOBOL_TIME_NET") = int(SamplerKind::SobolTimeNet);
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
