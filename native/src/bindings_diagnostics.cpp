@@ -23,6 +23,7 @@
 #include "cameras/pinhole.h"
 #include "diagnostics/lens_passes.h"
 #include "diagnostics/raw_throughput.h"
+#include "motion.h"
 #include "samplers.h"
 #include "scene.h"
 
@@ -39,6 +40,7 @@ void bind_samplers(nb::module_& m) {
     m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);
 
     m.attr("SAMPLER_SOBOL_PADDED") = int(SamplerKind::SobolPadded);
+    m.attr("SAMPLER_SOBOL_TIME_NET") = int(SamplerKind::SobolTimeNet);
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
@@ -182,9 +184,43 @@ void bind_raw_throughput(nb::module_& m) {
           "(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render.");
 }
 
+// The render's culling test for moving geometry, on rays in groups of one packet.
+void bind_motion_culling(nb::module_& m) {
+    m.def("moving_spheres_may_hit",
+          [](CArray<const float, -1, 7> spheres, CArray<const float, -1, 3> origin,
+             CArray<const float, -1, 3> direction, CArray<const float, -1> t_max, CArray<const float, -1> time,
+             CArray<bool, -1> out) {
+              constexpr int N = SweptBounds::kLanes;
+              const size_t n = origin.shape(0);
+              if (direction.shape(0) != n || t_max.shape(0) != n || time.shape(0) != n || out.shape(0) != n)
+                  throw std::invalid_argument("origin, direction, t_max, time and out need one row per ray");
+              for (size_t first = 0; first < n; first += N) {
+                  float lanes[7][N];
+                  int active[N], hit[N];
+                  for (int i = 0; i < N; ++i) {
+                      const size_t r = std::min(first + size_t(i), n - 1);
+                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
+                      lanes[6][i] = t_max(r);
+                      active[i] = first + size_t(i) < n;
+                  }
+                  float times[N];
+                  for (int i = 0; i < N; ++i) times[i] = time(std::min(first + size_t(i), n - 1));
+                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  moving_spheres_met(spheres.data(), int(spheres.shape(0)), o, d, lanes[6], times, active, hit);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i) out(first + size_t(i)) = hit[i] != 0;
+              }
+          },
+          "spheres"_a, "origin"_a, "direction"_a, "t_max"_a, "time"_a, "out"_a,
+          "out[i]: whether ray i (segment origin + t direction, t in [0, t_max], at shutter time time[i] in [0, 1)) "
+          "may meet a sphere (rows: centre at open xyz, centre at close xyz, radius, m) by the render's culling "
+          "test; False means the render does not ask Embree.");
+}
+
 }  // namespace
 
 void bind_diagnostics(nb::module_& m) {
+    bind_motion_culling(m);
     bind_samplers(m);
     bind_lens(m);
     bind_trace_kernels(m);

@@ -123,7 +123,7 @@ uint32_t scrambled(uint32_t reversed_value, uint32_t seed) {
 }  // namespace
 
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_points, Point2f* film, Point2f* lens,
-                float* time, float* wavelength) {
+                float* time, float* wavelength, bool time_from_index) {
     if (!scrambled_points) {  // dimensions 0-1 for both, unscrambled: the raw sequence, for tests
         for (int i = 0; i < spp; ++i) {
             film[i] = lens[i] = {unit_float(reverse_bits(uint32_t(i))),
@@ -148,7 +148,10 @@ void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled_poi
     // The time seed, then the wavelength seed: each drawn whether or not it is
     // used, so that neither changes the other's points.
     const uint32_t time_seed = rng.next_u32(), wavelength_seed = rng.next_u32();
-    if (time)
+    if (time && time_from_index)  // i / spp, as 32 fraction bits, bit-reversed
+        for (int i = 0; i < spp; ++i)
+            time[i] = unit_float(scrambled(reverse_bits(uint32_t((uint64_t(i) << 32) / uint64_t(spp))), time_seed));
+    else if (time)
         for (int i = 0; i < spp; ++i)
             time[i] = unit_float(scrambled(sobol_reversed(kDimension6, uint32_t(i)), time_seed));
     if (wavelength)

@@ -153,6 +153,9 @@ void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, i
         case SamplerKind::SobolUnscrambled:
             fill_sobol(seed, pixel_index, spp, false, film, lens, time, wavelength);
             return;
+        case SamplerKind::SobolTimeNet:
+            fill_sobol(seed, pixel_index, spp, true, film, lens, time, wavelength, true);
+            return;
         case SamplerKind::SobolPadded:
             fill_sobol_padded(seed, pixel_index, spp, film, lens, time);
             if (wavelength) fill_time(SamplerKind::Jittered, seed, pixel_index, spp, wavelength, kWavelengthStream);

@@ -63,6 +63,12 @@ enum class SamplerKind : int {
     // lens and time points paired with the film points by random per-pixel
     // permutations ("padding"): each group stratified alone, not jointly.
     SobolPadded = 6,
+    // For the joint-stratification study only: sobol, but each pixel's time
+    // from the index, i / spp (Owen-scrambled), not from dimension 6: film
+    // (dimensions 0-1) and time then form a (0,m,3)-net in base 2 (generator
+    // matrices I, Pascal, reversal). Not extensible (a sample's time depends
+    // on spp), so an adaptive pass that adds samples cannot use it.
+    SobolTimeNet = 7,
 };
 
 // Square -> unit disk mappings for lens samples.
@@ -94,7 +100,7 @@ PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping);
 // One function per sampler defined in its own file; each fills one pixel.
 void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens,
-                float* time, float* wavelength = nullptr);
+                float* time, float* wavelength = nullptr, bool time_from_index = false);
 void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time);
 
 // Largest float below 1: where a sample that rounds up to 1 is put back.

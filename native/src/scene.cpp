@@ -122,9 +122,16 @@ Scene::Scene(const SceneArrays& a)
                 if (moving || offset) moved(src, velocity_at(a.sphere_velocity, ids[k]), t_s, v + 4 * k);
                 else std::copy(src, src + 3, v + 4 * k);
                 v[4 * k + 3] = src[3];
-                if (moving) movers_.add(velocity_at(a.sphere_velocity, ids[k]), v + 4 * k, src[3]);
             }
         }
+        if (moving)
+            for (size_t i : ids) {
+                const Vec3f velocity = velocity_at(a.sphere_velocity, i);
+                float centre_open[3], centre_close[3];
+                moved(a.spheres + 4 * i, velocity, open_s, centre_open);
+                moved(a.spheres + 4 * i, velocity, close_s, centre_close);
+                movers_.add_sphere(velocity, centre_open, centre_close, a.spheres[4 * i + 3]);
+            }
         for (size_t i : ids) {
             table.material.push_back(a.sphere_material[i]);
             if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
@@ -151,7 +158,7 @@ Scene::Scene(const SceneArrays& a)
                     const float* src = a.quads + 12 * ids[k] + 3 * c;
                     if (moving || offset) moved(src, velocity, t_s, v + 12 * k + 3 * c);
                     else std::copy(src, src + 3, v + 12 * k + 3 * c);
-                    if (moving) movers_.add(velocity, v + 12 * k + 3 * c, 0.0f);
+                    if (moving) movers_.add_vertex(velocity, v + 12 * k + 3 * c);
                 }
             }
         }
@@ -204,7 +211,7 @@ Scene::Scene(const SceneArrays& a)
                 const float* src = a.triangle_vertices + 3 * vertices[k];
                 if (moving || offset) moved(src, velocity_at(a.vertex_velocity, vertices[k]), t_s, v + 3 * k);
                 else std::copy(src, src + 3, v + 3 * k);
-                if (moving) movers_.add(velocity_at(a.vertex_velocity, vertices[k]), v + 3 * k, 0.0f);
+                if (moving) movers_.add_vertex(velocity_at(a.vertex_velocity, vertices[k]), v + 3 * k);
             }
         }
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,

@@ -13,6 +13,8 @@
 namespace lc {
 namespace {
 
+static_assert(SweptBounds::kLanes == kPacketSize, "the swept-bounds test takes one packet of rays");
+
 constexpr float kInf = std::numeric_limits<float>::infinity();
 // (0.1 mm)^2: the smallest squared distance an inverse-square light falls off over
 // (lenscompare.povray.export.INVERSE_SQUARE_FADE_DISTANCE_M squared).
@@ -126,11 +128,12 @@ bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, Cam
 // hit_mover says whose tables its geometry ID indexes.
 void Scene::intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
                              bool* hit_mover) const {
-    alignas(kPacketAlignment) int valid[kPacketSize] = {};
-    bool any = false;
-    for (int i = 0; i < rays.count; ++i)
-        if (movers_.may_hit(rays.origin[i], rays.direction[i], hits.ray.tfar[i])) valid[i] = -1, any = true;
-    if (!any) return;
+    alignas(kPacketAlignment) int valid[kPacketSize];
+    int active[kPacketSize];
+    for (int i = 0; i < kPacketSize; ++i) active[i] = i < rays.count;
+    const float* origin[3] = {hits.ray.org_x, hits.ray.org_y, hits.ray.org_z};
+    const float* direction[3] = {hits.ray.dir_x, hits.ray.dir_y, hits.ray.dir_z};
+    if (!movers_.may_hit(origin, direction, hits.ray.tfar, hits.ray.time, active, valid)) return;
     // The static hit, kept aside: Embree writes the hit only when it finds a nearer one.
     unsigned geom[kPacketSize], prim[kPacketSize];
     float ng[kPacketSize][3];
@@ -152,15 +155,14 @@ void Scene::intersect_movers(const RayBatch& rays, RTCIntersectContext& context,
 // Shadow rays that no still geometry blocks, against the moving geometry
 // where their segment passes through its swept bounds.
 void Scene::occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const {
-    alignas(kPacketAlignment) int valid[kPacketSize] = {};
-    bool any = false;
-    for (int i = 0; i < kPacketSize; ++i) {
-        if (!shadow_valid[i] || shadow.tfar[i] == -kInf) continue;
-        const Vec3f from{shadow.org_x[i], shadow.org_y[i], shadow.org_z[i]};
-        const Vec3f d{shadow.dir_x[i], shadow.dir_y[i], shadow.dir_z[i]};
-        if (movers_.may_hit(from, d, shadow.tfar[i])) valid[i] = -1, any = true;
-    }
-    if (any) occluded_packet(valid, motion_scene_, &context, &shadow);
+    // Only rays no still geometry blocks (Embree sets tfar to -inf on a blocked one).
+    int active[kPacketSize];
+    for (int i = 0; i < kPacketSize; ++i) active[i] = shadow_valid[i] && shadow.tfar[i] != -kInf;
+    const float* origin[3] = {shadow.org_x, shadow.org_y, shadow.org_z};
+    const float* direction[3] = {shadow.dir_x, shadow.dir_y, shadow.dir_z};
+    alignas(kPacketAlignment) int valid[kPacketSize];
+    if (movers_.may_hit(origin, direction, shadow.tfar, shadow.time, active, valid))
+        occluded_packet(valid, motion_scene_, &context, &shadow);
 }
 
 }  // namespace lc
