@@ -233,6 +233,7 @@ class _Diagnostics(types.ModuleType):
 
     SAMPLER_SOBOL_UNSCRAMBLED: int = 5  # the bare Sobol' points, same in every pixel: tests only
     SAMPLER_SOBOL_PADDED: int = 6  # film, lens and time each stratified alone, paired at random: the study only
+    SAMPLER_SOBOL_TIME_NET: int = 7  # sobol with time i / spp: what the render draws for sobol in a whole-pixel pass
     @staticmethod
     def pixel_samples(
         sampler: int,  # a SAMPLER_* code, or SAMPLER_SOBOL_UNSCRAMBLED
@@ -241,9 +242,12 @@ class _Diagnostics(types.ModuleType):
         film: numpy.ndarray,  # float32 (spp, 2), written
         lens: numpy.ndarray,  # float32 (spp, 2), written
         time: numpy.ndarray | None = None,  # float32 (spp,), written: shutter times in [0, 1)
+        wavelength: numpy.ndarray | None = None,  # float32 (spp,), written: wavelength samples in [0, 1)
+        first_sample: int = 0,  # the pass takes samples [first_sample, spp); 0: the pixel whole
     ) -> None:
-        """Fills film and lens (spp x 2), and time (spp) when given, with one pixel's samples, as the render
-        draws them."""
+        """Fills film and lens (spp x 2), and time and wavelength (spp) when given, with one pixel's samples,
+        as the render draws them in a pass starting at first_sample (sobol: time i / spp, Owen-scrambled, when
+        0; dimension 6 when a pass continues the pixel)."""
 
     @staticmethod
     def map_to_disk(

@@ -1,4 +1,4 @@
-"""sobol with time from the index (the joint-stratification study's candidate, SAMPLER_SOBOL_TIME_NET).
+"""sobol with time from the index (SAMPLER_SOBOL_TIME_NET): what the render's sobol draws for a pixel drawn whole.
 
 Film (Sobol' dimensions 0-1, generator matrices I and Pascal) with time i / spp
 (the reversal matrix) is a (0,m,3)-net in base 2 (Niederreiter 1992, the
@@ -18,10 +18,10 @@ from lenscompare import _native
 from lenscompare._native import diagnostics
 
 
-def samples(sampler: int, spp: int, pixel: int = 5):
+def samples(sampler: int, spp: int, pixel: int = 5, first_sample: int = 0):
     film, lens = np.zeros((spp, 2), np.float32), np.zeros((spp, 2), np.float32)
     time = np.zeros(spp, np.float32)
-    diagnostics.pixel_samples(sampler, 11, pixel, film, lens, time)
+    diagnostics.pixel_samples(sampler, 11, pixel, film, lens, time, first_sample=first_sample)
     return film, lens, time
 
 
@@ -39,13 +39,20 @@ def test_film_and_time_are_a_zero_net(m):
 
 
 def test_dimension_6_is_not_one():
-    """The render's sobol (time from dimension 6) leaves film x time cells empty at 64 spp."""
-    film, _, time = samples(_native.SAMPLER_SOBOL, 64)
+    """sobol continuing a pixel (time from dimension 6) leaves film x time cells empty at 64 spp."""
+    film, _, time = samples(_native.SAMPLER_SOBOL, 64, first_sample=16)
     cells = np.floor(film[:, 0] * 8).astype(int) * 8 + np.floor(time * 8).astype(int)
     assert len(np.unique(cells)) < 64
 
 
+def test_the_render_draws_it_for_a_whole_pixel():
+    """diagnostics.pixel_samples draws as the render does: sobol from sample 0 is this net."""
+    for pixel in range(3):
+        net, whole = samples(diagnostics.SAMPLER_SOBOL_TIME_NET, 64, pixel), samples(_native.SAMPLER_SOBOL, 64, pixel)
+        assert all(np.array_equal(a, b) for a, b in zip(net, whole))
+
+
 def test_film_and_lens_are_sobol_own():
     film_net, lens_net, _ = samples(diagnostics.SAMPLER_SOBOL_TIME_NET, 64)
-    film, lens, _ = samples(_native.SAMPLER_SOBOL, 64)
+    film, lens, _ = samples(_native.SAMPLER_SOBOL, 64, first_sample=16)
     assert np.array_equal(film_net, film) and np.array_equal(lens_net, lens)

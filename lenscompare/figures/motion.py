@@ -7,11 +7,13 @@ defocus widens the streak and softens its ends but not its length (measured
 between the half-plateau crossings, :func:`lenscompare.metrics.measure_streak`).
 
 Bottom: where one pixel's 64 samples fall in lens u x time, coloured by the
-quarter of the pixel (film y) they come from, for the sobol sampler (film,
-lens and time from one Owen-scrambled Sobol' sequence) and for padding (each
-dimension group stratified alone, paired at random). sobol puts exactly one
-sample in each of the 4 x 4 x 4 film-y x lens-u x time cells; padding leaves
-some empty and doubles others.
+quarter of the pixel (film y) they come from, for the sobol sampler as the
+render draws a whole pixel (film and lens from one Owen-scrambled Sobol'
+sequence, time i / 64 Owen-scrambled: film and time one (0,m,3)-net) and for
+padding (each dimension group stratified alone, paired at random). sobol puts
+exactly one sample in each of the 4 x 4 x 4 film-y x lens-u x time cells (in
+every pixel: tests/test_figures_motion.py); padding leaves some empty and
+doubles others.
 """
 
 from __future__ import annotations
@@ -156,7 +158,7 @@ def motion_figure(geometry: MotionGeometry):
             ax.set_xticks([])
             ax.set_yticks([])
         colours = list(_style.BUNDLES) + [_style.FOCUS_PLANE]  # four film-y quarters
-        titles = {"sobol": "sobol: film, lens, time one sequence", "padded": "padded: each stratified alone, paired at random"}
+        titles = {"sobol": "sobol: film, lens one sequence, time i / spp", "padded": "padded: each stratified alone, paired at random"}
         for col, name in enumerate(("sobol", "padded")):
             film, lens, time = g.samples[name]
             ax = fig.add_subplot(grid[2, col])

@@ -44,18 +44,20 @@ void bind_samplers(nb::module_& m) {
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
-             std::optional<CArray<float, -1>> time, std::optional<CArray<float, -1>> wavelength) {
+             std::optional<CArray<float, -1>> time, std::optional<CArray<float, -1>> wavelength, int first_sample) {
               if (lens.shape(0) != film.shape(0) || (time && time->shape(0) != film.shape(0)) ||
                   (wavelength && wavelength->shape(0) != film.shape(0)))
                   throw std::invalid_argument("film, lens, time and wavelength need one row per sample");
-              fill_pixel_samples(SamplerKind(sampler), seed, pixel_index, int(film.shape(0)),
+              if (first_sample < 0) throw std::invalid_argument("first_sample must be 0 or more");
+              fill_pixel_samples(pass_sampler(SamplerKind(sampler), first_sample), seed, pixel_index, int(film.shape(0)),
                                  reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()),
                                  time ? time->data() : nullptr, wavelength ? wavelength->data() : nullptr);
           },
           "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a, "time"_a = nb::none(),
-          "wavelength"_a = nb::none(),
+          "wavelength"_a = nb::none(), "first_sample"_a = 0,
           "Fills film and lens (spp x 2), and time and wavelength (spp) when given, with one pixel's samples, as "
-          "the render draws them.");
+          "the render draws them in a pass that takes samples [first_sample, spp) (0: the pixel whole; sobol's time "
+          "is then i / spp, Owen-scrambled, and dimension 6 otherwise).");
 
     m.def("map_to_disk",
           [](CArray<const float, -1, 2> u, int mapping, CArray<float, -1, 2> out) {

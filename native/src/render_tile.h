@@ -46,7 +46,14 @@ struct PixelSamples {
             if (with_time) time.resize(size_t(end));
             if (with_wavelength) wavelength.resize(size_t(end));
         }
-        fill_pixel_samples(s.sampler, s.seed, pixel_index, end, film.data(), lens.data(),
+        // sobol: time i / end (film and time one net) when the pixel's samples
+        // are drawn whole; dimension 6 when an adaptive pass continues them,
+        // since i / end over [first, end) would cover only the shutter's end.
+        // Both are unbiased: each time is uniform on [0, 1) by itself (Owen
+        // scrambling); dimension 6's points [first, end) are moreover whole
+        // Sobol' blocks, stratified over the shutter, when first and end are
+        // powers of two.
+        fill_pixel_samples(pass_sampler(s.sampler, s.first_sample), s.seed, pixel_index, end, film.data(), lens.data(),
                            with_time ? time.data() : nullptr, with_wavelength ? wavelength.data() : nullptr);
     }
 

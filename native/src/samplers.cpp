@@ -165,6 +165,10 @@ void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, i
     if (wavelength) fill_time(kind, seed, pixel_index, spp, wavelength, kWavelengthStream);
 }
 
+SamplerKind pass_sampler(SamplerKind kind, int first_sample) {
+    return kind == SamplerKind::Sobol && first_sample == 0 ? SamplerKind::SobolTimeNet : kind;
+}
+
 PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping) {
     constexpr float kPi = 3.14159265358979323846f;
     if (mapping == DiskMapping::Polar) {

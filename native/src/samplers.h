@@ -63,11 +63,11 @@ enum class SamplerKind : int {
     // lens and time points paired with the film points by random per-pixel
     // permutations ("padding"): each group stratified alone, not jointly.
     SobolPadded = 6,
-    // For the joint-stratification study only: sobol, but each pixel's time
-    // from the index, i / spp (Owen-scrambled), not from dimension 6: film
-    // (dimensions 0-1) and time then form a (0,m,3)-net in base 2 (generator
-    // matrices I, Pascal, reversal). Not extensible (a sample's time depends
-    // on spp), so an adaptive pass that adds samples cannot use it.
+    // sobol, but each pixel's time from the index, i / spp (Owen-scrambled),
+    // not from dimension 6: film (dimensions 0-1) and time then form a
+    // (0,m,3)-net in base 2 (generator matrices I, Pascal, reversal). Not
+    // extensible (a sample's time depends on spp): the render uses it for
+    // sobol only where a pixel's samples are drawn whole (pass_sampler).
     SobolTimeNet = 7,
 };
 
@@ -80,6 +80,12 @@ enum class DiskMapping : int { Polar = 0, Concentric = 1 };
 // wavelength (nullptr: not drawn) spp wavelength samples in [0, 1).
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
                         Point2f* film, Point2f* lens, float* time = nullptr, float* wavelength = nullptr);
+
+// The sampler a render pass fills a pixel with when the pass takes the
+// pixel's samples from first_sample on: sobol becomes SobolTimeNet (time from
+// the index) when the samples are drawn whole (first_sample 0), and stays
+// sobol (time from dimension 6) when a pass continues them. Others unchanged.
+SamplerKind pass_sampler(SamplerKind kind, int first_sample);
 
 // Strata of the jittered and regular samplers: nx * ny == spp, ny the largest
 // divisor of spp not above sqrt(spp) (8x8 for 64, 16x8 for 128; a prime spp
