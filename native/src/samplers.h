@@ -22,9 +22,10 @@
 //   sobol     the first spp points of Sobol' dimensions 0-3, Owen-scrambled per
 //             pixel by hashing (Burley 2020): film from dimensions 0-1 (a
 //             (0,2)-sequence), lens from 2-3, jointly a (3,4)-sequence
-//             (sampler_sobol.cpp); time from dimension 6 of the same
-//             sequence (not 4: lens x time is better stratified), so film,
-//             lens and time are stratified jointly
+//             (sampler_sobol.cpp); time i / spp, Owen-scrambled, for a
+//             pixel drawn whole (film and time a (0,m,3)-net), or dimension 6
+//             of the same sequence for a pass continuing a pixel
+//             (pass_sampler), so film, lens and time are stratified jointly
 //
 // Time, for the others: a stratified 1-D set of spp points (one per interval
 // [k/spp, (k+1)/spp)), paired with the film and lens samples by a per-pixel
