@@ -43,7 +43,7 @@
 // whole, render_tile.h): film (generator matrices I and Pascal) and time (the
 // reversal matrix) are then a (0,m,3)-net, the Faure-type net (Niederreiter
 // 1992), and lens x time still fills all 64 4x4x4 cells at 64 points; on the
-// moving showcase the error against padding fell 1.344x instead of 1.208x
+// moving showcase the error against padding fell 1.34x instead of 1.21x
 // (bench_motion.py). It is not extensible (a sample's time depends on spp),
 // so an adaptive pass continuing samples [first, end) keeps dimension 6.
 #include <cstdint>
