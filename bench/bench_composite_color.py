@@ -22,14 +22,13 @@ import time
 
 import numpy as np
 
+from bench_effects import auto_against_lens  # bench/ is the script's directory
 from lenscompare.cameras import camera_for
 from lenscompare.cost.references import converged_reference
-from lenscompare.cost.study import time_to_error
 from lenscompare.lenses import maps as lens_maps
 from lenscompare.metrics import lateral_color, match_points, relative_rmse
 from lenscompare.plan import plan_scene
 from lenscompare.reference_scenes import scenes_dir
-from lenscompare.render import render
 from lenscompare.scene import load_scene
 
 SCENE = scenes_dir() / "effects" / "landscape_color.toml"
@@ -75,20 +74,8 @@ def main():
     references = {name: converged_reference(s, model, spp=args.reference_spp, threads=args.threads)[0].pixels
                   for name, (s, model) in renders.items()}
 
-    best = {name: {} for name in renders}
-    for _ in range(args.repeats):
-        for spp in SPP_VALUES:
-            for name, (s, model) in renders.items():  # alternating, so both see the same machine
-                image = render(s, model=model, spp=spp, seed=7, threads=args.threads, progress=False)
-                seconds = image.metadata["seconds"]
-                if spp not in best[name] or seconds < best[name][spp]["seconds"]:
-                    best[name][spp] = {"spp": spp, "seconds": seconds,
-                                       "relative_rmse": relative_rmse(references[name], image.pixels)}
-    points = {name: [best[name][spp] for spp in SPP_VALUES] for name in renders}
-    to_target = {name: time_to_error(points[name], TARGET) for name in renders}
-    ratio = None
-    if to_target["auto"]["seconds"] and to_target["lens"]["seconds"]:
-        ratio = to_target["auto"]["seconds"] / to_target["lens"]["seconds"]
+    best, points, to_target, ratio = auto_against_lens(renders, references, SPP_VALUES, target=TARGET,
+                                                       repeats=args.repeats, threads=args.threads)
     equal_spp = {spp: best["lens"][spp]["seconds"] / best["auto"][spp]["seconds"] for spp in SPP_VALUES}
     print(json.dumps({
         "benchmark": "composite_lateral_color",

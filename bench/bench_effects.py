@@ -32,6 +32,30 @@ SPP_VALUES = (1, 2, 4, 8, 16, 32, 64, 128, 256, 512)
 TARGET = 0.01
 
 
+def auto_against_lens(renders: dict, references: dict, spp_values, *, target: float = TARGET, repeats: int,
+                      threads: int):
+    """Renders ``renders`` (name -> (scene, model); "auto" and "lens") at each
+    spp, alternating so both see the same machine, best of ``repeats``; each
+    one's error against its own reference. Returns the best rows per name and
+    spp, their points, the time to ``target`` relative RMSE per name and auto's
+    over lens's."""
+    best = {name: {} for name in renders}
+    for _ in range(repeats):
+        for spp in spp_values:
+            for name, (s, model) in renders.items():
+                image = render(s, model=model, spp=spp, seed=7, threads=threads, progress=False)
+                seconds = image.metadata["seconds"]
+                if spp not in best[name] or seconds < best[name][spp]["seconds"]:
+                    best[name][spp] = {"spp": spp, "seconds": seconds,
+                                       "relative_rmse": relative_rmse(references[name], image.pixels)}
+    points = {name: [best[name][spp] for spp in spp_values] for name in renders}
+    to_target = {name: time_to_error(points[name], target) for name in renders}
+    ratio = None
+    if to_target["auto"]["seconds"] and to_target["lens"]["seconds"]:
+        ratio = to_target["auto"]["seconds"] / to_target["lens"]["seconds"]
+    return best, points, to_target, ratio
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--threads", type=int, default=2)
@@ -52,20 +76,8 @@ def main():
     references = {name: converged_reference(s, model, spp=args.reference_spp, threads=args.threads)[0].pixels
                   for name, (s, model) in renders.items()}
 
-    best = {name: {} for name in renders}
-    for _ in range(args.repeats):
-        for spp in SPP_VALUES:
-            for name, (s, model) in renders.items():  # alternating, so both see the same machine
-                image = render(s, model=model, spp=spp, seed=7, threads=args.threads, progress=False)
-                seconds = image.metadata["seconds"]
-                if spp not in best[name] or seconds < best[name][spp]["seconds"]:
-                    best[name][spp] = {"spp": spp, "seconds": seconds,
-                                       "relative_rmse": relative_rmse(references[name], image.pixels)}
-    points = {name: [best[name][spp] for spp in SPP_VALUES] for name in renders}
-    to_target = {name: time_to_error(points[name], TARGET) for name in renders}
-    ratio = None
-    if to_target["auto"]["seconds"] and to_target["lens"]["seconds"]:
-        ratio = to_target["auto"]["seconds"] / to_target["lens"]["seconds"]
+    best, points, to_target, ratio = auto_against_lens(renders, references, SPP_VALUES, repeats=args.repeats,
+                                                       threads=args.threads)
     print(json.dumps({
         "benchmark": "effects_as_parts",
         "scene": f"showcase at 180x120, {args.lens} f/{args.f_number:g}",
