@@ -93,3 +93,41 @@ def sphere_text(center, radius, material="glow"):
     x, y, z = (float(c) for c in center)
     return (f'\n[[objects]]\ntype = "sphere"\ncenter = [{x!r}, {y!r}, {z!r}]\n'
             f'radius = {float(radius)!r}\nmaterial = "{material}"\n')
+
+
+def white_points_text(lens_path, *, angles_deg, film_mm, width_px: int, spp: int) -> str:
+    """A spectral lens-system scene: white emissive points 1 km away at
+    ``angles_deg`` from the axis (toward +x) on the plane of focus, on black
+    (the lateral-colour tests' scene)."""
+    import math
+
+    spheres = "".join(f"""
+[[objects]]
+type = "sphere"
+center = [{1000.0 * math.sin(math.radians(a))}, 0.0, {1000.0 * math.cos(math.radians(a))}]
+radius = 0.5
+material = "white"
+""" for a in angles_deg)
+    return f"""
+[camera]
+model = "lens"
+lens = "{lens_path}"
+f_number = 20
+position = [0.0, 0.0, 0.0]
+look_at = [0.0, 0.0, 1.0]
+focus_distance = 1000.0
+film_mm = [{film_mm[0]}, {film_mm[1]}]
+resolution = [{width_px}, {int(width_px * film_mm[1] / film_mm[0])}]
+
+[render]
+spp = {spp}
+sampler = "sobol"
+spectral = true
+
+[background]
+color = [0.0, 0.0, 0.0]
+
+[materials.white]
+type = "emissive"
+color = [1.0, 1.0, 1.0]
+{spheres}"""

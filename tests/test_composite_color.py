@@ -7,7 +7,6 @@ colour, not aberration, is above tolerance."""
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest
@@ -19,7 +18,7 @@ from lenscompare.render import render
 from lenscompare.scene import load_scene, parse_scene
 from lenscompare.spectral import film_table, wavelengths_nm
 
-from helpers import camera_scene_text, run_cli
+from helpers import camera_scene_text, run_cli, white_points_text
 from test_spectral import STOP_AHEAD_F2, _chief_ray_film_x_mm
 
 ANGLES_DEG = (4.0, 8.0)
@@ -32,37 +31,8 @@ def _two_white_points(tmp_path, *, spp: int):
     two white points at 4 and 8 degrees on the plane of focus, 1 km away."""
     lens = tmp_path / "f2_stop_ahead.dat"
     lens.write_text(STOP_AHEAD_F2)
-    spheres = "".join(f"""
-[[objects]]
-type = "sphere"
-center = [{1000.0 * math.sin(math.radians(a))}, 0.0, {1000.0 * math.cos(math.radians(a))}]
-radius = 0.5
-material = "white"
-""" for a in ANGLES_DEG)
     path = tmp_path / "points.toml"
-    path.write_text(f"""
-[camera]
-model = "lens"
-lens = "{lens}"
-f_number = 20
-position = [0.0, 0.0, 0.0]
-look_at = [0.0, 0.0, 1.0]
-focus_distance = 1000.0
-film_mm = [{FILM_MM[0]}, {FILM_MM[1]}]
-resolution = [{WIDTH_PX}, {int(WIDTH_PX * FILM_MM[1] / FILM_MM[0])}]
-
-[render]
-spp = {spp}
-sampler = "sobol"
-spectral = true
-
-[background]
-color = [0.0, 0.0, 0.0]
-
-[materials.white]
-type = "emissive"
-color = [1.0, 1.0, 1.0]
-{spheres}""")
+    path.write_text(white_points_text(lens, angles_deg=ANGLES_DEG, film_mm=FILM_MM, width_px=WIDTH_PX, spp=spp))
     return load_scene(path)
 
 

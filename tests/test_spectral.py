@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import white_points_text
 from lenscompare import _native
 from lenscompare.cameras import camera_for
 from lenscompare.errors import InputError
@@ -261,36 +262,9 @@ def test_rendered_lateral_colour_follows_the_chief_ray(tmp_path):
     lens_path = tmp_path / "f2_stop_ahead.dat"
     lens_path.write_text(STOP_AHEAD_F2)
     angles_deg = (4.0, 8.0)
-    spheres = "".join(f"""
-[[objects]]
-type = "sphere"
-center = [{1000.0 * math.sin(math.radians(a))}, 0.0, {1000.0 * math.cos(math.radians(a))}]
-radius = 0.5
-material = "white"
-""" for a in angles_deg)
     film_w_mm, film_h_mm, width_px = 32.0, 0.8, 1600
-    scene = _scene(tmp_path, f"""
-[camera]
-model = "lens"
-lens = "{lens_path}"
-f_number = 20
-position = [0.0, 0.0, 0.0]
-look_at = [0.0, 0.0, 1.0]
-focus_distance = 1000.0
-film_mm = [{film_w_mm}, {film_h_mm}]
-resolution = [{width_px}, {int(width_px * film_h_mm / film_w_mm)}]
-
-[render]
-spp = 256
-sampler = "sobol"
-
-[background]
-color = [0.0, 0.0, 0.0]
-
-[materials.white]
-type = "emissive"
-color = [1.0, 1.0, 1.0]
-{spheres}""")
+    scene = _scene(tmp_path, white_points_text(lens_path, angles_deg=angles_deg, film_mm=(film_w_mm, film_h_mm),
+                                               width_px=width_px, spp=256))
     camera = camera_for(scene, "lens")
     image = render(scene, spectral=True, progress=False).pixels
     pitch_mm = film_w_mm / width_px
