@@ -30,21 +30,17 @@ import os
 import numpy as np
 
 from lenscompare.cameras import camera_for
-from lenscompare.metrics import relative_rmse
-from lenscompare.postfilter import depth_buffer_m, edge_band, edge_band_error, signed_coc_px, spread
+from lenscompare.postfilter import depth_buffer_m, edge_band, signed_coc_px, spread
 from lenscompare.reference_scenes import shipped_scene
 from lenscompare.render import render
 from lenscompare.scene import load_scene
+from study_pinhole_spp import error_rows  # bench/ is the script's directory
 
 KEYS = ("whole", "band_relative_rmse", "elsewhere_relative_rmse")
 
 
 def errors(reference, images, band):
-    rows = []
-    for image in images:
-        row = edge_band_error(reference, image, band)
-        row["whole"] = relative_rmse(reference, image)
-        rows.append(row)
+    rows = error_rows(reference, images, band)
     out = {}
     for k in KEYS:
         values = [r[k] for r in rows if r[k] is not None]

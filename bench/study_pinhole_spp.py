@@ -31,12 +31,18 @@ from lenscompare.scene import load_scene
 KEYS = ("band_relative_rmse", "elsewhere_relative_rmse", "whole")
 
 
-def errors(reference, images, band):
+def error_rows(reference, images, band) -> list[dict]:
+    """Each image's relative RMSE against reference: in the edge band, elsewhere and whole."""
     rows = []
     for image in images:
         row = edge_band_error(reference, image, band)
         row["whole"] = relative_rmse(reference, image)
         rows.append(row)
+    return rows
+
+
+def errors(reference, images, band):
+    rows = error_rows(reference, images, band)
     return {k: float(np.mean([r[k] for r in rows])) for k in KEYS}
 
 

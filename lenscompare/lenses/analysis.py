@@ -380,12 +380,19 @@ def _chief_ray_film_height_mm(prescription: Prescription, theta: float,
     """Film height of the real chief ray at a signed field angle (radians)."""
     origin, direction = _chief_ray(prescription, theta, focus_distance_m)
     film_z = prescription.total_track_mm + film_distance_mm(prescription, focus_distance_m)
+    return _chief_ray_height_on_mm(prescription, origin, direction, film_z,
+                                   blocked=f"the chief ray at {math.degrees(theta):g} deg does not get through the lens")
+
+
+def _chief_ray_height_on_mm(prescription: Prescription, origin, direction, film_z_mm: float, *,
+                            blocked: str) -> float:
+    """y where a chief ray traced through the lens (apertures ignored) meets the
+    plane z = film_z_mm; ``blocked``: the error's message when it does not get through."""
     rays = trace_from_scene(prescription, origin, direction, clip=False)
     if not rays.passed:
-        raise InputError(prescription.name, f"the chief ray at {math.degrees(theta):g} deg "
-                         f"does not get through the lens", key="field_angle")
+        raise InputError(prescription.name, blocked, key="field_angle")
     o, d = rays.origins_mm, rays.directions
-    return float(o[1] + d[1] * (film_z - o[2]) / d[2])
+    return float(o[1] + d[1] * (film_z_mm - o[2]) / d[2])
 
 
 def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float):

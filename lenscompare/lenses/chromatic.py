@@ -24,11 +24,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import MM_PER_M
-from .analysis import _chief_ray
+from .analysis import _chief_ray, _chief_ray_height_on_mm
 from .glass import C_NM, F_NM
 from .paraxial import paraxial_data, ray_transfer_matrix
 from .prescription import Prescription
-from .trace import trace_from_scene
 
 __all__ = ["chief_ray_height_at_mm", "chief_ray_heights_at_mm", "lateral_color_mm", "axial_image_z_mm",
            "longitudinal_color_blur_mm"]
@@ -83,12 +82,9 @@ def chief_ray_height_at_mm(prescription: Prescription, field_angle_deg: float, *
     if theta == 0.0:
         return 0.0
     origin, direction = _chief_ray(at, theta, distance_m)
-    rays = trace_from_scene(at, origin, direction, clip=False)
-    if not rays.passed:
-        raise InputError(prescription.name, f"the chief ray at {field_angle_deg:g} deg does not get through "
-                         f"the lens at {wavelength_nm:g} nm", key="field_angle")
-    o, d = rays.origins_mm, rays.directions
-    return float(o[1] + d[1] * (film_z_mm - o[2]) / d[2])
+    return _chief_ray_height_on_mm(at, origin, direction, film_z_mm,
+                                   blocked=f"the chief ray at {field_angle_deg:g} deg does not get through "
+                                           f"the lens at {wavelength_nm:g} nm")
 
 
 def chief_ray_heights_at_mm(prescription: Prescription, field_angle_deg: float, *, wavelengths_nm,
