@@ -289,14 +289,28 @@ def relative_illumination(prescription: Prescription, field_angle_deg: float, *,
     area = _passing_beam_area_mm2(prescription, theta, samples_across)
     if on_axis == 0 or area == 0:
         return 0.0
-    focal_length = paraxial_data(prescription).effective_focal_length_mm
-    # Image area per solid angle from the real chief-ray mapping (central difference).
+    return illumination_from_beam_areas(prescription, theta, area_mm2=area, on_axis_mm2=on_axis)
+
+
+def illumination_from_beam_areas(prescription: Prescription, theta: float, *, area_mm2: float,
+                                 on_axis_mm2: float) -> float:
+    """RI(theta) of :func:`relative_illumination` from the passing beam areas
+    A(theta) and A(0) (mm^2, however they were counted), the film area per
+    solid angle taken from the real chief-ray mapping (central difference,
+    object at infinity); 0 where that area is not positive.
+
+    Raises
+    ------
+    InputError
+        When the chief ray near theta does not get through the lens.
+    """
     step = 1e-5
-    height = _chief_ray_film_height_mm(prescription, theta, math.inf)
-    slope = (_chief_ray_film_height_mm(prescription, theta + step, math.inf)
-             - _chief_ray_film_height_mm(prescription, theta - step, math.inf)) / (2.0 * step)
-    film_area_per_solid_angle = height * slope / math.sin(theta)
-    return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis / focal_length ** 2)
+    heights = [abs(_chief_ray_film_height_mm(prescription, t, math.inf)) for t in (theta - step, theta, theta + step)]
+    film_area_per_solid_angle = heights[1] * (heights[2] - heights[0]) / (2.0 * step) / math.sin(theta)
+    if not (film_area_per_solid_angle > 0.0 and on_axis_mm2 > 0.0):
+        return 0.0
+    focal_length = paraxial_data(prescription).effective_focal_length_mm
+    return (area_mm2 * math.cos(theta) / film_area_per_solid_angle) / (on_axis_mm2 / focal_length ** 2)
 
 
 # Memoised like paraxial_data: the planner's distortion and vignetting effects ask the

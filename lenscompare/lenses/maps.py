@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .analysis import _chief_ray, chief_ray_film_height_mm, image_circle_radius_mm
+from .analysis import _chief_ray, chief_ray_film_height_mm, illumination_from_beam_areas, image_circle_radius_mm
 from .chromatic import chief_ray_height_at_mm
 from .focus import front_most_z_mm
 from .glass import C_NM, D_NM, F_NM
@@ -216,23 +216,16 @@ def _passing_area_mm2(prescription: Prescription, theta: float) -> float:
 
 
 def _relative_illumination(prescription: Prescription, angle_deg: float, on_axis_mm2: float) -> float:
-    """RI(theta) = [A(theta) cos(theta) sin(theta) / (y dy/dtheta)] / [A(0) / f^2], as
-    :func:`.analysis.relative_illumination` defines it (y the real chief-ray film
-    height, object at infinity); 0 where the chief ray fails."""
+    """RI at angle_deg (:func:`.analysis.relative_illumination`'s quantity) with the
+    beam counted round the real chief ray's pupil; 0 where the chief ray fails."""
     if angle_deg == 0.0:
         return 1.0
-    theta, step = math.radians(angle_deg), 1e-5
+    theta = math.radians(angle_deg)
     try:
-        heights = [abs(chief_ray_film_height_mm(prescription, math.degrees(t))) for t in (theta - step, theta,
-                                                                                          theta + step)]
-        area = _passing_area_mm2(prescription, theta)
+        return illumination_from_beam_areas(prescription, theta, area_mm2=_passing_area_mm2(prescription, theta),
+                                            on_axis_mm2=on_axis_mm2)
     except InputError:
         return 0.0
-    film_area_per_solid_angle = heights[1] * (heights[2] - heights[0]) / (2.0 * step) / math.sin(theta)
-    focal_length = paraxial_data(prescription).effective_focal_length_mm
-    if not (film_area_per_solid_angle > 0.0 and on_axis_mm2 > 0.0):
-        return 0.0
-    return (area * math.cos(theta) / film_area_per_solid_angle) / (on_axis_mm2 / focal_length ** 2)
 
 
 def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float, focus_distance_m: float,
