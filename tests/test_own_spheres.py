@@ -1,5 +1,5 @@
 """The render's own test for still spheres (native sphere_lanes.cpp), which
-replaces Embree's for scenes of at most 16 of them.
+replaces Embree's for scenes of at most 32 of them.
 
 Truth is the ray-sphere quadratic solved in extended precision (numpy's
 longdouble) from the very float32 rays and spheres the kernel sees. Every
