@@ -199,7 +199,7 @@ SphereKernel fastest_sphere_kernel() {
 }
 
 int max_own_spheres() {
-    constexpr int kMaxOwnSpheres = 32;  // measured crossover near 48 (README "Spheres")
+    constexpr int kMaxOwnSpheres = 32;  // Embree ahead past some 40 (sphere_lanes.h)
     const char* text = std::getenv("LENSCOMPARE_MAX_OWN_SPHERES");
     if (!text || !*text) return kMaxOwnSpheres;
     char* end = nullptr;

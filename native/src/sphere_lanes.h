@@ -2,8 +2,8 @@
 // instead of handing them to Embree: Embree keeps sphere points in its curve
 // BVH, whose packet test cost lit_showcase's 5 spheres a third of the render
 // (0.38 of 1.13 CPU s; ours 0.06). A test per sphere per ray grows with their
-// count: on a floor of n spheres it broke even with Embree near n = 48, so
-// past 32 (max_own_spheres) Embree keeps them.
+// count: on a floor of n spheres (bench/bench_spheres.py) it was 6 % ahead
+// of Embree at n = 32, 3 % behind at 48, so past 32 Embree keeps them.
 //
 // The test itself follows Haines, Günther and Akenine-Möller, "Precision
 // Improvements for Ray/Sphere Intersection", Ray Tracing Gems (2019), ch. 7:
