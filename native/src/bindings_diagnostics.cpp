@@ -184,7 +184,7 @@ void bind_raw_throughput(nb::module_& m) {
               return std::make_tuple(r.seconds, r.rays, r.hits);
           },
           "scene"_a, "camera"_a, "spp"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>(),
-          "(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render.");
+          "(seconds, rays, hits) of bare pinhole rays (Embree and the own sphere test), no shading: the ceiling of a render.");
 }
 
 // The render's culling test for moving geometry, on rays in groups of one packet.
