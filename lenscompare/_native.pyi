@@ -320,7 +320,36 @@ class _Diagnostics(types.ModuleType):
         """Makes camera run the named batch lens-trace kernel."""
 
     @staticmethod
+    def sphere_kernels() -> list[str]:
+        """The own-sphere kernels this CPU runs, slowest first."""
+
+    @staticmethod
+    def own_spheres_closest(
+        spheres: numpy.ndarray,  # float32 (k, 4): centre xyz, radius (m)
+        origin: numpy.ndarray,  # float32 (n, 3)
+        direction: numpy.ndarray,  # float32 (n, 3)
+        t_far: numpy.ndarray,  # float32 (n,), read and written
+        index: numpy.ndarray,  # int32 (n,), written (-1: no hit)
+        normal: numpy.ndarray,  # float32 (n, 3), written
+        kernel: str,
+    ) -> None:
+        """Closest hits at t in [0, t_far) as the render's camera rays get them, in place."""
+
+    @staticmethod
+    def own_spheres_occluded(
+        spheres: numpy.ndarray,  # float32 (k, 4)
+        origin: numpy.ndarray,  # float32 (n, 3)
+        direction: numpy.ndarray,  # float32 (n, 3)
+        t_far: numpy.ndarray,  # float32 (n,)
+        start_sphere: numpy.ndarray,  # int32 (n,): the sphere the ray starts on, -1: none
+        self_blocks: numpy.ndarray,  # bool (n,): that sphere blocks the ray
+        out: numpy.ndarray,  # bool (n,), written
+        kernel: str,
+    ) -> None:
+        """out[i]: whether segment i crosses a sphere's surface, as the render's shadow rays see it."""
+
+    @staticmethod
     def raw_primary_throughput(scene: Scene, camera: PinholeCamera, spp: int, threads: int) -> tuple[float, int, int]:
-        """(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render."""
+        """(seconds, rays, hits) of bare pinhole rays (Embree and the own sphere test), no shading: the ceiling of a render."""
 
 diagnostics: _Diagnostics

@@ -26,6 +26,7 @@
 #include "motion.h"
 #include "samplers.h"
 #include "scene.h"
+#include "sphere_lanes.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -183,7 +184,7 @@ void bind_raw_throughput(nb::module_& m) {
               return std::make_tuple(r.seconds, r.rays, r.hits);
           },
           "scene"_a, "camera"_a, "spp"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>(),
-          "(seconds, rays, hits) of bare Embree pinhole rays, no shading: the ceiling of a render.");
+          "(seconds, rays, hits) of bare pinhole rays (Embree and the own sphere test), no shading: the ceiling of a render.");
 }
 
 // The render's culling test for moving geometry, on rays in groups of one packet.
@@ -219,9 +220,92 @@ void bind_motion_culling(nb::module_& m) {
           "test; False means the render does not ask Embree.");
 }
 
+// The render's own sphere test (sphere_lanes.h), on rays in groups of one packet, by any kernel.
+SphereKernel sphere_kernel_named(const std::string& name) {
+    for (SphereKernel kernel : kSphereKernels)
+        if (name == sphere_kernel_name(kernel)) {
+            if (!sphere_kernel_available(kernel)) throw std::invalid_argument("kernel: this CPU cannot run " + name);
+            return kernel;
+        }
+    throw std::invalid_argument("kernel: no sphere kernel named " + name);
+}
+
+void bind_own_spheres(nb::module_& m) {
+    m.def("sphere_kernels",
+          [] {
+              std::vector<std::string> names;
+              for (SphereKernel kernel : kSphereKernels)
+                  if (sphere_kernel_available(kernel)) names.push_back(sphere_kernel_name(kernel));
+              return names;
+          },
+          "The own-sphere kernels this CPU runs, slowest first.");
+
+    m.def("own_spheres_closest",
+          [](CArray<const float, -1, 4> spheres, CArray<const float, -1, 3> origin, CArray<const float, -1, 3> direction,
+             CArray<float, -1> t_far, CArray<int32_t, -1> index, CArray<float, -1, 3> normal, const std::string& kernel) {
+              constexpr int N = kSphereLanes;
+              const SphereKernel k = sphere_kernel_named(kernel);
+              const size_t n = origin.shape(0);
+              if (direction.shape(0) != n || t_far.shape(0) != n || index.shape(0) != n || normal.shape(0) != n)
+                  throw std::invalid_argument("origin, direction, t_far, index and normal need one row per ray");
+              for (size_t first = 0; first < n; first += N) {
+                  float lanes[6][N], t[N], nrm[3][N];
+                  int active[N], idx[N];
+                  for (int i = 0; i < N; ++i) {
+                      const size_t r = std::min(first + size_t(i), n - 1);
+                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
+                      t[i] = t_far(r);
+                      active[i] = first + size_t(i) < n;
+                  }
+                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  float* const nn[3] = {nrm[0], nrm[1], nrm[2]};
+                  spheres_closest(k, spheres.data(), int(spheres.shape(0)), o, d, active, t, idx, nn);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i) {
+                      const size_t r = first + size_t(i);
+                      t_far(r) = t[i], index(r) = idx[i];
+                      for (int a = 0; a < 3; ++a) normal(r, a) = idx[i] < 0 ? 0.0f : nrm[a][i];
+                  }
+              }
+          },
+          "spheres"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "normal"_a, "kernel"_a,
+          "Closest hits at t in [0, t_far) with spheres (rows: centre xyz, radius, m): t_far, index (-1: none) "
+          "and the outward unit normal, in place, as the render's camera rays get them.");
+
+    m.def("own_spheres_occluded",
+          [](CArray<const float, -1, 4> spheres, CArray<const float, -1, 3> origin, CArray<const float, -1, 3> direction,
+             CArray<const float, -1> t_far, CArray<const int32_t, -1> start_sphere, CArray<const bool, -1> self_blocks,
+             CArray<bool, -1> out, const std::string& kernel) {
+              constexpr int N = kSphereLanes;
+              const SphereKernel k = sphere_kernel_named(kernel);
+              const size_t n = origin.shape(0);
+              if (direction.shape(0) != n || t_far.shape(0) != n || start_sphere.shape(0) != n ||
+                  self_blocks.shape(0) != n || out.shape(0) != n)
+                  throw std::invalid_argument("origin, direction, t_far, start_sphere, self_blocks and out need one row per ray");
+              for (size_t first = 0; first < n; first += N) {
+                  float lanes[6][N], t[N];
+                  int active[N], start[N], self[N], blocked[N];
+                  for (int i = 0; i < N; ++i) {
+                      const size_t r = std::min(first + size_t(i), n - 1);
+                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
+                      t[i] = t_far(r), start[i] = start_sphere(r), self[i] = self_blocks(r);
+                      active[i] = first + size_t(i) < n;
+                  }
+                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  spheres_occluded(k, spheres.data(), int(spheres.shape(0)), o, d, t, start, self, active, blocked);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i) out(first + size_t(i)) = blocked[i] != 0;
+              }
+          },
+          "spheres"_a, "origin"_a, "direction"_a, "t_far"_a, "start_sphere"_a, "self_blocks"_a, "out"_a, "kernel"_a,
+          "out[i]: whether segment i (t in [0, t_far]) crosses a sphere's surface, as the render's shadow rays "
+          "see it; a ray starting on sphere start_sphere[i] (-1: none) is blocked by it only if self_blocks[i].");
+}
+
 }  // namespace
 
 void bind_diagnostics(nb::module_& m) {
+    bind_own_spheres(m);
     bind_motion_culling(m);
     bind_samplers(m);
     bind_lens(m);

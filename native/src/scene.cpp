@@ -105,14 +105,31 @@ Scene::Scene(const SceneArrays& a)
     };
 
     // Spheres: Embree's sphere points are exact spheres, not tessellations.
+    GeometryTable own_table;
     const Split spheres = split_by_velocity(a.sphere_velocity, size_t(a.n_spheres), sampled);
     for (int moving = 0; moving < 2; ++moving) {
         const std::vector<size_t>& ids = moving ? spheres.moving : spheres.still;
         if (ids.empty()) continue;
+        GeometryTable table;
+        for (size_t i : ids) {
+            table.material.push_back(a.sphere_material[i]);
+            if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
+        }
+        // A few still spheres: the render's own test (sphere_lanes.h), at the
+        // place Embree would have had them.
+        if (!moving && int(ids.size()) <= max_own_spheres()) {
+            for (size_t i : ids) {
+                const float* src = a.spheres + 4 * i;
+                float centre[3] = {src[0], src[1], src[2]};
+                if (offset) moved(src, velocity_at(a.sphere_velocity, i), open_s, centre);
+                own_spheres_.insert(own_spheres_.end(), {centre[0], centre[1], centre[2], src[3]});
+            }
+            own_table = std::move(table);
+            continue;
+        }
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         const int slots = moving ? steps : 1;
         rtcSetGeometryTimeStepCount(g, unsigned(slots));
-        GeometryTable table;
         for (int step = 0; step < slots; ++step) {
             auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
                                                                   RTC_FORMAT_FLOAT4, 4 * sizeof(float), ids.size()));
@@ -132,10 +149,6 @@ Scene::Scene(const SceneArrays& a)
                 moved(a.spheres + 4 * i, velocity, close_s, centre_close);
                 movers_.add_sphere(velocity, centre_open, centre_close, a.spheres[4 * i + 3]);
             }
-        for (size_t i : ids) {
-            table.material.push_back(a.sphere_material[i]);
-            if (a.sphere_velocity) table.velocity.push_back(velocity_at(a.sphere_velocity, i));
-        }
         attach(target_of(moving, false), g, std::move(table));
     }
 
@@ -227,6 +240,17 @@ Scene::Scene(const SceneArrays& a)
         }
         attach(target_of(moving, true), g, std::move(table));
     }
+    // The own spheres' table after every Embree geometry's: an ID Embree never gives.
+    embree_still_ = !tables_.empty();
+    if (!own_spheres_.empty()) {
+        bool still = true;  // as attach: zero velocities are no motion
+        for (const Vec3f& v : own_table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
+        if (still) own_table.velocity.clear();
+        own_spheres_id_ = unsigned(tables_.size());
+        tables_.push_back(std::move(own_table));
+        if (own_spheres_id_ == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
+    }
+    sphere_kernel_ = fastest_sphere_kernel();
     rtcCommitScene(scene_);
     if (motion_scene_) rtcCommitScene(motion_scene_);
     movers_.finish();
@@ -283,6 +307,21 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {
     RTCRayHit rh = intersect(scene_, origin, direction);
     float t = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
+    if (!own_spheres_.empty()) {  // one lane of a packet of copies
+        float lanes[7][kSphereLanes], n[3][kSphereLanes], t_far[kSphereLanes];
+        int active[kSphereLanes] = {1}, index[kSphereLanes];
+        for (int i = 0; i < kSphereLanes; ++i) {
+            lanes[0][i] = origin.x, lanes[1][i] = origin.y, lanes[2][i] = origin.z;
+            lanes[3][i] = direction.x, lanes[4][i] = direction.y, lanes[5][i] = direction.z;
+            t_far[i] = t;
+        }
+        const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+        const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+        float* const normal[3] = {n[0], n[1], n[2]};
+        spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), o, d, active, t_far,
+                        index, normal);
+        t = t_far[0];
+    }
     if (motion_scene_) {
         RTCRayHit moving = intersect(motion_scene_, origin, direction);  // where movers are when the shutter opens
         if (moving.hit.geomID != RTC_INVALID_GEOMETRY_ID) t = std::min(t, moving.ray.tfar);

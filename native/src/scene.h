@@ -17,6 +17,7 @@
 
 #include "embree_packet.h"
 #include "motion.h"
+#include "sphere_lanes.h"
 #include "spectral.h"
 #include "vec.h"
 
@@ -124,6 +125,8 @@ class Scene {
         alignas(kPacketAlignment) RTCRayPacket packet;
         float cos_theta[kPacketSize] = {};
         float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
+        int start_sphere[kPacketSize];    // the own sphere the ray starts on, or -1
+        int self_blocks[kPacketSize];     // that sphere blocks it (it starts inside toward a light outside)
         bool lit(int i) const;            // traced and not blocked
     };
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
@@ -141,6 +144,12 @@ class Scene {
     RTCScene scene_ = nullptr;         // still geometry
     RTCScene motion_scene_ = nullptr;  // moving geometry, two time steps; nullptr when nothing moves
     std::vector<GeometryTable> tables_, motion_tables_;  // by Embree geometry ID in scene_, motion_scene_
+    // Still spheres the render tests itself (sphere_lanes.h): centre xyz, radius (m) each;
+    // their hits carry geometry ID own_spheres_id_ (a table of tables_ that Embree never uses).
+    std::vector<float> own_spheres_;
+    unsigned own_spheres_id_ = RTC_INVALID_GEOMETRY_ID;
+    SphereKernel sphere_kernel_ = SphereKernel::Default;
+    bool embree_still_ = false;  // scene_ holds geometry
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;

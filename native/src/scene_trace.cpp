@@ -52,7 +52,24 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    intersect_packet(valid, scene_, &context, &packet);
+    // The own spheres first: their hits shorten the rays Embree then traces,
+    // and Embree replaces a hit only by a nearer one.
+    if (!own_spheres_.empty()) {
+        int index[kPacketSize];
+        float ng[3][kPacketSize];
+        const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
+        const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
+        float* const normal[3] = {ng[0], ng[1], ng[2]};
+        spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction, valid,
+                        packet.ray.tfar, index, normal);
+        for (int i = 0; i < rays.count; ++i) {
+            if (index[i] < 0) continue;
+            packet.hit.geomID[i] = own_spheres_id_, packet.hit.primID[i] = unsigned(index[i]);
+            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
+            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
+        }
+    }
+    if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
 }
 
@@ -89,6 +106,7 @@ bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, Cam
     for (int i = 0; i < kPacketSize; ++i) {
         shadow.valid[i] = 0;
         shadow.cos_theta[i] = shadow.falloff[i] = 0.0f;
+        shadow.start_sphere[i] = -1, shadow.self_blocks[i] = 0;
         // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
         // split the packet and check the rays of every lane they are handed.
         packet.org_x[i] = packet.org_y[i] = packet.org_z[i] = 0.0f;
@@ -116,9 +134,39 @@ bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, Cam
         packet.flags[i] = 0;
         shadow.valid[i] = -1;
         any = true;
+        if (!hits.hit_mover[i] && hits.packet.hit.geomID[i] == own_spheres_id_) {
+            // From an own sphere's surface: it blocks the ray exactly when the ray
+            // leaves its inner side (a normal flipped to face the camera) toward a light outside it.
+            const int k = int(hits.packet.hit.primID[i]);
+            const float* c = &own_spheres_[4 * size_t(k)];
+            const Vec3f ng{hits.packet.hit.Ng_x[i], hits.packet.hit.Ng_y[i], hits.packet.hit.Ng_z[i]};
+            const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],
+                         lz = double(light.position_m.z) - c[2];
+            const bool light_outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
+            shadow.start_sphere[i] = k;
+            shadow.self_blocks[i] = dot(n[i], ng) < 0.0f && light_outside;
+        }
     }
     if (!any) return false;
-    occluded_packet(shadow.valid, scene_, &context, &packet);
+    alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere blocks
+    bool embree_asked = embree_still_;
+    if (!own_spheres_.empty()) {
+        int blocked[kPacketSize];
+        const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
+        const float* direction[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+        spheres_occluded(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction,
+                         packet.tfar, shadow.start_sphere, shadow.self_blocks, shadow.valid, blocked);
+        int left = 0;
+        for (int i = 0; i < kPacketSize; ++i) {
+            if (blocked[i]) packet.tfar[i] = -kInf;  // as Embree marks a blocked ray
+            open[i] = shadow.valid[i] && !blocked[i] ? -1 : 0;
+            left |= open[i];
+        }
+        embree_asked = embree_asked && left != 0;
+    } else {
+        for (int i = 0; i < kPacketSize; ++i) open[i] = shadow.valid[i];
+    }
+    if (embree_asked) occluded_packet(open, scene_, &context, &packet);
     if (motion_scene_) occlude_by_movers(shadow.valid, context, packet);
     return true;
 }

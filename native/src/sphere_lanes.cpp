@@ -1,0 +1,233 @@
+#include "sphere_lanes.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace lc {
+namespace {
+
+constexpr int N = kSphereLanes;
+
+// Lane loops without branches, written once and compiled per instruction set
+// (the always_inline bodies below, called from functions with a target
+// attribute), so that GCC runs the lanes side by side in each.
+
+// Whether a lane may meet sphere c (centre xyz, radius) anywhere on its line:
+// the squared perpendicular distance in float against the radius with a
+// margin of some hundred float steps of the coordinates (the exact test
+// decides); NaN keeps the lane. Returns whether any lane may.
+[[gnu::always_inline]] inline bool near_line(const float* c, const float* const origin[3],
+                                             const float* const direction[3], const float* inv_dd,
+                                             const float* origin_size, const int* active) {
+    float centre_size = 1.0f;
+    for (int a = 0; a < 4; ++a) centre_size = std::fabs(c[a]) > centre_size ? std::fabs(c[a]) : centre_size;
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
+        const float fx = origin[0][i] - c[0], fy = origin[1][i] - c[1], fz = origin[2][i] - c[2];
+        const float s = (fx * dx + fy * dy + fz * dz) * inv_dd[i];
+        const float px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
+        const float reach = c[3] * (1.0f + 1e-5f) + 1e-5f * (centre_size + origin_size[i]);
+        // & not &&: a branch per lane keeps GCC from running the lanes side by side
+        any |= (active[i] != 0) & !(px * px + py * py + pz * pz > reach * reach);
+    }
+    return any != 0;
+}
+
+// Both roots t_lo <= t_hi of lane i's line with sphere c, in double; NaN
+// where the line misses (a negative discriminant) or is degenerate.
+struct Roots {
+    double lo[N], hi[N];
+};
+
+[[gnu::always_inline]] inline void roots(const float* c, const float* const origin[3],
+                                         const float* const direction[3], Roots& out) {
+    const double cx = c[0], cy = c[1], cz = c[2], r = c[3], r2 = r * r;
+    for (int i = 0; i < N; ++i) {
+        const double dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
+        // f = o - centre: exact in double for floats of any likely scale
+        const double fx = double(origin[0][i]) - cx, fy = double(origin[1][i]) - cy, fz = double(origin[2][i]) - cz;
+        const double a = dx * dx + dy * dy + dz * dz;
+        const double b = fx * dx + fy * dy + fz * dz;  // half the quadratic's b
+        const double s = b / a;
+        // Haines et al. eq. 7.5: b^2 - ac = a (r^2 - |f - (b/a) d|^2), free of b^2's cancellation
+        const double px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
+        const double disc = r2 - (px * px + py * py + pz * pz);
+        const double cc = (fx * fx + fy * fy + fz * fz) - r2;
+        const double root = std::sqrt(disc >= 0.0 ? a * disc : -1.0);  // NaN on a miss
+        // q = -(b + sign(b) sqrt(a disc)): adds like signs, so no cancellation (eq. 7.7)
+        const double q = -(b + (b < 0.0 ? -root : root));
+        const double t0 = q / a, t1 = cc / q;  // 0/0 (a tangent through the origin) is NaN: a miss
+        out.lo[i] = t0 < t1 ? t0 : t1;
+        out.hi[i] = t0 < t1 ? t1 : t0;
+        // NaN in either root: both NaN, so no comparison accepts the lane
+        const bool bad = !(t0 == t0) | !(t1 == t1);
+        out.lo[i] = bad ? NAN : out.lo[i];
+        out.hi[i] = bad ? NAN : out.hi[i];
+    }
+}
+
+[[gnu::always_inline]] inline void lane_scales(const float* const origin[3], const float* const direction[3],
+                                               float* inv_dd, float* origin_size) {
+    for (int i = 0; i < N; ++i) {
+        inv_dd[i] = 1.0f / (direction[0][i] * direction[0][i] + direction[1][i] * direction[1][i] +
+                            direction[2][i] * direction[2][i]);
+        const float x = std::fabs(origin[0][i]), y = std::fabs(origin[1][i]), z = std::fabs(origin[2][i]);
+        origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+    }
+}
+
+[[gnu::always_inline]] inline void closest_body(const float* spheres, int n, const float* const origin[3],
+                                                const float* const direction[3], const int* active, float* t_far,
+                                                int* index, float* const normal[3]) {
+    float inv_dd[N], origin_size[N];
+    lane_scales(origin, direction, inv_dd, origin_size);
+    double t_best[N] = {};
+    for (int i = 0; i < N; ++i) index[i] = -1;
+    for (int k = 0; k < n; ++k) {
+        const float* c = spheres + 4 * k;
+        if (!near_line(c, origin, direction, inv_dd, origin_size, active)) continue;
+        Roots t;
+        roots(c, origin, direction, t);
+        for (int i = 0; i < N; ++i) {
+            // The nearer root in front of the origin, else the farther (a ray from inside)
+            const double hit = t.lo[i] >= 0.0 ? t.lo[i] : t.hi[i];
+            const float hit_f = float(hit);
+            // Strictly nearer: of two spheres at one distance the first keeps the hit
+            const bool take = (active[i] != 0) & (hit >= 0.0) & (hit_f < t_far[i]);
+            t_far[i] = take ? hit_f : t_far[i];
+            t_best[i] = take ? hit : t_best[i];
+            index[i] = take ? k : index[i];
+        }
+    }
+    // Outward normals, (f + t d) / r, from the double hit distance
+    for (int i = 0; i < N; ++i) {
+        const int k = index[i] < 0 ? 0 : index[i];
+        const float* c = spheres + 4 * k;
+        const double t = index[i] < 0 ? 0.0 : t_best[i];
+        const double inv_r = 1.0 / double(c[3]);
+        for (int a = 0; a < 3; ++a)
+            normal[a][i] = float((double(origin[a][i]) - double(c[a]) + t * double(direction[a][i])) * inv_r);
+    }
+}
+
+[[gnu::always_inline]] inline bool occluded_body(const float* spheres, int n, const float* const origin[3],
+                                                 const float* const direction[3], const float* t_far,
+                                                 const int* start_sphere, const int* self_blocks, const int* active,
+                                                 int* blocked) {
+    float inv_dd[N], origin_size[N];
+    lane_scales(origin, direction, inv_dd, origin_size);
+    int met[N] = {};
+    for (int k = 0; k < n; ++k) {
+        const float* c = spheres + 4 * k;
+        if (!near_line(c, origin, direction, inv_dd, origin_size, active)) continue;
+        Roots t;
+        roots(c, origin, direction, t);
+        for (int i = 0; i < N; ++i) {
+            const double far = t_far[i];
+            // A root on the segment: the surface crosses it
+            const bool crossed = ((t.lo[i] >= 0.0) & (t.lo[i] <= far)) | ((t.hi[i] >= 0.0) & (t.hi[i] <= far));
+            met[i] |= (start_sphere[i] != k) & crossed;
+        }
+    }
+    // The sphere a lane starts on blocks it whatever the line test said
+    for (int i = 0; i < N; ++i) met[i] |= (start_sphere[i] >= 0) & (start_sphere[i] < n) & (self_blocks[i] != 0);
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
+        any |= blocked[i];
+    }
+    return any != 0;
+}
+
+void closest_default(const float* s, int n, const float* const o[3], const float* const d[3], const int* active,
+                     float* t_far, int* index, float* const normal[3]) {
+    closest_body(s, n, o, d, active, t_far, index, normal);
+}
+[[gnu::target("avx2")]] void closest_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
+                                          const int* active, float* t_far, int* index, float* const normal[3]) {
+    closest_body(s, n, o, d, active, t_far, index, normal);
+}
+[[gnu::target("avx512f")]] void closest_avx512(const float* s, int n, const float* const o[3],
+                                               const float* const d[3], const int* active, float* t_far, int* index,
+                                               float* const normal[3]) {
+    closest_body(s, n, o, d, active, t_far, index, normal);
+}
+
+bool occluded_default(const float* s, int n, const float* const o[3], const float* const d[3], const float* t_far,
+                      const int* start, const int* self, const int* active, int* blocked) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+}
+[[gnu::target("avx2")]] bool occluded_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
+                                           const float* t_far, const int* start, const int* self, const int* active,
+                                           int* blocked) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+}
+[[gnu::target("avx512f")]] bool occluded_avx512(const float* s, int n, const float* const o[3],
+                                                const float* const d[3], const float* t_far, const int* start,
+                                                const int* self, const int* active, int* blocked) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+}
+
+}  // namespace
+
+bool sphere_kernel_available(SphereKernel kernel) {
+    switch (kernel) {
+        case SphereKernel::Avx2: return __builtin_cpu_supports("avx2");
+        case SphereKernel::Avx512: return __builtin_cpu_supports("avx512f");
+        default: return true;
+    }
+}
+
+const char* sphere_kernel_name(SphereKernel kernel) {
+    switch (kernel) {
+        case SphereKernel::Avx2: return "avx2";
+        case SphereKernel::Avx512: return "avx512";
+        default: return "default";
+    }
+}
+
+SphereKernel fastest_sphere_kernel() {
+    static const SphereKernel best = [] {
+        SphereKernel k = SphereKernel::Default;
+        for (SphereKernel candidate : kSphereKernels)
+            if (sphere_kernel_available(candidate)) k = candidate;
+        return k;
+    }();
+    return best;
+}
+
+int max_own_spheres() {
+    constexpr int kMaxOwnSpheres = 32;  // Embree ahead past some 40 (sphere_lanes.h)
+    const char* text = std::getenv("LENSCOMPARE_MAX_OWN_SPHERES");
+    if (!text || !*text) return kMaxOwnSpheres;
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    return (*end == '\0' && v >= 0 && v <= 1000000) ? int(v) : kMaxOwnSpheres;
+}
+
+void spheres_closest(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
+                     const float* const direction[3], const int* active, float* t_far, int* index,
+                     float* const normal[3]) {
+    switch (kernel) {
+        case SphereKernel::Avx512: return closest_avx512(spheres, n, origin, direction, active, t_far, index, normal);
+        case SphereKernel::Avx2: return closest_avx2(spheres, n, origin, direction, active, t_far, index, normal);
+        default: return closest_default(spheres, n, origin, direction, active, t_far, index, normal);
+    }
+}
+
+bool spheres_occluded(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
+                      const float* const direction[3], const float* t_far, const int* start_sphere,
+                      const int* self_blocks, const int* active, int* blocked) {
+    switch (kernel) {
+        case SphereKernel::Avx512:
+            return occluded_avx512(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+        case SphereKernel::Avx2:
+            return occluded_avx2(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+        default:
+            return occluded_default(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+    }
+}
+
+}  // namespace lc

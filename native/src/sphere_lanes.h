@@ -1,0 +1,58 @@
+// Still spheres the render intersects itself, a packet of rays at a time,
+// instead of handing them to Embree: Embree keeps sphere points in its curve
+// BVH, whose packet test cost lit_showcase's 5 spheres a third of the render
+// (0.38 of 1.13 CPU s; ours 0.06). A test per sphere per ray grows with their
+// count: on a floor of n spheres (bench/bench_spheres.py) it was 6 % ahead
+// of Embree at n = 32, 3 % behind at 48, so past 32 Embree keeps them.
+//
+// The test itself follows Haines, Günther and Akenine-Möller, "Precision
+// Improvements for Ray/Sphere Intersection", Ray Tracing Gems (2019), ch. 7:
+// the discriminant from the ray's perpendicular distance to the centre, and
+// the nearer root as c / q so that neither root cancels. It runs in double
+// (the float origin and centre subtract exactly), so grazing rays, huge and
+// tiny spheres keep their hits; a float test culls the spheres no lane of
+// the packet comes near first.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace lc {
+
+// The kernels (one instruction set each) give the same bits: no fused
+// multiply-adds (CMakeLists.txt), only correctly rounded operations.
+enum class SphereKernel : int { Default = 0, Avx2 = 1, Avx512 = 2 };
+constexpr SphereKernel kSphereKernels[] = {SphereKernel::Default, SphereKernel::Avx2, SphereKernel::Avx512};
+bool sphere_kernel_available(SphereKernel kernel);
+const char* sphere_kernel_name(SphereKernel kernel);
+SphereKernel fastest_sphere_kernel();
+
+// How many rays one call takes: the render's packet width (embree_packet.h).
+constexpr int kSphereLanes = 16;
+
+// The largest count of still spheres the render intersects itself (32); more go to
+// Embree. LENSCOMPARE_MAX_OWN_SPHERES overrides it (0: Embree takes all),
+// for tests and benchmarks that compare the two.
+int max_own_spheres();
+
+// Closest hits of kSphereLanes rays (SoA origins, directions, m) with n
+// spheres (centre xyz, radius, m, each) at t in [0, t_far[i]): where lane i
+// (active[i] set) meets a sphere nearer than t_far[i], t_far[i] becomes the
+// hit distance, index[i] the sphere and normal[.][i] its outward unit
+// normal there; other lanes keep t_far and get index -1.
+void spheres_closest(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
+                     const float* const direction[3], const int* active, float* t_far, int* index,
+                     float* const normal[3]);
+
+// Whether the segments t in [0, t_far[i]] cross some sphere's surface:
+// blocked[i] = -1 where so (active lanes), else 0. A ray that starts on a
+// sphere's surface (start_sphere[i] >= 0) is not asked about that sphere: a
+// sphere blocks a segment from its own surface exactly when the segment goes
+// inside and ends outside, which the caller knows (self_blocks[i]); a
+// rounded root near t = 0 would shadow the surface itself.
+// Returns whether any lane is blocked.
+bool spheres_occluded(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
+                      const float* const direction[3], const float* t_far, const int* start_sphere,
+                      const int* self_blocks, const int* active, int* blocked);
+
+}  // namespace lc
