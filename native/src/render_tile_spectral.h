@@ -30,6 +30,7 @@
 #include <utility>
 
 #include "render_tile.h"
+#include "rng.h"
 #include "spectral.h"
 
 namespace lc {
@@ -145,16 +146,19 @@ class SpectralRayPacket {
 
 // How a render's camera samples become rays (see the top of this file).
 enum class SpectralPath {
-    OneRay,           // the camera does not disperse: one ray carries all four wavelengths
-    RidingOnHero,     // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
-    RayPerWavelength  // a ray per traced wavelength
+    OneRay,            // the camera does not disperse: one ray carries all four wavelengths
+    RidingOnHero,      // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
+    CorrectedOnHero,   // secondaries on the hero's ray, their own rays on one sample in N correcting it
+    RayPerWavelength   // a ray per traced wavelength
 };
 
 template <class Camera>
 SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) {
     if (!camera_disperses(camera)) return SpectralPath::OneRay;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
-        if (spectra.trace_secondaries) return SpectralPath::RidingOnHero;
+        if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
+    if (spectra.traced_wavelengths == kHeroWavelengths && spectra.secondaries_one_in > 0)
+        return SpectralPath::CorrectedOnHero;
     return SpectralPath::RayPerWavelength;
 }
 
@@ -172,7 +176,9 @@ class SpectralCameraSampleBatcher {
         : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
           packet_(packet), path_(path) {}
 
-    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot) {
+    // corrected: this sample traces its secondaries' own rays (CorrectedOnHero only).
+    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot, bool corrected) {
+        corrected_[pending_] = corrected;
         raster_px_[pending_] = raster_px;
         lens_[pending_] = lens;
         time_[pending_] = time_u;
@@ -186,6 +192,7 @@ class SpectralCameraSampleBatcher {
         switch (path_) {
             case SpectralPath::OneRay: flush_shared(); break;
             case SpectralPath::RidingOnHero: flush_riding(); break;
+            case SpectralPath::CorrectedOnHero: flush_corrected(); break;
             case SpectralPath::RayPerWavelength: flush_dispersed(); break;
         }
         pending_ = 0;
@@ -229,12 +236,59 @@ class SpectralCameraSampleBatcher {
         }
     }
 
-    // A ray per traced wavelength, a sample's rays in wavelength order.
+    // Control variates over the secondaries: each sample's hero ray carries all
+    // four wavelengths, as if the glass did not disperse (an estimate of the
+    // secondaries that is cheap but biased), and a corrected sample, one in N
+    // chosen independently of the sample's value, adds N times the difference
+    // between their own rays and that estimate:
+    //     E[shared_k + N [corrected] (own_k - shared_k)] = E[own_k],
+    // so the sum is unbiased. The difference is zero wherever a secondary's own
+    // ray sees what the hero's sees, i.e. almost everywhere: most samples cost
+    // one scene ray, and the noise is nearly RGB's.
+    void flush_corrected() {
+        const float every = float(spectra_.secondaries_one_in);
+        float nm[kCameraBatch][kHeroWavelengths];
+        bool any_corrected = false;
+        for (int i = 0; i < pending_; ++i) {
+            for (int k = 0; k < kHeroWavelengths; ++k) nm[i][k] = wavelengths_[i].nm[k];
+            any_corrected |= corrected_[i];
+        }
+        // All four through the glass when any sample needs its secondaries: one
+        // aim for the batch is cheaper than a second, mostly empty batch.
+        MaybeRay rays[kCameraBatch][kHeroWavelengths];
+        wavelength_rays(camera_, raster_px_, lens_, nm, pending_, any_corrected ? kHeroWavelengths : 1, rays);
+        for (int i = 0; i < pending_; ++i) {
+            const MaybeRay* own = rays[i];  // own[k]: wavelength k's own ray
+            int last = own[0] ? 0 : -1;
+            for (int k = 1; corrected_[i] && k < kHeroWavelengths; ++k)
+                if (own[k]) last = k;
+            if (own[0]) {
+                CameraRay ray = *own[0];
+                moved(&ray, time_[i]);
+                const float s = ray.weight / float(kHeroWavelengths);
+                // a corrected sample takes N times the shared estimate back off
+                const float shared = corrected_[i] ? s * (1.0f - every) : s;
+                const float scale[kHeroWavelengths] = {s, shared, shared, shared};
+                packet_.add(ray, time_[i], wavelengths_[i], 0, scale, last == 0, slot_[i]);
+            }
+            for (int k = 1; k <= last; ++k) {
+                if (!own[k]) continue;
+                CameraRay ray = *own[k];
+                moved(&ray, time_[i]);
+                float scale[kHeroWavelengths] = {0.0f, 0.0f, 0.0f, 0.0f};
+                scale[k] = every * ray.weight / float(kHeroWavelengths);
+                packet_.add(ray, time_[i], wavelengths_[i], 0, scale, k == last, slot_[i]);
+            }
+        }
+    }
+
+    // A ray per traced wavelength (every stride-th of the four, hero first),
+    // a sample's rays in wavelength order.
     void flush_dispersed() {
-        const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
+        const int traced = spectra_.traced_wavelengths, stride = kHeroWavelengths / traced;
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
-            for (int k = 0; k < kHeroWavelengths; ++k) nm[i][k] = wavelengths_[i].nm[k];
+            for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
         MaybeRay rays[kCameraBatch][kHeroWavelengths];
         wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -245,7 +299,7 @@ class SpectralCameraSampleBatcher {
                 if (!rays[i][k]) continue;
                 moved(&*rays[i][k], time_[i]);
                 const float scale = rays[i][k]->weight / float(traced);
-                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k, &scale, k == last, slot_[i]);
+                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k * stride, &scale, k == last, slot_[i]);
             }
         }
     }
@@ -263,9 +317,13 @@ class SpectralCameraSampleBatcher {
     Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
     float time_[kCameraBatch];
     HeroWavelengths wavelengths_[kCameraBatch];
+    bool corrected_[kCameraBatch];
     size_t slot_[kCameraBatch];
     int pending_ = 0;
 };
+
+// The stream that picks a pixel's corrected samples (clear of the samplers' streams).
+constexpr uint64_t kCorrectedStream = 19;
 
 // render_tile (render.h) for a spectral render. The pixel loop is written out
 // again on purpose: one walker shared through a callback made the RGB thin
@@ -279,6 +337,7 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     SpectralRayPacket packet(scene, sums, path == SpectralPath::RayPerWavelength ? 1 : kHeroWavelengths);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true);
+    const int one_in = path == SpectralPath::CorrectedOnHero ? spectra.secondaries_one_in : 0;
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
         for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
@@ -288,9 +347,14 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
             samples.fill(s, pixel_index, end);
             stats.samples += uint64_t(end - first);
             const size_t slot = sums.slot(x, y);
+            // The corrected samples: every one_in-th from a random start per
+            // pixel, so each sample is one with probability 1 / one_in whatever
+            // its value, and they spread over the pixel's strata.
+            const int offset = one_in > 0 ? int(Pcg32(s.seed, pixel_index, kCorrectedStream).next_below(one_in)) : 0;
             for (int i = first; i < end; ++i)
                 batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
-                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot);
+                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot,
+                            one_in > 0 && (i + offset) % one_in == 0);
         }
     }
     batcher.flush();
