@@ -48,8 +48,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
-           traced_wavelengths: int | None = None,
-           secondaries_one_in: int | None = None, postfilter_per_pixel_spp: bool = False,
+           traced_wavelengths: int | None = None, postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
@@ -160,8 +159,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
-                                   traced_wavelengths=traced_wavelengths,
-                                   secondaries_one_in=secondaries_one_in) if settings.spectral else None)
+                                   traced_wavelengths=traced_wavelengths) if settings.spectral else None)
 
     start = time.perf_counter()
     pinhole_counts = depth = refined_info = None

@@ -246,7 +246,7 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
                                                      CArray<const double, -1> probabilities,
                                                      CArray<const double, -1> line_nm,
                                                      CArray<const double, -1> line_radiance, double line_width_nm,
-                                                     int traced_wavelengths, int secondaries_one_in) {
+                                                     int traced_wavelengths) {
     const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
     if (basis.shape(0) != n_nm || film.shape(0) != n_nm)
         throw std::invalid_argument("spectral tables need one row per nm from 380 to 780");
@@ -255,7 +255,6 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
     if (line_nm.shape(0) != line_radiance.shape(0)) throw std::invalid_argument("one line per material");
     if (traced_wavelengths != 1 && traced_wavelengths != 2 && traced_wavelengths != kHeroWavelengths)
         throw std::invalid_argument("traced_wavelengths: 1, 2 or 4");
-    if (secondaries_one_in < 0) throw std::invalid_argument("secondaries_one_in: 0 (off) or more");
     auto t = std::make_shared<SpectralTables>();
     for (size_t i = 0; i < n_nm; ++i) {
         t->basis.push_back(Vec3f{float(basis(i, 0)), float(basis(i, 1)), float(basis(i, 2))});
@@ -275,7 +274,6 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
     }
     t->line_half_width_nm = float(0.5 * line_width_nm);
     t->traced_wavelengths = traced_wavelengths;
-    t->secondaries_one_in = secondaries_one_in;
     return t;
 }
 
@@ -332,14 +330,13 @@ NB_MODULE(_native, m) {
              [](Scene& self, CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
                 CArray<const double, -1> edges_nm, CArray<const double, -1> probabilities,
                 CArray<const double, -1> line_nm, CArray<const double, -1> line_radiance, double line_width_nm,
-                int traced_wavelengths, int secondaries_one_in) {
+                int traced_wavelengths) {
                  if (line_nm.shape(0) != self.material_count()) throw std::invalid_argument("one line per material");
                  self.set_spectral(spectral_tables(basis, film, edges_nm, probabilities, line_nm, line_radiance,
-                                                   line_width_nm, traced_wavelengths,
-                                                   secondaries_one_in));
+                                                   line_width_nm, traced_wavelengths));
              },
              "basis"_a, "film"_a, "edges_nm"_a, "probabilities"_a, "line_nm"_a, "line_radiance"_a, "line_width_nm"_a,
-             "traced_wavelengths"_a = 4, "secondaries_one_in"_a = 0,
+             "traced_wavelengths"_a = 4,
              "Renders spectrally from now on (lenscompare/spectral.py's tables).");
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")

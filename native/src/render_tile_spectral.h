@@ -6,16 +6,27 @@
 // in linear sRGB, summed into the pixel like an RGB sample (TileAccumulator).
 //
 // A camera that disperses (generate_rays_at: its ray depends on the
-// wavelength) cannot share one ray between the four. Then either each
-// wavelength gets its own ray (trace_secondaries: 4 camera rays, the sample's
-// value their sum), or only the hero is traced and the secondaries are
-// dropped (pbrt-v4's TerminateSecondary: one ray, the sample's value
-// L(λ_0) film(λ_0) / p(λ_0)). Both are unbiased; bench/bench_spectral.py
-// measures which reaches a given noise sooner: one wavelength per sample
-// leaves so much colour noise that tracing all four wins despite 4x the rays
-// (the default). A camera that can say when a wavelength's own sample gives
-// the hero's very ray (generate_rays_sharing: the thin and thick lens) has
-// that wavelength ride on the hero's ray instead, and traces only the others.
+// wavelength) cannot share one ray between the four. Then 1, 2 or 4 of them
+// (SpectralTables::traced_wavelengths, evenly spaced through the rotation,
+// hero first) each get their own ray and the others are dropped: the sample's
+// value is (1 / n) sum over the n traced of L(λ_k) film(λ_k) / p(λ_k), still
+// unbiased since each traced wavelength is drawn from the density. The lens
+// system traces 2, the hero and the wavelength half the distribution away
+// (lenscompare/render_spectral.py): bench/bench_spectral.py --cpu-time,
+// showcase through dgauss_abbe, time to 1 % relative RMSE over RGB's: one
+// 8.6x (its colour noise: 2.7x RGB's RMSE), two 3.9x, four 4.6x. A pair's
+// colour noise is what is left: the antipode beats any other spacing and
+// mirrored pairs (u, 1 - u), and refitting the density for pairs took 15 %
+// off it (numerically, for white), too little to matter. A camera that can
+// say when a wavelength's own sample gives the hero's very ray
+// (generate_rays_sharing: the thin and thick lens) traces all four, with
+// those wavelengths riding on the hero's ray and only the others traced.
+//
+// Tried and not kept (session 8, branch lambda1, commit b579fb3): control
+// variates, the secondaries on the hero's ray every sample and their own rays
+// on one sample in N adding N (own - shared). Unbiased, but a dispersed ray
+// sees something else often enough that the correction's noise outweighs the
+// rays saved: 4.4x RGB's time to 1 % for N = 2, 3; 4.7x for N = 4.
 //
 // Tried and not kept (session 7, branch mis): one ray per sample with the
 // secondaries weighted by multiple importance sampling over the four
@@ -30,7 +41,6 @@
 #include <utility>
 
 #include "render_tile.h"
-#include "rng.h"
 #include "spectral.h"
 
 namespace lc {
@@ -146,10 +156,9 @@ class SpectralRayPacket {
 
 // How a render's camera samples become rays (see the top of this file).
 enum class SpectralPath {
-    OneRay,            // the camera does not disperse: one ray carries all four wavelengths
-    RidingOnHero,      // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
-    CorrectedOnHero,   // secondaries on the hero's ray, their own rays on one sample in N correcting it
-    RayPerWavelength   // a ray per traced wavelength
+    OneRay,           // the camera does not disperse: one ray carries all four wavelengths
+    RidingOnHero,     // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
+    RayPerWavelength  // a ray per traced wavelength
 };
 
 template <class Camera>
@@ -157,8 +166,6 @@ SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) 
     if (!camera_disperses(camera)) return SpectralPath::OneRay;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
         if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
-    if (spectra.traced_wavelengths == kHeroWavelengths && spectra.secondaries_one_in > 0)
-        return SpectralPath::CorrectedOnHero;
     return SpectralPath::RayPerWavelength;
 }
 
@@ -176,9 +183,7 @@ class SpectralCameraSampleBatcher {
         : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
           packet_(packet), path_(path) {}
 
-    // corrected: this sample traces its secondaries' own rays (CorrectedOnHero only).
-    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot, bool corrected) {
-        corrected_[pending_] = corrected;
+    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot) {
         raster_px_[pending_] = raster_px;
         lens_[pending_] = lens;
         time_[pending_] = time_u;
@@ -192,7 +197,6 @@ class SpectralCameraSampleBatcher {
         switch (path_) {
             case SpectralPath::OneRay: flush_shared(); break;
             case SpectralPath::RidingOnHero: flush_riding(); break;
-            case SpectralPath::CorrectedOnHero: flush_corrected(); break;
             case SpectralPath::RayPerWavelength: flush_dispersed(); break;
         }
         pending_ = 0;
@@ -236,52 +240,6 @@ class SpectralCameraSampleBatcher {
         }
     }
 
-    // Control variates over the secondaries: each sample's hero ray carries all
-    // four wavelengths, as if the glass did not disperse (an estimate of the
-    // secondaries that is cheap but biased), and a corrected sample, one in N
-    // chosen independently of the sample's value, adds N times the difference
-    // between their own rays and that estimate:
-    //     E[shared_k + N [corrected] (own_k - shared_k)] = E[own_k],
-    // so the sum is unbiased. The difference is zero wherever a secondary's own
-    // ray sees what the hero's sees, i.e. almost everywhere: most samples cost
-    // one scene ray, and the noise is nearly RGB's.
-    void flush_corrected() {
-        const float every = float(spectra_.secondaries_one_in);
-        float nm[kCameraBatch][kHeroWavelengths];
-        bool any_corrected = false;
-        for (int i = 0; i < pending_; ++i) {
-            for (int k = 0; k < kHeroWavelengths; ++k) nm[i][k] = wavelengths_[i].nm[k];
-            any_corrected |= corrected_[i];
-        }
-        // All four through the glass when any sample needs its secondaries: one
-        // aim for the batch is cheaper than a second, mostly empty batch.
-        MaybeRay rays[kCameraBatch][kHeroWavelengths];
-        wavelength_rays(camera_, raster_px_, lens_, nm, pending_, any_corrected ? kHeroWavelengths : 1, rays);
-        for (int i = 0; i < pending_; ++i) {
-            const MaybeRay* own = rays[i];  // own[k]: wavelength k's own ray
-            int last = own[0] ? 0 : -1;
-            for (int k = 1; corrected_[i] && k < kHeroWavelengths; ++k)
-                if (own[k]) last = k;
-            if (own[0]) {
-                CameraRay ray = *own[0];
-                moved(&ray, time_[i]);
-                const float s = ray.weight / float(kHeroWavelengths);
-                // a corrected sample takes N times the shared estimate back off
-                const float shared = corrected_[i] ? s * (1.0f - every) : s;
-                const float scale[kHeroWavelengths] = {s, shared, shared, shared};
-                packet_.add(ray, time_[i], wavelengths_[i], 0, scale, last == 0, slot_[i]);
-            }
-            for (int k = 1; k <= last; ++k) {
-                if (!own[k]) continue;
-                CameraRay ray = *own[k];
-                moved(&ray, time_[i]);
-                float scale[kHeroWavelengths] = {0.0f, 0.0f, 0.0f, 0.0f};
-                scale[k] = every * ray.weight / float(kHeroWavelengths);
-                packet_.add(ray, time_[i], wavelengths_[i], 0, scale, k == last, slot_[i]);
-            }
-        }
-    }
-
     // A ray per traced wavelength (every stride-th of the four, hero first),
     // a sample's rays in wavelength order.
     void flush_dispersed() {
@@ -317,13 +275,9 @@ class SpectralCameraSampleBatcher {
     Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
     float time_[kCameraBatch];
     HeroWavelengths wavelengths_[kCameraBatch];
-    bool corrected_[kCameraBatch];
     size_t slot_[kCameraBatch];
     int pending_ = 0;
 };
-
-// The stream that picks a pixel's corrected samples (clear of the samplers' streams).
-constexpr uint64_t kCorrectedStream = 19;
 
 // render_tile (render.h) for a spectral render. The pixel loop is written out
 // again on purpose: one walker shared through a callback made the RGB thin
@@ -337,7 +291,6 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     SpectralRayPacket packet(scene, sums, path == SpectralPath::RayPerWavelength ? 1 : kHeroWavelengths);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true);
-    const int one_in = path == SpectralPath::CorrectedOnHero ? spectra.secondaries_one_in : 0;
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
         for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
@@ -347,14 +300,9 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
             samples.fill(s, pixel_index, end);
             stats.samples += uint64_t(end - first);
             const size_t slot = sums.slot(x, y);
-            // The corrected samples: every one_in-th from a random start per
-            // pixel, so each sample is one with probability 1 / one_in whatever
-            // its value, and they spread over the pixel's strata.
-            const int offset = one_in > 0 ? int(Pcg32(s.seed, pixel_index, kCorrectedStream).next_below(one_in)) : 0;
             for (int i = first; i < end; ++i)
                 batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
-                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot,
-                            one_in > 0 && (i + offset) % one_in == 0);
+                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot);
         }
     }
     batcher.flush();

@@ -77,12 +77,6 @@ struct SpectralTables {
     // distribution away; 4: all). Each traced one is still drawn from the
     // density, so any count is unbiased.
     int traced_wavelengths = kHeroWavelengths;
-    // A dispersive camera that cannot tell when a wavelength's ray is the
-    // hero's (the lens system), tracing all four: with N > 0, every sample's
-    // secondaries ride on the hero's ray and one sample in N also traces their
-    // own rays, which correct that estimate (render_tile_spectral.h); 0: a
-    // ray per wavelength on every sample.
-    int secondaries_one_in = 0;
 
     // The basis and the film's response over the density at nm (inverse_pdf: 1 / the density
     // there), by linear interpolation in the per-nm tables.
