@@ -48,7 +48,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
-           trace_secondaries: bool = True, postfilter_per_pixel_spp: bool = False,
+           traced_wavelengths: int | None = None, postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
@@ -91,10 +91,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         Force the progress bar on or off (default: on for a terminal only).
     spectral : bool, optional
         Override ``[render] spectral`` (:mod:`lenscompare.spectral`).
-    trace_secondaries : bool
-        Spectral renders through a dispersive camera: trace a ray per hero
-        wavelength (4 per sample; the default: 3-4x sooner to a given noise,
-        bench/bench_spectral.py) or, when False, the hero's alone.
+    traced_wavelengths : {1, 2, 4}, optional
+        Spectral renders through a dispersive camera: how many of each
+        sample's four hero wavelengths get a ray of their own
+        (:func:`lenscompare.render_spectral.traced_wavelengths_for`; default the
+        count that reaches a given noise soonest for the model).
     postfilter_per_pixel_spp : bool, optional
         ``postfilter`` (not adaptive) only: fewer pinhole samples where a
         pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),
@@ -158,7 +159,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
-                                   trace_secondaries=trace_secondaries) if settings.spectral else None)
+                                   traced_wavelengths=traced_wavelengths) if settings.spectral else None)
 
     start = time.perf_counter()
     pinhole_counts = depth = refined_info = None

@@ -32,11 +32,16 @@ __all__ = ["make_spectral"]
 _FOCAL_STEP_NM = 5.0
 
 
-def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_secondaries: bool = True) -> dict:
+def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
+                  traced_wavelengths: int | None = None) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
-    Returns what the image's metadata records about it.
+    ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
+    for the model). Returns what the image's metadata records about it.
     """
+    traced = traced_wavelengths_for(camera.model) if traced_wavelengths is None else traced_wavelengths
+    if traced not in (1, 2, 4):
+        raise ValueError(f"traced_wavelengths must be 1, 2 or 4, not {traced!r}")
     line_nm, radiance = [], []
     for name in scene.materials:
         m = scene.materials[name]
@@ -46,18 +51,35 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *, trace_se
     edges_nm, probabilities = wavelength_distribution([v for v in line_nm if v > 0])
     f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
     native_scene.set_spectral(basis_table(), film_table(), f64(edges_nm), f64(probabilities), f64(line_nm),
-                              f64(radiance), LINE_WIDTH_NM, trace_secondaries)
+                              f64(radiance), LINE_WIDTH_NM, traced)
     disperses = _set_dispersion(native_camera, scene, camera)
     return {"wavelengths_nm": [float(wavelengths_nm()[0]), float(wavelengths_nm()[-1])],
             "method": "hero wavelengths (Wilkie et al. 2014), Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
             "camera_disperses": disperses,
-            "secondaries": _secondaries(trace_secondaries, camera.model) if disperses else "shared ray"}
+            "secondaries": _secondaries(traced, camera.model) if disperses else "shared ray"}
 
 
-def _secondaries(trace_secondaries: bool, model: str) -> str:
+def traced_wavelengths_for(model: str) -> int:
+    """How many of a sample's four hero wavelengths a dispersive ``model`` traces, a ray each.
+
+    The lens system gives each traced wavelength a scene ray of its own, so
+    four per sample cost four rays for about RGB's noise; two (the hero and
+    the wavelength half the distribution away) reach 1 % relative RMSE on
+    showcase through dgauss_abbe sooner (3.9x RGB's time against 4.6x;
+    one: 8.6x, its colour noise too high; bench/bench_spectral.py). The thin
+    and thick lens trace all four: a secondary rides on the hero's ray
+    wherever that ray is its own, so most samples cost one ray anyway. The
+    composite keeps four (not measured with fewer).
+    """
+    return 2 if model == "lens" else 4
+
+
+def _secondaries(traced: int, model: str) -> str:
     """What the render did with the secondary wavelengths (render_tile_spectral.h)."""
-    if not trace_secondaries:
+    if traced == 1:
         return "terminated"
+    if traced == 2:
+        return "hero and antipode traced, others terminated"
     # The thin and thick lens know when a wavelength's own ray is the hero's.
     return "on the hero's ray where it is theirs, else traced" if model in ("thin", "thick") else "traced"
 

@@ -246,13 +246,15 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
                                                      CArray<const double, -1> probabilities,
                                                      CArray<const double, -1> line_nm,
                                                      CArray<const double, -1> line_radiance, double line_width_nm,
-                                                     bool trace_secondaries) {
+                                                     int traced_wavelengths) {
     const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
     if (basis.shape(0) != n_nm || film.shape(0) != n_nm)
         throw std::invalid_argument("spectral tables need one row per nm from 380 to 780");
     if (edges_nm.shape(0) != probabilities.shape(0) + 1 || probabilities.shape(0) < 1)
         throw std::invalid_argument("wavelength density: one more edge than segments");
     if (line_nm.shape(0) != line_radiance.shape(0)) throw std::invalid_argument("one line per material");
+    if (traced_wavelengths != 1 && traced_wavelengths != 2 && traced_wavelengths != kHeroWavelengths)
+        throw std::invalid_argument("traced_wavelengths: 1, 2 or 4");
     auto t = std::make_shared<SpectralTables>();
     for (size_t i = 0; i < n_nm; ++i) {
         t->basis.push_back(Vec3f{float(basis(i, 0)), float(basis(i, 1)), float(basis(i, 2))});
@@ -271,7 +273,7 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
         t->line_radiance.push_back(float(line_radiance(i)));
     }
     t->line_half_width_nm = float(0.5 * line_width_nm);
-    t->trace_secondaries = trace_secondaries;
+    t->traced_wavelengths = traced_wavelengths;
     return t;
 }
 
@@ -328,13 +330,13 @@ NB_MODULE(_native, m) {
              [](Scene& self, CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
                 CArray<const double, -1> edges_nm, CArray<const double, -1> probabilities,
                 CArray<const double, -1> line_nm, CArray<const double, -1> line_radiance, double line_width_nm,
-                bool trace_secondaries) {
+                int traced_wavelengths) {
                  if (line_nm.shape(0) != self.material_count()) throw std::invalid_argument("one line per material");
                  self.set_spectral(spectral_tables(basis, film, edges_nm, probabilities, line_nm, line_radiance,
-                                                   line_width_nm, trace_secondaries));
+                                                   line_width_nm, traced_wavelengths));
              },
              "basis"_a, "film"_a, "edges_nm"_a, "probabilities"_a, "line_nm"_a, "line_radiance"_a, "line_width_nm"_a,
-             "trace_secondaries"_a = true,
+             "traced_wavelengths"_a = 4,
              "Renders spectrally from now on (lenscompare/spectral.py's tables).");
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")

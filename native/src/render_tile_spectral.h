@@ -6,16 +6,27 @@
 // in linear sRGB, summed into the pixel like an RGB sample (TileAccumulator).
 //
 // A camera that disperses (generate_rays_at: its ray depends on the
-// wavelength) cannot share one ray between the four. Then either each
-// wavelength gets its own ray (trace_secondaries: 4 camera rays, the sample's
-// value their sum), or only the hero is traced and the secondaries are
-// dropped (pbrt-v4's TerminateSecondary: one ray, the sample's value
-// L(λ_0) film(λ_0) / p(λ_0)). Both are unbiased; bench/bench_spectral.py
-// measures which reaches a given noise sooner: one wavelength per sample
-// leaves so much colour noise that tracing all four wins despite 4x the rays
-// (the default). A camera that can say when a wavelength's own sample gives
-// the hero's very ray (generate_rays_sharing: the thin and thick lens) has
-// that wavelength ride on the hero's ray instead, and traces only the others.
+// wavelength) cannot share one ray between the four. Then 1, 2 or 4 of them
+// (SpectralTables::traced_wavelengths, evenly spaced through the rotation,
+// hero first) each get their own ray and the others are dropped: the sample's
+// value is (1 / n) sum over the n traced of L(λ_k) film(λ_k) / p(λ_k), still
+// unbiased since each traced wavelength is drawn from the density. The lens
+// system traces 2, the hero and the wavelength half the distribution away
+// (lenscompare/render_spectral.py): bench/bench_spectral.py --cpu-time,
+// showcase through dgauss_abbe, time to 1 % relative RMSE over RGB's: one
+// 8.6x (its colour noise: 2.7x RGB's RMSE), two 3.9x, four 4.6x. A pair's
+// colour noise is what is left: the antipode beats any other spacing and
+// mirrored pairs (u, 1 - u), and refitting the density for pairs took 15 %
+// off it (numerically, for white), too little to matter. A camera that can
+// say when a wavelength's own sample gives the hero's very ray
+// (generate_rays_sharing: the thin and thick lens) traces all four, with
+// those wavelengths riding on the hero's ray and only the others traced.
+//
+// Tried and not kept (session 8, branch lambda1, commit b579fb3): control
+// variates, the secondaries on the hero's ray every sample and their own rays
+// on one sample in N adding N (own - shared). Unbiased, but a dispersed ray
+// sees something else often enough that the correction's noise outweighs the
+// rays saved: 4.4x RGB's time to 1 % for N = 2, 3; 4.7x for N = 4.
 //
 // Tried and not kept (session 7, branch mis): one ray per sample with the
 // secondaries weighted by multiple importance sampling over the four
@@ -154,7 +165,7 @@ template <class Camera>
 SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) {
     if (!camera_disperses(camera)) return SpectralPath::OneRay;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
-        if (spectra.trace_secondaries) return SpectralPath::RidingOnHero;
+        if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
     return SpectralPath::RayPerWavelength;
 }
 
@@ -229,12 +240,13 @@ class SpectralCameraSampleBatcher {
         }
     }
 
-    // A ray per traced wavelength, a sample's rays in wavelength order.
+    // A ray per traced wavelength (every stride-th of the four, hero first),
+    // a sample's rays in wavelength order.
     void flush_dispersed() {
-        const int traced = spectra_.trace_secondaries ? kHeroWavelengths : 1;
+        const int traced = spectra_.traced_wavelengths, stride = kHeroWavelengths / traced;
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
-            for (int k = 0; k < kHeroWavelengths; ++k) nm[i][k] = wavelengths_[i].nm[k];
+            for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
         MaybeRay rays[kCameraBatch][kHeroWavelengths];
         wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -245,7 +257,7 @@ class SpectralCameraSampleBatcher {
                 if (!rays[i][k]) continue;
                 moved(&*rays[i][k], time_[i]);
                 const float scale = rays[i][k]->weight / float(traced);
-                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k, &scale, k == last, slot_[i]);
+                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k * stride, &scale, k == last, slot_[i]);
             }
         }
     }

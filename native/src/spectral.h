@@ -71,10 +71,12 @@ struct SpectralTables {
     // Per material: its line (nm; 0: none) and the radiance per nm in the line's band.
     std::vector<float> line_nm, line_radiance;
     float line_half_width_nm = 0.5f;
-    // A dispersive camera: true traces one ray per wavelength (4 per camera
-    // sample), false traces the hero only and drops the secondaries (pbrt-v4's
-    // TerminateSecondary).
-    bool trace_secondaries = true;
+    // A dispersive camera traces this many of a sample's four wavelengths, a
+    // ray each, evenly spaced through the rotation (1: the hero alone, as
+    // pbrt-v4's TerminateSecondary; 2: the hero and the wavelength half the
+    // distribution away; 4: all). Each traced one is still drawn from the
+    // density, so any count is unbiased.
+    int traced_wavelengths = kHeroWavelengths;
 
     // The basis and the film's response over the density at nm (inverse_pdf: 1 / the density
     // there), by linear interpolation in the per-nm tables.
