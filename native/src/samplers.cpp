@@ -183,6 +183,11 @@ PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping) {
 }
 
 Point2f map_to_disk(Point2f u, DiskMapping mapping) {
+    if (mapping == DiskMapping::Concentric) {
+        double x, y;
+        concentric_disk(u, &x, &y);
+        return {float(x), float(y)};
+    }
     PolarDiskPoint p = map_to_disk_polar(u, mapping);
     return {p.r * std::cos(p.theta), p.r * std::sin(p.theta)};
 }

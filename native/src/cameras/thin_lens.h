@@ -38,12 +38,13 @@ struct ThinLensCamera {
     // rays as generate_ray, bit for bit.
     void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
         double screen_x[kCameraBatch], screen_y[kCameraBatch], lens_x[kCameraBatch], lens_y[kCameraBatch];
+        const bool concentric_circle = aperture.blades == 0 && disk_mapping == DiskMapping::Concentric;
+        if (concentric_circle) concentric_disk_lanes(n, lens_sample, lens_x, lens_y);
         for (int i = 0; i < n; ++i) {
             const Vec3d screen = film.direction(raster_px[i]);
             screen_x[i] = screen.x, screen_y[i] = screen.y;
-            double ax, ay;
-            aperture.sample(lens_sample[i], disk_mapping, &ax, &ay);
-            lens_x[i] = lens_radius_m * ax, lens_y[i] = lens_radius_m * ay;
+            if (!concentric_circle) aperture.sample(lens_sample[i], disk_mapping, &lens_x[i], &lens_y[i]);
+            lens_x[i] *= lens_radius_m, lens_y[i] *= lens_radius_m;
         }
         double origin[3][kCameraBatch], direction[3][kCameraBatch];
         double* const origin_rows[3] = {origin[0], origin[1], origin[2]};

@@ -29,4 +29,10 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void thin_lens_rays
     }
 }
 
+__attribute__((target_clones("default", "avx2", "avx512f"))) void concentric_disk_lanes(int n,
+                                                                                      const Point2f* lens_sample,
+                                                                                      double* disk_x, double* disk_y) {
+    for (int i = 0; i < n; ++i) concentric_disk(lens_sample[i], &disk_x[i], &disk_y[i]);
+}
+
 }  // namespace lc

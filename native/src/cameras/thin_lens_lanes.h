@@ -4,6 +4,7 @@
 // waiting on their latency; side by side in SIMD lanes those overlap.
 #pragma once
 
+#include "samplers.h"
 #include "vec.h"
 
 namespace lc {
@@ -15,5 +16,9 @@ namespace lc {
 void thin_lens_rays_lanes(int n, const double* screen_x, const double* screen_y, const double* lens_x_m,
                           const double* lens_y_m, double inverse_focus_per_m, const Frame& world_from_camera,
                           double* const origin_m[3], double* const direction[3]);
+
+// Lens samples to points of the unit disk by the concentric map, lane by
+// lane: concentric_disk (samplers.h) for each, so the same bits as map_to_disk.
+void concentric_disk_lanes(int n, const Point2f* lens_sample, double* disk_x, double* disk_y);
 
 }  // namespace lc
