@@ -35,7 +35,7 @@ from ..progress import progress_bar
 from ..scene import MODELS, Scene
 from . import plots
 from .chromatic import chromatic_section
-from .chromatic_measure import measure_lateral_color
+from .chromatic_measure import measure_lateral_color, measure_longitudinal_color
 from .html import render_page
 from .save import save_runs
 
@@ -180,8 +180,8 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
 
 
 def _measure_chromatic(scenes: list[Scene], settings: ExperimentSettings) -> dict[str, dict]:
-    """Lateral colour measured on a spectral render of a monochromatic dot
-    chart (report/chromatic_measure.py) for each scene whose lens disperses;
+    """Lateral and longitudinal colour measured on spectral renders of
+    monochromatic dots (report/chromatic_measure.py) for each scene whose lens disperses;
     scenes with the same camera share one render. Rendered here, not on the
     cluster: it is one small image per camera."""
     measured, by_camera = {}, {}
@@ -190,10 +190,12 @@ def _measure_chromatic(scenes: list[Scene], settings: ExperimentSettings) -> dic
         key = (camera.lens.sha256, camera.film_mm, camera.resolution, camera.f_number, camera.focus_distance_m,
                camera.focus_mode, camera.aperture_blades, camera.aperture_rotation_deg)
         if key not in by_camera:
-            by_camera[key] = measure_lateral_color(scene, threads=settings.threads)
-        result = by_camera[key]
+            by_camera[key] = (measure_lateral_color(scene, threads=settings.threads),
+                              measure_longitudinal_color(scene, threads=settings.threads))
+        result, disk = by_camera[key]
         if result is not None:
-            measured[scene.name] = {"lateral_color_px": result.corner_px, "longitudinal_color_px": None,
+            measured[scene.name] = {"lateral_color_px": result.corner_px,
+                                    "longitudinal_color_px": None if disk is None else disk[0],
                                     "fields_deg": list(result.field_deg), "measured_px": list(result.measured_px),
                                     "predicted_px": list(result.predicted_px), "seconds": result.seconds}
     return measured

@@ -1,14 +1,18 @@
 """The report's chromatic section: how much colour each scene's lens shows.
 
-For each scene whose lens disperses, the report also measures lateral colour
-on a spectral render (:mod:`lenscompare.report.chromatic_measure`: a chart of
-F-line and C-line dots through the scene's lens system, measured with
-:func:`lenscompare.metrics.lateral_color`) and passes it as ``measured``, a
-dict of scene name to measured sizes ({"lateral_color_px": ...,
-"longitudinal_color_px": ...}, optionally "fields_deg", "measured_px" and
-"predicted_px" per field). Longitudinal colour is not measured yet
-(:func:`lenscompare.metrics.channel_blur_disks` on blur disks would); rows
-without a measurement read None.
+For each report scene (with the lens the report rendered it through): the
+planner's ``lateral_color`` and ``longitudinal_color`` (px) and the lens's
+``chromatic_focal_shift_mm``, in a table beside the chromatic teaching figure.
+
+For each scene whose lens disperses, the report also measures both sizes on
+spectral renders (:mod:`lenscompare.report.chromatic_measure`): lateral
+colour on a chart of F-line and C-line dots through the scene's lens system
+(:func:`lenscompare.metrics.lateral_color`), longitudinal colour on one
+F-line blur disk at the C focus (:func:`lenscompare.metrics.measure_blur_disk`).
+They come in as ``measured``, a dict of scene name to measured sizes
+({"lateral_color_px": ..., "longitudinal_color_px": ...}, optionally
+"fields_deg", "measured_px" and "predicted_px" per field). Rows without a
+measurement read None.
 """
 
 from __future__ import annotations
@@ -89,8 +93,12 @@ def chromatic_section(plans: dict[str, tuple[Scene, Plan | dict]], *, figure: st
                  "onto the F half and the F minus C radial centroid shift measured with "
                  "lenscompare.metrics.lateral_color, at the corner field (the column) and at 0.7 of it. ")
         note += " ".join(_field_text(name, seen) for name, seen in measured.items() if seen.get("fields_deg"))
-        note += (" Longitudinal colour is not measured (the report renders no blur disks at F and C)."
-                 if not any(seen.get("longitudinal_color_px") is not None for seen in measured.values()) else "")
+        note += (" Measured longitudinal colour: one F-line dot on the axis rendered through the lens system "
+                 "with the film at the C line's paraxial focus (128 spp), its blur disk's second-moment "
+                 "diameter (lenscompare.metrics.measure_blur_disk); real rays, so it exceeds the paraxial "
+                 "prediction where the F light's spherical aberration adds to the defocus."
+                 if any(seen.get("longitudinal_color_px") is not None for seen in measured.values())
+                 else " Longitudinal colour is not measured.")
     else:
         note += ("Not measured: no lens disperses, or the report's renders are RGB and no spectral chart was "
                  "rendered.")

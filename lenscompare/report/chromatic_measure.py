@@ -20,8 +20,13 @@ lens system (its lens, f-number, focus distance and mode, film):
   :func:`lenscompare.metrics.lateral_color` measures: its red-minus-blue
   radial shift is then C minus F.
 
-Longitudinal colour is not measured here (it needs the film at the C focus
-or an F and a C disk on the axis: two more renders).
+Longitudinal colour is measured the same way: the planner's
+(:func:`lenscompare.plan.effects.longitudinal_color`) is the diameter of the
+F light's blur disk where the C light focuses (paraxial), so one F-line dot
+on the axis is rendered through the lens system with the film moved to the C
+line's paraxial image, on a small film around the axis, and its
+second-moment diameter measured with :func:`lenscompare.metrics.measure_blur_disk`
+(a uniform disk reads its diameter; the dot's own image is removed).
 """
 
 from __future__ import annotations
@@ -35,14 +40,15 @@ import numpy as np
 from ..cameras import camera_for
 from ..cameras.frame import CameraFrame
 from ..errors import InputError
-from ..lenses.chromatic import chief_ray_height_at_mm, lateral_color_mm
+from ..lenses import stopped_down
+from ..lenses.chromatic import axial_image_z_mm, chief_ray_height_at_mm, lateral_color_mm, longitudinal_color_blur_mm
 from ..lenses.glass import C_NM, D_NM, F_NM
-from ..metrics import lateral_color
+from ..metrics import lateral_color, measure_blur_disk
 from ..plan.effects import corner_field_deg, ideal_camera
 from ..render import render
 from ..scene import EmissiveMaterial, RenderSettings, Scene, Sphere
 
-__all__ = ["LateralColorMeasurement", "measure_lateral_color", "FIELD_FRACTIONS", "FILM_MARGIN", "SPP", "SEED"]
+__all__ = ["LateralColorMeasurement", "measure_lateral_color", "measure_longitudinal_color", "FIELD_FRACTIONS", "FILM_MARGIN", "SPP", "SEED"]
 
 FIELD_FRACTIONS = (0.7, 1.0)
 """Dot fields as fractions of the corner field angle: mid-field and the film corner (the prediction's)."""
@@ -57,6 +63,12 @@ DOT_DIAMETER_PX = 3.0
 SPP = 64
 """Samples per pixel of the measuring render (measured: the corner reading moves < 2 % from 32 to 128)."""
 SEED = 15
+DISK_FILM_PX = 64
+"""The longitudinal-colour render's square film, pixels; it spans DISK_FILM_SPAN disks."""
+DISK_FILM_SPAN = 4.0
+DISK_SOURCE_FRACTION = 0.15
+"""The F dot's own image diameter over the predicted disk's (removed from the measurement)."""
+DISK_SPP = 128
 
 
 @dataclass(frozen=True)
@@ -185,3 +197,54 @@ def _d_radius_mm(system, field_deg: float) -> float:
     """Film height (mm) of the d chief ray at ``field_deg``: where to look for that field's dots."""
     return abs(chief_ray_height_at_mm(system.prescription, field_deg, wavelength_nm=D_NM,
                                       film_z_mm=system.film_z_mm, focus_distance_m=system.focus_distance_m))
+
+
+def measure_longitudinal_color(scene: Scene, *, threads: int | None = None) -> tuple[float, float] | None:
+    """Render an F-line dot on the axis with the film at the C focus and measure its blur disk.
+
+    Parameters
+    ----------
+    scene : Scene
+        A scene as the report renders it (its lens resolved).
+    threads : int, optional
+        Render threads (the image is the same whatever the count).
+
+    Returns
+    -------
+    (float, float) or None
+        Measured and predicted disk diameter, the scene's pixels; None, with
+        no render, when the lens does not disperse, the scene has no finite
+        plane of focus or no f-number, or the prediction is 0.
+    """
+    lens = scene.camera.lens
+    if lens is None or not lens.disperses or not math.isfinite(scene.camera.focus_distance_m):
+        return None
+    ideal = ideal_camera(scene)
+    if ideal.f_number is None:
+        return None
+    predicted_mm = longitudinal_color_blur_mm(stopped_down(lens, ideal.f_number),
+                                              focus_distance_m=scene.camera.focus_distance_m)
+    if predicted_mm <= 0.0:
+        return None
+    side_mm = DISK_FILM_SPAN * predicted_mm
+    pitch_mm = side_mm / DISK_FILM_PX
+    camera = scene.camera
+    origin, _, _, forward = (np.asarray(v) for v in CameraFrame.of(camera))
+    distance_m = camera.focus_distance_m
+    focal_mm = camera_for(scene, "lens").paraxial.effective_focal_length_mm
+    source_mm = DISK_SOURCE_FRACTION * predicted_mm
+    dot = Sphere(tuple(float(c) for c in origin + distance_m * forward), 0.5 * source_mm * distance_m / focal_mm,
+                 "f_line")
+    chart = dataclasses.replace(
+        scene.with_camera(model="lens", film_mm=(side_mm, side_mm), resolution=(DISK_FILM_PX, DISK_FILM_PX),
+                          velocity=(0.0, 0.0, 0.0)),
+        render=RenderSettings(spp=DISK_SPP, sampler="sobol", seed=SEED, spectral=True),
+        background=(0.0, 0.0, 0.0), materials={"f_line": EmissiveMaterial("f_line", (1.0, 1.0, 1.0), F_NM)},
+        objects=(dot,), lights=())
+    system = camera_for(chart, "lens")
+    c_focus_mm = axial_image_z_mm(lens, wavelength_nm=C_NM, focus_distance_m=system.focus_distance_m)
+    image = render(chart, camera=dataclasses.replace(system, film_z_mm=c_focus_mm),
+                   threads=threads, progress=False)
+    luminance = image.pixels @ np.array([0.2126, 0.7152, 0.0722])
+    disk = measure_blur_disk(luminance, source_diameter_px=source_mm / pitch_mm)
+    return disk.second_moment_diameter_px * pitch_mm / ideal.pixel_pitch_mm, predicted_mm / ideal.pixel_pitch_mm
