@@ -35,6 +35,7 @@ from ..progress import progress_bar
 from ..scene import MODELS, Scene
 from . import plots
 from .chromatic import chromatic_section
+from .chromatic_measure import measure_lateral_color, measure_longitudinal_color
 from .html import render_page
 from .save import save_runs
 
@@ -95,10 +96,10 @@ def build_report(scenes: list[Scene], out_dir: str | os.PathLike, settings: Expe
     results["time_plot"] = "plots/" + plots.plot_times(results["renders"], out / "plots" / "times.png")
     results["cost"] = _cost_section(scenes, out, settings, stems, cluster)
     results["teaching_figures"] = _teaching_figures(out, settings, results["notes"])
-    # Predicted sizes only; spectral renders measured here later (see report/chromatic.py).
     results["chromatic"] = chromatic_section(
         {scene.name: (scene, results["scenes"][scene.name]["plan"]) for scene, _ in prepared},
-        figure=results["teaching_figures"].get("chromatic"))
+        figure=results["teaching_figures"].get("chromatic"),
+        measured=_measure_chromatic([scene for scene, _ in prepared], settings))
     results["total_seconds"] = time.perf_counter() - start
     results["provenance"] = _provenance(scenes, prepared, settings)
     with atomic_output(out / "results.json") as tmp:
@@ -176,6 +177,28 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
         plan["noise_variance_ratio_vs_lens"] = ratio
         plan["time_saved_at_equal_noise_seconds"] = full.seconds - chosen_seconds * ratio
     return plan
+
+
+def _measure_chromatic(scenes: list[Scene], settings: ExperimentSettings) -> dict[str, dict]:
+    """Lateral and longitudinal colour measured on spectral renders of
+    monochromatic dots (report/chromatic_measure.py) for each scene whose lens disperses;
+    scenes with the same camera share one render. Rendered here, not on the
+    cluster: it is one small image per camera."""
+    measured, by_camera = {}, {}
+    for scene in scenes:
+        camera = scene.camera
+        key = (camera.lens.sha256, camera.film_mm, camera.resolution, camera.f_number, camera.focus_distance_m,
+               camera.focus_mode, camera.aperture_blades, camera.aperture_rotation_deg)
+        if key not in by_camera:
+            by_camera[key] = (measure_lateral_color(scene, threads=settings.threads),
+                              measure_longitudinal_color(scene, threads=settings.threads))
+        result, disk = by_camera[key]
+        if result is not None:
+            measured[scene.name] = {"lateral_color_px": result.corner_px,
+                                    "longitudinal_color_px": None if disk is None else disk[0],
+                                    "fields_deg": list(result.field_deg), "measured_px": list(result.measured_px),
+                                    "predicted_px": list(result.predicted_px), "seconds": result.seconds}
+    return measured
 
 
 def _cost_section(scenes, out: Path, settings: ExperimentSettings, stems: dict[str, str],

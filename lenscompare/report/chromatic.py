@@ -1,18 +1,18 @@
 """The report's chromatic section: how much colour each scene's lens shows.
 
-Today the section is predictions only: for each report scene (with the lens
-the report rendered it through), the planner's ``lateral_color`` and
-``longitudinal_color`` (px) and the lens's ``chromatic_focal_shift_mm``, in a
-table beside the chromatic teaching figure. No render shows colour yet: the
-report renders RGB.
+For each report scene (with the lens the report rendered it through): the
+planner's ``lateral_color`` and ``longitudinal_color`` (px) and the lens's
+``chromatic_focal_shift_mm``, in a table beside the chromatic teaching figure.
 
-Hook for spectral renders: :func:`chromatic_section` takes ``measured``, a
-dict of scene name to measured sizes ({"lateral_color_px": ...,
-"longitudinal_color_px": ...}), which the report will fill from spectral
-renders of a dot grid and of blur disks through
-:func:`lenscompare.metrics.lateral_color` and
-:func:`lenscompare.metrics.channel_blur_disks` once the spectral render loop
-is merged (``[render] spectral``). Rows without a measurement read None.
+For each scene whose lens disperses, the report also measures both sizes on
+spectral renders (:mod:`lenscompare.report.chromatic_measure`): lateral
+colour on a chart of F-line and C-line dots through the scene's lens system
+(:func:`lenscompare.metrics.lateral_color`), longitudinal colour on one
+F-line blur disk at the C focus (:func:`lenscompare.metrics.measure_blur_disk`).
+They come in as ``measured``, a dict of scene name to measured sizes
+({"lateral_color_px": ..., "longitudinal_color_px": ...}, optionally
+"fields_deg", "measured_px" and "predicted_px" per field). Rows without a
+measurement read None.
 """
 
 from __future__ import annotations
@@ -86,7 +86,27 @@ def chromatic_section(plans: dict[str, tuple[Scene, Plan | dict]], *, figure: st
             "difference at the film corner, longitudinal colour the F blur disk at the C focus. ")
     note += ("" if dispersing else "None of the report's lenses disperses (no Abbe number or glass in the lens "
              "file's 5th column), so every size is 0; run the report with --lens on a lens that does. ")
-    note += ("Measured on spectral renders." if measured else
-             "Not measured: the report's renders are RGB (spectral renders, [render] spectral, are not "
-             "part of the report yet).")
+    if measured:
+        note += ("Measured lateral colour: one spectral render per lens camera (the lens system, 64 spp, seed 15) of "
+                 "white dots emitting only the F line (486.13 nm) on one side and only the C line (656.27 nm) "
+                 "on the other, on the plane of focus along the film diagonals; the C half turned 180 degrees "
+                 "onto the F half and the F minus C radial centroid shift measured with "
+                 "lenscompare.metrics.lateral_color, at the corner field (the column) and at 0.7 of it. ")
+        note += " ".join(_field_text(name, seen) for name, seen in measured.items() if seen.get("fields_deg"))
+        note += (" Measured longitudinal colour: one F-line dot on the axis rendered through the lens system "
+                 "with the film at the C line's paraxial focus (128 spp), its blur disk's second-moment "
+                 "diameter (lenscompare.metrics.measure_blur_disk); real rays, so it exceeds the paraxial "
+                 "prediction where the F light's spherical aberration adds to the defocus."
+                 if any(seen.get("longitudinal_color_px") is not None for seen in measured.values())
+                 else " Longitudinal colour is not measured.")
+    else:
+        note += ("Not measured: no lens disperses, or the report's renders are RGB and no spectral chart was "
+                 "rendered.")
     return {"rows": rows, "figure": figure, "spectral_renders": bool(measured), "note": note}
+
+
+def _field_text(name: str, seen: dict) -> str:
+    """'scene: measured / predicted px at each field' for the note."""
+    pairs = ", ".join(f"{m:+.3g} / {p:+.3g} px at {f:.3g} deg"
+                      for f, m, p in zip(seen["fields_deg"], seen["measured_px"], seen["predicted_px"]))
+    return f"{name}: F - C measured / predicted {pairs}."
