@@ -280,28 +280,28 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     CameraHits hits;
     trace_camera_rays(rays, hits);
 
-    // Surface points of the diffuse hits; misses and emitters are final already.
+    // Misses and emitters are final already; diffuse hits start from their
+    // emission and gather their material for the lanes' shading.
+    float rgb[3][kPacketSize] = {};
     for (int i = 0; i < rays.count; ++i) {
-        if (hits.missed(i)) {
-            out[i] = background_;
-            continue;
+        Vec3f c = background_;
+        if (!hits.missed(i)) {
+            const Material& m = materials_[size_t(material_of(hits, i))];
+            c = m.kind == MaterialKind::Emissive ? m.color : m.emission;
+            if (m.kind != MaterialKind::Emissive) gather_surface(rays, hits, i, m);
         }
-        const Material& m = materials_[size_t(material_of(hits, i))];
-        if (m.kind == MaterialKind::Emissive) {
-            out[i] = m.color;
-            continue;
-        }
-        diffuse_surface(rays, hits, i, m);
-        out[i] = m.emission;
+        rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
     }
+    surface_lanes(hits.packet, hits.surface);
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, rays, hits, shadow)) continue;
-        for (int i = 0; i < rays.count; ++i)
-            if (shadow.lit(i)) out[i] += hits.albedo[i] * light.intensity * (shadow.cos_theta[i] * shadow.falloff[i]);
+        if (!trace_shadow_rays(light, hits, shadow)) continue;
+        const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
+        add_light_lanes(intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
     }
+    for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
 }
 
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {

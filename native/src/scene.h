@@ -17,6 +17,7 @@
 
 #include "embree_packet.h"
 #include "motion.h"
+#include "shading_lanes.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
 #include "vec.h"
@@ -116,15 +117,12 @@ class Scene {
         RTCIntersectContext context;  // coherent rays; shadow rays reuse it
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
-        bool diffuse[kPacketSize] = {};    // set by diffuse_surface, with the next three
-        Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];  // point (m), normal facing the ray, albedo
+        SurfaceLanes surface;              // gathered by gather_surface, found by surface_lanes
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
-        alignas(kPacketAlignment) int valid[kPacketSize];
+        ShadowLanes lanes;  // valid, cos_theta, falloff
         alignas(kPacketAlignment) RTCRayPacket packet;
-        float cos_theta[kPacketSize] = {};
-        float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
         int start_sphere[kPacketSize];    // the own sphere the ray starts on, or -1
         int self_blocks[kPacketSize];     // that sphere blocks it (it starts inside toward a light outside)
         bool lit(int i) const;            // traced and not blocked
@@ -132,10 +130,10 @@ class Scene {
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
     // The material index of hit i (not a miss).
     int material_of(const CameraHits& hits, int i) const;
-    // Marks hit i diffuse and finds its point, normal and albedo there.
-    void diffuse_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const;
-    // Shadow rays from the diffuse hits toward light, traced; false when none was needed.
-    bool trace_shadow_rays(const PointLight& light, const RayBatch& rays, CameraHits& hits, ShadowRays& shadow) const;
+    // Marks hit i diffuse and gathers what surface_lanes needs of its material and motion.
+    void gather_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const;
+    // Shadow rays from the diffuse hits (surface_lanes done) toward light, traced; false when none was needed.
+    bool trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const;
     void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
                           bool* hit_mover) const;
     void occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const;

@@ -1,0 +1,57 @@
+// The arithmetic of shading one packet, lane by lane without branches (SoA):
+// the diffuse hits' points, normals and albedo, the shadow rays toward one
+// light, and each lit lane's share of that light. Per ray in scalar code,
+// with a branch per lane, this set-up cost as much as Embree's shadow query
+// (perf on showcase: trace_shadow_rays 10.8 % of the render, occluded 4.7 %).
+// What needs tables (a hit's material, a mover's velocity) is gathered per
+// lane first (scene_trace.cpp); these kernels then run the lanes side by side,
+// compiled once per instruction set (target_clones, as motion.cpp).
+// Every kernel gives the same bits as the scalar code it replaced: the same
+// correctly rounded operations in the same order, no fused multiply-adds
+// (CMakeLists.txt), and selects where that code skipped a lane.
+#pragma once
+
+#include "embree_packet.h"
+
+namespace lc {
+
+// One packet's diffuse hits: what the gather fills (lanes that are not
+// diffuse hits stay zero), and what surface_lanes finds.
+struct SurfaceLanes {
+    // Gathered per lane
+    alignas(kPacketAlignment) int diffuse[kPacketSize] = {};  // -1: a diffuse hit
+    float color[3][kPacketSize] = {};          // albedo, and the odd checker cubes' albedo
+    float checker_color[3][kPacketSize] = {};
+    float checker_size_m[kPacketSize] = {};    // 0: no checker
+    int moving[kPacketSize] = {};              // -1: the hit object moves; the checker is read where it was at t = 0
+    float shift_m[3][kPacketSize] = {};        // velocity x shutter time: how far it moved since t = 0
+    // Found by surface_lanes
+    float p[3][kPacketSize];       // point (m)
+    float n[3][kPacketSize];       // unit normal facing the ray
+    float albedo[3][kPacketSize];
+};
+
+// Point, normal (two-sided: the side the ray sees) and albedo of every
+// diffuse lane, from the traced camera packet (its origins, directions, hit
+// distances and geometric normals).
+void surface_lanes(const RTCRayHitPacket& camera, SurfaceLanes& s);
+
+// One packet of shadow rays from the diffuse lanes toward a point light.
+struct ShadowLanes {
+    alignas(kPacketAlignment) int valid[kPacketSize];  // -1: traced (a diffuse hit facing the light)
+    float cos_theta[kPacketSize];  // at the surface; used only where valid
+    float falloff[kPacketSize];    // 1, or 1 / d^2 from the lit point
+};
+
+// Fills shadow (and packet's rays, idle lanes with a harmless ray) for the
+// light at light_m; time[i] is each camera ray's shutter time, which its
+// shadow ray keeps. Returns whether any lane is valid.
+bool shadow_lanes(const float light_m[3], bool inverse_square, const SurfaceLanes& s, const float* time,
+                  ShadowLanes& shadow, RTCRayPacket& packet);
+
+// rgb += albedo x intensity x (cos_theta x falloff) on the lanes the light
+// reaches: valid and not blocked (Embree's tfar of -inf).
+void add_light_lanes(const float intensity[3], const SurfaceLanes& s, const ShadowLanes& shadow,
+                     const float* shadow_tfar, float (&rgb)[3][kPacketSize]);
+
+}  // namespace lc
