@@ -59,14 +59,12 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void surface_lanes(
         s.n[2][i] = away ? -nz : nz;
     }
     // The checker is read where the point was at t = 0 (p - shift on a moving lane).
-    float moved[3][N], texture[3][N];
-    for (int i = 0; i < N; ++i)
-        for (int a = 0; a < 3; ++a) moved[a][i] = s.p[a][i] - s.shift_m[a][i];
+    float texture[3][N];
     for (int i = 0; i < N; ++i) {
         const bool moving = s.moving[i] != 0;
-        texture[0][i] = moving ? moved[0][i] : s.p[0][i];
-        texture[1][i] = moving ? moved[1][i] : s.p[1][i];
-        texture[2][i] = moving ? moved[2][i] : s.p[2][i];
+        texture[0][i] = moving ? s.p[0][i] - s.shift_m[0][i] : s.p[0][i];
+        texture[1][i] = moving ? s.p[1][i] - s.shift_m[1][i] : s.p[1][i];
+        texture[2][i] = moving ? s.p[2][i] - s.shift_m[2][i] : s.p[2][i];
     }
     int odd[N];
     // A lane without a checker divides by 0; the select below discards it.
@@ -137,16 +135,19 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) bool shadow_lanes(
 __attribute__((target_clones("default", "avx2", "avx512f"))) void add_light_lanes(
     const float intensity[3], const SurfaceLanes& __restrict s, const ShadowLanes& __restrict shadow,
     const float* __restrict shadow_tfar, float (&__restrict rgb)[3][kPacketSize]) {
-    float lit_rgb[3][N];
-    for (int a = 0; a < 3; ++a)
-        for (int i = 0; i < N; ++i)
-            lit_rgb[a][i] = rgb[a][i] + s.albedo[a][i] * intensity[a] * (shadow.cos_theta[i] * shadow.falloff[i]);
+    const float red = intensity[0], green = intensity[1], blue = intensity[2];
+    // One loop over the lanes, the channels written out: nested in a loop over
+    // channels, GCC unrolls the lanes and shuffles them back together.
     for (int i = 0; i < N; ++i) {
         const bool lit = (shadow.valid[i] != 0) & (shadow_tfar[i] != -INFINITY);
+        const float scale = shadow.cos_theta[i] * shadow.falloff[i];
+        const float r = rgb[0][i], g = rgb[1][i], b = rgb[2][i];
+        const float r_lit = r + s.albedo[0][i] * red * scale, g_lit = g + s.albedo[1][i] * green * scale,
+                    b_lit = b + s.albedo[2][i] * blue * scale;
         // A select, not + 0: a sum of -0 and +0 would change a zero's sign
-        rgb[0][i] = lit ? lit_rgb[0][i] : rgb[0][i];
-        rgb[1][i] = lit ? lit_rgb[1][i] : rgb[1][i];
-        rgb[2][i] = lit ? lit_rgb[2][i] : rgb[2][i];
+        rgb[0][i] = lit ? r_lit : r;
+        rgb[1][i] = lit ? g_lit : g;
+        rgb[2][i] = lit ? b_lit : b;
     }
 }
 
