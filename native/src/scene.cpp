@@ -251,6 +251,7 @@ Scene::Scene(const SceneArrays& a)
         if (own_spheres_id_ == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
     }
     sphere_kernel_ = fastest_sphere_kernel();
+    shading_kernel_ = shading_kernel();
     rtcCommitScene(scene_);
     if (motion_scene_) rtcCommitScene(motion_scene_);
     movers_.finish();
@@ -292,14 +293,14 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         }
         rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
     }
-    surface_lanes(hits.packet, hits.surface);
+    surface_lanes(shading_kernel_, hits.packet, hits.surface);
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
         if (!trace_shadow_rays(light, hits, shadow)) continue;
         const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
-        add_light_lanes(intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
+        add_light_lanes(shading_kernel_, intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
     }
     for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
 }

@@ -147,6 +147,7 @@ class Scene {
     std::vector<float> own_spheres_;
     unsigned own_spheres_id_ = RTC_INVALID_GEOMETRY_ID;
     SphereKernel sphere_kernel_ = SphereKernel::Default;
+    ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;

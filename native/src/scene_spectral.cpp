@@ -33,7 +33,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
         gather_surface(rays, hits, i, m);
         for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(m.emission, basis[i][k]);
     }
-    surface_lanes(hits.packet, hits.surface);
+    surface_lanes(shading_kernel_, hits.packet, hits.surface);
     for (int i = 0; i < rays.count; ++i) {
         if (!hits.surface.diffuse[i]) continue;
         const Vec3f albedo{hits.surface.albedo[0][i], hits.surface.albedo[1][i], hits.surface.albedo[2][i]};

@@ -86,8 +86,8 @@ void Scene::gather_surface(const RayBatch& rays, CameraHits& hits, int i, const 
 bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const {
     const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
     RTCRayPacket& packet = shadow.packet;
-    const bool any = shadow_lanes(light_m, light.inverse_square, hits.surface, hits.packet.ray.time, shadow.lanes,
-                                  packet);
+    const bool any = shadow_lanes(shading_kernel_, light_m, light.inverse_square, hits.surface, hits.packet.ray.time,
+                                  shadow.lanes, packet);
     if (!any) return false;
     const int* valid = shadow.lanes.valid;
     RTCIntersectContext& context = hits.context;

@@ -1,6 +1,9 @@
 #include "shading_lanes.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
 
 namespace lc {
 namespace {
@@ -33,15 +36,13 @@ constexpr float kNearestFalloffM2 = 1e-8f;
     return m < 1.0f ? 1.0f : m;
 }
 
-}  // namespace
-
 // Each kernel computes every value on every lane into local arrays, then
 // selects: with the selects in the same loop as the arithmetic, GCC moves the
 // arithmetic under the condition, and then keeps the loop scalar (an
 // operation under a condition might trap).
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void surface_lanes(
-    const RTCRayHitPacket& __restrict camera, SurfaceLanes& __restrict s) {
+[[gnu::always_inline]] inline void surface_body(const RTCRayHitPacket& __restrict camera,
+                                                SurfaceLanes& __restrict s) {
     const RTCRay16& ray = camera.ray;
     const RTCHit16& hit = camera.hit;
     for (int i = 0; i < N; ++i) {
@@ -77,9 +78,9 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void surface_lanes(
     }
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) bool shadow_lanes(
-    const float light_m[3], bool inverse_square, const SurfaceLanes& __restrict s, const float* __restrict time,
-    ShadowLanes& __restrict shadow, RTCRayPacket& __restrict packet) {
+[[gnu::always_inline]] inline bool shadow_body(const float light_m[3], bool inverse_square,
+                                               const SurfaceLanes& __restrict s, const float* __restrict time,
+                                               ShadowLanes& __restrict shadow, RTCRayPacket& __restrict packet) {
     const float lx = light_m[0], ly = light_m[1], lz = light_m[2];
     int valid[N];
     float from[3][N], unit[3][N], t_far[N], inverse_d2[N];
@@ -132,9 +133,10 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) bool shadow_lanes(
     return any != 0;
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void add_light_lanes(
-    const float intensity[3], const SurfaceLanes& __restrict s, const ShadowLanes& __restrict shadow,
-    const float* __restrict shadow_tfar, float (&__restrict rgb)[3][kPacketSize]) {
+[[gnu::always_inline]] inline void add_light_body(const float intensity[3], const SurfaceLanes& __restrict s,
+                                                  const ShadowLanes& __restrict shadow,
+                                                  const float* __restrict shadow_tfar,
+                                                  float (&__restrict rgb)[3][kPacketSize]) {
     const float red = intensity[0], green = intensity[1], blue = intensity[2];
     // One loop over the lanes, the channels written out: nested in a loop over
     // channels, GCC unrolls the lanes and shuffles them back together.
@@ -148,6 +150,87 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void add_light_lane
         rgb[0][i] = lit ? r_lit : r;
         rgb[1][i] = lit ? g_lit : g;
         rgb[2][i] = lit ? b_lit : b;
+    }
+}
+
+// The bodies compiled once per instruction set (the target attribute), as sphere_lanes.cpp does.
+// (__restrict here too: the bodies' own are lost when they are inlined.)
+#define LC_SHADING_KERNELS(SUFFIX, TARGET)                                                                     \
+    TARGET void surface_##SUFFIX(const RTCRayHitPacket& __restrict camera, SurfaceLanes& __restrict s) {     \
+        surface_body(camera, s);                                                                             \
+    }                                                                                                        \
+    TARGET bool shadow_##SUFFIX(const float light_m[3], bool inverse_square, const SurfaceLanes& __restrict s, \
+                                const float* __restrict time, ShadowLanes& __restrict shadow,                \
+                                RTCRayPacket& __restrict packet) {                                           \
+        return shadow_body(light_m, inverse_square, s, time, shadow, packet);                                \
+    }                                                                                                        \
+    TARGET void add_light_##SUFFIX(const float intensity[3], const SurfaceLanes& __restrict s,               \
+                                   const ShadowLanes& __restrict shadow, const float* __restrict shadow_tfar, \
+                                   float (&__restrict rgb)[3][kPacketSize]) {                                \
+        add_light_body(intensity, s, shadow, shadow_tfar, rgb);                                              \
+    }
+LC_SHADING_KERNELS(default, )
+LC_SHADING_KERNELS(avx2, [[gnu::target("avx2")]])
+LC_SHADING_KERNELS(avx512, [[gnu::target("avx512f")]])
+#undef LC_SHADING_KERNELS
+
+bool available(ShadingKernel kernel) {
+    switch (kernel) {
+        case ShadingKernel::Avx2: return __builtin_cpu_supports("avx2");
+        case ShadingKernel::Avx512: return __builtin_cpu_supports("avx512f");
+        default: return true;
+    }
+}
+
+const char* name_of(ShadingKernel kernel) {
+    switch (kernel) {
+        case ShadingKernel::Avx2: return "avx2";
+        case ShadingKernel::Avx512: return "avx512";
+        default: return "default";
+    }
+}
+
+}  // namespace
+
+ShadingKernel shading_kernel() {
+    static const ShadingKernel chosen = [] {
+        const char* wanted = std::getenv("LENSCOMPARE_SHADING_KERNEL");
+        ShadingKernel best = ShadingKernel::Default;
+        for (ShadingKernel k : {ShadingKernel::Default, ShadingKernel::Avx2, ShadingKernel::Avx512}) {
+            if (!available(k)) continue;
+            if (wanted && *wanted && std::strcmp(wanted, name_of(k)) == 0) return k;
+            best = k;
+        }
+        return best;  // unset, or a kernel this CPU cannot run: the fastest it can
+    }();
+    return chosen;
+}
+
+const char* shading_kernel_name(ShadingKernel kernel) { return name_of(kernel); }
+
+void surface_lanes(ShadingKernel kernel, const RTCRayHitPacket& camera, SurfaceLanes& s) {
+    switch (kernel) {
+        case ShadingKernel::Avx512: return surface_avx512(camera, s);
+        case ShadingKernel::Avx2: return surface_avx2(camera, s);
+        default: return surface_default(camera, s);
+    }
+}
+
+bool shadow_lanes(ShadingKernel kernel, const float light_m[3], bool inverse_square, const SurfaceLanes& s,
+                  const float* time, ShadowLanes& shadow, RTCRayPacket& packet) {
+    switch (kernel) {
+        case ShadingKernel::Avx512: return shadow_avx512(light_m, inverse_square, s, time, shadow, packet);
+        case ShadingKernel::Avx2: return shadow_avx2(light_m, inverse_square, s, time, shadow, packet);
+        default: return shadow_default(light_m, inverse_square, s, time, shadow, packet);
+    }
+}
+
+void add_light_lanes(ShadingKernel kernel, const float intensity[3], const SurfaceLanes& s,
+                     const ShadowLanes& shadow, const float* shadow_tfar, float (&rgb)[3][kPacketSize]) {
+    switch (kernel) {
+        case ShadingKernel::Avx512: return add_light_avx512(intensity, s, shadow, shadow_tfar, rgb);
+        case ShadingKernel::Avx2: return add_light_avx2(intensity, s, shadow, shadow_tfar, rgb);
+        default: return add_light_default(intensity, s, shadow, shadow_tfar, rgb);
     }
 }
 

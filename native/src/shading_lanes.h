@@ -5,7 +5,7 @@
 // (perf on showcase: trace_shadow_rays 10.8 % of the render, occluded 4.7 %).
 // What needs tables (a hit's material, a mover's velocity) is gathered per
 // lane first (scene_trace.cpp); these kernels then run the lanes side by side,
-// compiled once per instruction set (target_clones, as motion.cpp).
+// compiled once per instruction set (as sphere_lanes.cpp).
 // Every kernel gives the same bits as the scalar code it replaced: the same
 // correctly rounded operations in the same order, no fused multiply-adds
 // (CMakeLists.txt), and selects where that code skipped a lane.
@@ -14,6 +14,13 @@
 #include "embree_packet.h"
 
 namespace lc {
+
+// The instruction set the kernels below run with: the CPU's best, or
+// LENSCOMPARE_SHADING_KERNEL's choice (default, avx2, avx512) where the CPU
+// can run it, so that tests can compare the images of each. Read once.
+enum class ShadingKernel : int { Default = 0, Avx2 = 1, Avx512 = 2 };
+ShadingKernel shading_kernel();
+const char* shading_kernel_name(ShadingKernel kernel);
 
 // One packet's diffuse hits: what the gather fills (lanes that are not
 // diffuse hits stay zero), and what surface_lanes finds.
@@ -34,7 +41,7 @@ struct SurfaceLanes {
 // Point, normal (two-sided: the side the ray sees) and albedo of every
 // diffuse lane, from the traced camera packet (its origins, directions, hit
 // distances and geometric normals).
-void surface_lanes(const RTCRayHitPacket& camera, SurfaceLanes& s);
+void surface_lanes(ShadingKernel kernel, const RTCRayHitPacket& camera, SurfaceLanes& s);
 
 // One packet of shadow rays from the diffuse lanes toward a point light.
 struct ShadowLanes {
@@ -46,12 +53,12 @@ struct ShadowLanes {
 // Fills shadow (and packet's rays, idle lanes with a harmless ray) for the
 // light at light_m; time[i] is each camera ray's shutter time, which its
 // shadow ray keeps. Returns whether any lane is valid.
-bool shadow_lanes(const float light_m[3], bool inverse_square, const SurfaceLanes& s, const float* time,
-                  ShadowLanes& shadow, RTCRayPacket& packet);
+bool shadow_lanes(ShadingKernel kernel, const float light_m[3], bool inverse_square, const SurfaceLanes& s,
+                  const float* time, ShadowLanes& shadow, RTCRayPacket& packet);
 
 // rgb += albedo x intensity x (cos_theta x falloff) on the lanes the light
 // reaches: valid and not blocked (Embree's tfar of -inf).
-void add_light_lanes(const float intensity[3], const SurfaceLanes& s, const ShadowLanes& shadow,
-                     const float* shadow_tfar, float (&rgb)[3][kPacketSize]);
+void add_light_lanes(ShadingKernel kernel, const float intensity[3], const SurfaceLanes& s,
+                     const ShadowLanes& shadow, const float* shadow_tfar, float (&rgb)[3][kPacketSize]);
 
 }  // namespace lc
