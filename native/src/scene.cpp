@@ -46,6 +46,27 @@ bool checker_is_odd(const Vec3f& p_m, float size_m) {
 
 namespace {
 
+// The materials as shading_lanes.h's columns, the background as the last row.
+MaterialColumns material_columns(const std::vector<Material>& materials, const Vec3f& background) {
+    MaterialColumns t;
+    auto add = [&t](const Vec3f& start, const Vec3f& color, const Vec3f& checker, float checker_size_m, bool diffuse) {
+        const Vec3f* rows[3] = {&start, &color, &checker};
+        std::vector<float>* columns[3] = {t.start, t.color, t.checker_color};
+        for (int r = 0; r < 3; ++r) {
+            columns[r][0].push_back(rows[r]->x), columns[r][1].push_back(rows[r]->y);
+            columns[r][2].push_back(rows[r]->z);
+        }
+        t.checker_size_m.push_back(checker_size_m);
+        t.diffuse.push_back(diffuse ? -1 : 0);
+    };
+    for (const Material& m : materials) {
+        const bool diffuse = m.kind == MaterialKind::Diffuse;
+        add(diffuse ? m.emission : m.color, m.color, m.checker_color, m.checker_size_m, diffuse);
+    }
+    add(background, Vec3f{}, Vec3f{}, 0.0f, false);
+    return t;
+}
+
 bool is_zero(const float* v) { return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f; }
 
 // Velocity of primitive i of an (n x 3) array, or zero when the array is absent.
@@ -252,6 +273,9 @@ Scene::Scene(const SceneArrays& a)
     }
     sphere_kernel_ = fastest_sphere_kernel();
     shading_kernel_ = shading_kernel();
+    material_columns_ = material_columns(materials_, background_);
+    for (const auto* tables : {&tables_, &motion_tables_})
+        for (const GeometryTable& table : *tables) any_velocity_ = any_velocity_ || !table.velocity.empty();
     rtcCommitScene(scene_);
     if (motion_scene_) rtcCommitScene(motion_scene_);
     movers_.finish();
@@ -281,18 +305,10 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     CameraHits hits;
     trace_camera_rays(rays, hits);
 
-    // Misses and emitters are final already; diffuse hits start from their
-    // emission and gather their material for the lanes' shading.
-    float rgb[3][kPacketSize] = {};
-    for (int i = 0; i < rays.count; ++i) {
-        Vec3f c = background_;
-        if (!hits.missed(i)) {
-            const Material& m = materials_[size_t(material_of(hits, i))];
-            c = m.kind == MaterialKind::Emissive ? m.color : m.emission;
-            if (m.kind != MaterialKind::Emissive) gather_surface(rays, hits, i, m);
-        }
-        rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
-    }
+    // Misses and emitters are final already; diffuse hits start from their emission.
+    float rgb[3][kPacketSize];
+    int material[kPacketSize];
+    gather_surfaces(rays, hits, material, rgb);
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
 
     // Shadow rays, one packet per light

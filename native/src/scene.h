@@ -117,7 +117,7 @@ class Scene {
         RTCIntersectContext context;  // coherent rays; shadow rays reuse it
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
-        SurfaceLanes surface;              // gathered by gather_surface, found by surface_lanes
+        SurfaceLanes surface;              // gathered by gather_surfaces, found by surface_lanes
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
@@ -130,8 +130,10 @@ class Scene {
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
     // The material index of hit i (not a miss).
     int material_of(const CameraHits& hits, int i) const;
-    // Marks hit i diffuse and gathers what surface_lanes needs of its material and motion.
-    void gather_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const;
+    // Each lane's material row (material_columns_'s miss row for a miss or an
+    // idle lane), and what surface_lanes needs of it and of the hit's motion;
+    // rgb gets each lane's radiance before any light.
+    void gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material, float (&rgb)[3][kPacketSize]) const;
     // Shadow rays from the diffuse hits (surface_lanes done) toward light, traced; false when none was needed.
     bool trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const;
     void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
@@ -152,6 +154,8 @@ class Scene {
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;
+    MaterialColumns material_columns_;  // materials_ and the background, for gather_lanes
+    bool any_velocity_ = false;         // some geometry table has velocities
     std::vector<PointLight> lights_;
     Vec3f background_;
     std::shared_ptr<const SpectralTables> spectral_;

@@ -15,22 +15,24 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     trace_camera_rays(rays, hits);
     float reflectance[kPacketSize][kHeroWavelengths];  // the diffuse hits' albedo spectra at the ray's wavelengths
 
+    int material[kPacketSize];
+    float unused_rgb[3][kPacketSize];
+    gather_surfaces(rays, hits, material, unused_rgb);
+
     // A colour c is dot(c, basis) at each ray's wavelengths.
     for (int i = 0; i < rays.count; ++i) {
         if (hits.missed(i)) {
             for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(background_, basis[i][k]);
             continue;
         }
-        const int material = material_of(hits, i);
-        const Material& m = materials_[size_t(material)];
+        const Material& m = materials_[size_t(material[i])];
         if (m.kind == MaterialKind::Emissive) {
             // A monochromatic emitter is its line alone; any other, its colour's spectrum.
-            const bool line = spectra.has_line(material);
+            const bool line = spectra.has_line(material[i]);
             for (int k = 0; k < n_wavelengths; ++k)
-                out[i][k] = line ? spectra.line_at(material, wavelengths_nm[i][k]) : dot(m.color, basis[i][k]);
+                out[i][k] = line ? spectra.line_at(material[i], wavelengths_nm[i][k]) : dot(m.color, basis[i][k]);
             continue;
         }
-        gather_surface(rays, hits, i, m);
         for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(m.emission, basis[i][k]);
     }
     surface_lanes(shading_kernel_, hits.packet, hits.surface);

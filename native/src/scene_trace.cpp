@@ -68,19 +68,23 @@ int Scene::material_of(const CameraHits& hits, int i) const {
     return table.material[hits.packet.hit.primID[i]];
 }
 
-void Scene::gather_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const {
+void Scene::gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material,
+                            float (&rgb)[3][kPacketSize]) const {
+    const int miss = material_columns_.miss();
+    for (int i = 0; i < kPacketSize; ++i)
+        material[i] = i < rays.count && !hits.missed(i) ? material_of(hits, i) : miss;
     SurfaceLanes& s = hits.surface;
-    s.diffuse[i] = -1;
-    s.color[0][i] = m.color.x, s.color[1][i] = m.color.y, s.color[2][i] = m.color.z;
-    s.checker_color[0][i] = m.checker_color.x, s.checker_color[1][i] = m.checker_color.y;
-    s.checker_color[2][i] = m.checker_color.z;
-    s.checker_size_m[i] = m.checker_size_m;
+    gather_lanes(shading_kernel_, material_columns_, material, s, rgb);
+    if (!any_velocity_) return;
     // A moving object carries its checker: read it where the point was at t = 0.
-    const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[hits.packet.hit.geomID[i]];
-    if (table.velocity.empty()) return;
-    const Vec3f shift = table.velocity[hits.packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
-    s.moving[i] = -1;
-    s.shift_m[0][i] = shift.x, s.shift_m[1][i] = shift.y, s.shift_m[2][i] = shift.z;
+    for (int i = 0; i < rays.count; ++i) {
+        if (!s.diffuse[i]) continue;
+        const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[hits.packet.hit.geomID[i]];
+        if (table.velocity.empty()) continue;
+        const Vec3f shift = table.velocity[hits.packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
+        s.moving[i] = -1;
+        s.shift_m[0][i] = shift.x, s.shift_m[1][i] = shift.y, s.shift_m[2][i] = shift.z;
+    }
 }
 
 bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const {

@@ -41,6 +41,31 @@ constexpr float kNearestFalloffM2 = 1e-8f;
 // arithmetic under the condition, and then keeps the loop scalar (an
 // operation under a condition might trap).
 
+// The rows as plain pointers, so that the lane loop indexes them directly.
+struct Columns {
+    const float* start[3];
+    const float* color[3];
+    const float* checker_color[3];
+    const float* checker_size_m;
+    const int* diffuse;
+};
+
+[[gnu::always_inline]] inline void gather_body(const Columns& t, const int* __restrict material,
+                                               SurfaceLanes& __restrict s, float (&__restrict rgb)[3][kPacketSize]) {
+    // Loaded into vector registers lane by lane (GCC 12 emulates the
+    // gathers), then stored whole: the kernels after it read them without
+    // waiting for sixteen narrow stores to land.
+    for (int i = 0; i < N; ++i) {
+        const int k = material[i];
+        s.diffuse[i] = t.diffuse[k];
+        s.checker_size_m[i] = t.checker_size_m[k];
+        rgb[0][i] = t.start[0][k], rgb[1][i] = t.start[1][k], rgb[2][i] = t.start[2][k];
+        s.color[0][i] = t.color[0][k], s.color[1][i] = t.color[1][k], s.color[2][i] = t.color[2][k];
+        s.checker_color[0][i] = t.checker_color[0][k], s.checker_color[1][i] = t.checker_color[1][k];
+        s.checker_color[2][i] = t.checker_color[2][k];
+    }
+}
+
 [[gnu::always_inline]] inline void surface_body(const RTCRayHitPacket& __restrict camera,
                                                 SurfaceLanes& __restrict s) {
     const RTCRay16& ray = camera.ray;
@@ -156,6 +181,10 @@ constexpr float kNearestFalloffM2 = 1e-8f;
 // The bodies compiled once per instruction set (the target attribute), as sphere_lanes.cpp does.
 // (__restrict here too: the bodies' own are lost when they are inlined.)
 #define LC_SHADING_KERNELS(SUFFIX, TARGET)                                                                     \
+    TARGET void gather_##SUFFIX(const Columns& t, const int* __restrict material, SurfaceLanes& __restrict s, \
+                                float (&__restrict rgb)[3][kPacketSize]) {                                   \
+        gather_body(t, material, s, rgb);                                                                    \
+    }                                                                                                        \
     TARGET void surface_##SUFFIX(const RTCRayHitPacket& __restrict camera, SurfaceLanes& __restrict s) {     \
         surface_body(camera, s);                                                                             \
     }                                                                                                        \
@@ -207,6 +236,20 @@ ShadingKernel shading_kernel() {
 }
 
 const char* shading_kernel_name(ShadingKernel kernel) { return name_of(kernel); }
+
+void gather_lanes(ShadingKernel kernel, const MaterialColumns& table, const int* material, SurfaceLanes& s,
+                  float (&rgb)[3][kPacketSize]) {
+    const Columns t{{table.start[0].data(), table.start[1].data(), table.start[2].data()},
+                    {table.color[0].data(), table.color[1].data(), table.color[2].data()},
+                    {table.checker_color[0].data(), table.checker_color[1].data(), table.checker_color[2].data()},
+                    table.checker_size_m.data(),
+                    table.diffuse.data()};
+    switch (kernel) {
+        case ShadingKernel::Avx512: return gather_avx512(t, material, s, rgb);
+        case ShadingKernel::Avx2: return gather_avx2(t, material, s, rgb);
+        default: return gather_default(t, material, s, rgb);
+    }
+}
 
 void surface_lanes(ShadingKernel kernel, const RTCRayHitPacket& camera, SurfaceLanes& s) {
     switch (kernel) {

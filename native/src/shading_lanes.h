@@ -11,6 +11,8 @@
 // (CMakeLists.txt), and selects where that code skipped a lane.
 #pragma once
 
+#include <vector>
+
 #include "embree_packet.h"
 
 namespace lc {
@@ -22,21 +24,38 @@ enum class ShadingKernel : int { Default = 0, Avx2 = 1, Avx512 = 2 };
 ShadingKernel shading_kernel();
 const char* shading_kernel_name(ShadingKernel kernel);
 
-// One packet's diffuse hits: what the gather fills (lanes that are not
-// diffuse hits stay zero), and what surface_lanes finds.
+// The scene's materials as columns, one row each plus a last row for a miss
+// (the background), so that a packet's lanes gather theirs side by side.
+struct MaterialColumns {
+    std::vector<float> start[3];  // radiance before any light: an emitter's colour, a diffuse emission, the background
+    std::vector<float> color[3];  // albedo, and the odd checker cubes' albedo
+    std::vector<float> checker_color[3];
+    std::vector<float> checker_size_m;  // 0: no checker
+    std::vector<int> diffuse;           // -1: diffuse
+    int miss() const { return int(diffuse.size()) - 1; }
+};
+
+// One packet's diffuse hits: what gather_lanes fills, and what surface_lanes finds.
 struct SurfaceLanes {
-    // Gathered per lane
-    alignas(kPacketAlignment) int diffuse[kPacketSize] = {};  // -1: a diffuse hit
-    float color[3][kPacketSize] = {};          // albedo, and the odd checker cubes' albedo
-    float checker_color[3][kPacketSize] = {};
-    float checker_size_m[kPacketSize] = {};    // 0: no checker
-    int moving[kPacketSize] = {};              // -1: the hit object moves; the checker is read where it was at t = 0
-    float shift_m[3][kPacketSize] = {};        // velocity x shutter time: how far it moved since t = 0
+    // Gathered from the lanes' materials
+    alignas(kPacketAlignment) int diffuse[kPacketSize];  // -1: a diffuse hit
+    float color[3][kPacketSize];
+    float checker_color[3][kPacketSize];
+    float checker_size_m[kPacketSize];
+    // Set per lane, only where the hit object moves (zero elsewhere): the
+    // checker is read where the point was at t = 0.
+    int moving[kPacketSize] = {};          // -1: the hit object moves
+    float shift_m[3][kPacketSize] = {};    // velocity x shutter time: how far it moved since t = 0
     // Found by surface_lanes
     float p[3][kPacketSize];       // point (m)
     float n[3][kPacketSize];       // unit normal facing the ray
     float albedo[3][kPacketSize];
 };
+
+// Lane i takes row material[i] of table (its miss row for a miss or an idle
+// lane): its inputs into s, its radiance before any light into rgb.
+void gather_lanes(ShadingKernel kernel, const MaterialColumns& table, const int* material, SurfaceLanes& s,
+                  float (&rgb)[3][kPacketSize]);
 
 // Point, normal (two-sided: the side the ray sees) and albedo of every
 // diffuse lane, from the traced camera packet (its origins, directions, hit
