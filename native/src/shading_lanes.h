@@ -3,9 +3,9 @@
 // light, and each lit lane's share of that light. Per ray in scalar code,
 // with a branch per lane, this set-up cost as much as Embree's shadow query
 // (perf on showcase: trace_shadow_rays 10.8 % of the render, occluded 4.7 %).
-// What needs tables (a hit's material, a mover's velocity) is gathered per
-// lane first (scene_trace.cpp); these kernels then run the lanes side by side,
-// compiled once per instruction set (as sphere_lanes.cpp).
+// Only what needs Embree's geometry tables stays per lane (scene_trace.cpp:
+// each hit's material row, a mover's shift); these kernels run the lanes
+// side by side, compiled once per instruction set (as sphere_lanes.cpp).
 // Every kernel gives the same bits as the scalar code it replaced: the same
 // correctly rounded operations in the same order, no fused multiply-adds
 // (CMakeLists.txt), and selects where that code skipped a lane.
