@@ -320,6 +320,10 @@ class _Diagnostics(types.ModuleType):
         """Makes camera run the named batch lens-trace kernel."""
 
     @staticmethod
+    def shading_kernel() -> str:
+        """The shading lanes' instruction set: 'default', 'avx2' or 'avx512' (LENSCOMPARE_SHADING_KERNEL picks one)."""
+
+    @staticmethod
     def sphere_kernels() -> list[str]:
         """The own-sphere kernels this CPU runs, slowest first."""
 

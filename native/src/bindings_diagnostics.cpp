@@ -26,6 +26,7 @@
 #include "motion.h"
 #include "samplers.h"
 #include "scene.h"
+#include "shading_lanes.h"
 #include "sphere_lanes.h"
 
 namespace nb = nanobind;
@@ -231,6 +232,10 @@ SphereKernel sphere_kernel_named(const std::string& name) {
 }
 
 void bind_own_spheres(nb::module_& m) {
+    m.def("shading_kernel", [] { return std::string(shading_kernel_name(shading_kernel())); },
+          "The instruction set the render's shading lanes run with (shading_lanes.h): the CPU's best, or "
+          "LENSCOMPARE_SHADING_KERNEL's choice when this CPU can run it.");
+
     m.def("sphere_kernels",
           [] {
               std::vector<std::string> names;

@@ -46,6 +46,27 @@ bool checker_is_odd(const Vec3f& p_m, float size_m) {
 
 namespace {
 
+// The materials as shading_lanes.h's columns, the background as the last row.
+MaterialColumns material_columns(const std::vector<Material>& materials, const Vec3f& background) {
+    MaterialColumns t;
+    auto add = [&t](const Vec3f& start, const Vec3f& color, const Vec3f& checker, float checker_size_m, bool diffuse) {
+        const Vec3f* rows[3] = {&start, &color, &checker};
+        std::vector<float>* columns[3] = {t.start, t.color, t.checker_color};
+        for (int r = 0; r < 3; ++r) {
+            columns[r][0].push_back(rows[r]->x), columns[r][1].push_back(rows[r]->y);
+            columns[r][2].push_back(rows[r]->z);
+        }
+        t.checker_size_m.push_back(checker_size_m);
+        t.diffuse.push_back(diffuse ? -1 : 0);
+    };
+    for (const Material& m : materials) {
+        const bool diffuse = m.kind == MaterialKind::Diffuse;
+        add(diffuse ? m.emission : m.color, m.color, m.checker_color, m.checker_size_m, diffuse);
+    }
+    add(background, Vec3f{}, Vec3f{}, 0.0f, false);
+    return t;
+}
+
 bool is_zero(const float* v) { return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f; }
 
 // Velocity of primitive i of an (n x 3) array, or zero when the array is absent.
@@ -251,6 +272,10 @@ Scene::Scene(const SceneArrays& a)
         if (own_spheres_id_ == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
     }
     sphere_kernel_ = fastest_sphere_kernel();
+    shading_kernel_ = shading_kernel();
+    material_columns_ = material_columns(materials_, background_);
+    for (const auto* tables : {&tables_, &motion_tables_})
+        for (const GeometryTable& table : *tables) any_velocity_ = any_velocity_ || !table.velocity.empty();
     rtcCommitScene(scene_);
     if (motion_scene_) rtcCommitScene(motion_scene_);
     movers_.finish();
@@ -280,28 +305,20 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     CameraHits hits;
     trace_camera_rays(rays, hits);
 
-    // Surface points of the diffuse hits; misses and emitters are final already.
-    for (int i = 0; i < rays.count; ++i) {
-        if (hits.missed(i)) {
-            out[i] = background_;
-            continue;
-        }
-        const Material& m = materials_[size_t(material_of(hits, i))];
-        if (m.kind == MaterialKind::Emissive) {
-            out[i] = m.color;
-            continue;
-        }
-        diffuse_surface(rays, hits, i, m);
-        out[i] = m.emission;
-    }
+    // Misses and emitters are final already; diffuse hits start from their emission.
+    float rgb[3][kPacketSize];
+    int material[kPacketSize];
+    gather_surfaces(rays, hits, material, rgb);
+    surface_lanes(shading_kernel_, hits.packet, hits.surface);
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, rays, hits, shadow)) continue;
-        for (int i = 0; i < rays.count; ++i)
-            if (shadow.lit(i)) out[i] += hits.albedo[i] * light.intensity * (shadow.cos_theta[i] * shadow.falloff[i]);
+        if (!trace_shadow_rays(light, hits, shadow)) continue;
+        const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
+        add_light_lanes(shading_kernel_, intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
     }
+    for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
 }
 
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {

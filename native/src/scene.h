@@ -17,6 +17,7 @@
 
 #include "embree_packet.h"
 #include "motion.h"
+#include "shading_lanes.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
 #include "vec.h"
@@ -116,15 +117,12 @@ class Scene {
         RTCIntersectContext context;  // coherent rays; shadow rays reuse it
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
-        bool diffuse[kPacketSize] = {};    // set by diffuse_surface, with the next three
-        Vec3f p[kPacketSize], n[kPacketSize], albedo[kPacketSize];  // point (m), normal facing the ray, albedo
+        SurfaceLanes surface;              // gathered by gather_surfaces, found by surface_lanes
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
-        alignas(kPacketAlignment) int valid[kPacketSize];
+        ShadowLanes lanes;  // valid, cos_theta, falloff
         alignas(kPacketAlignment) RTCRayPacket packet;
-        float cos_theta[kPacketSize] = {};
-        float falloff[kPacketSize] = {};  // 1, or 1 / d^2 from the lit point
         int start_sphere[kPacketSize];    // the own sphere the ray starts on, or -1
         int self_blocks[kPacketSize];     // that sphere blocks it (it starts inside toward a light outside)
         bool lit(int i) const;            // traced and not blocked
@@ -132,10 +130,12 @@ class Scene {
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
     // The material index of hit i (not a miss).
     int material_of(const CameraHits& hits, int i) const;
-    // Marks hit i diffuse and finds its point, normal and albedo there.
-    void diffuse_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const;
-    // Shadow rays from the diffuse hits toward light, traced; false when none was needed.
-    bool trace_shadow_rays(const PointLight& light, const RayBatch& rays, CameraHits& hits, ShadowRays& shadow) const;
+    // Each lane's material row (material_columns_'s miss row for a miss or an
+    // idle lane), and what surface_lanes needs of it and of the hit's motion;
+    // rgb gets each lane's radiance before any light.
+    void gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material, float (&rgb)[3][kPacketSize]) const;
+    // Shadow rays from the diffuse hits (surface_lanes done) toward light, traced; false when none was needed.
+    bool trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const;
     void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
                           bool* hit_mover) const;
     void occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const;
@@ -149,10 +149,13 @@ class Scene {
     std::vector<float> own_spheres_;
     unsigned own_spheres_id_ = RTC_INVALID_GEOMETRY_ID;
     SphereKernel sphere_kernel_ = SphereKernel::Default;
+    ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;
+    MaterialColumns material_columns_;  // materials_ and the background, for gather_lanes
+    bool any_velocity_ = false;         // some geometry table has velocities
     std::vector<PointLight> lights_;
     Vec3f background_;
     std::shared_ptr<const SpectralTables> spectral_;

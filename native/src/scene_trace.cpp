@@ -16,20 +16,10 @@ namespace {
 static_assert(SweptBounds::kLanes == kPacketSize, "the swept-bounds test takes one packet of rays");
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-// (0.1 mm)^2: the smallest squared distance an inverse-square light falls off over
-// (lenscompare.povray.export.INVERSE_SQUARE_FADE_DISTANCE_M squared).
-constexpr float kNearestFalloffM2 = 1e-8f;
-
-// Offset that lifts a shadow-ray origin off the surface it starts on, scaled
-// with the coordinates because float spacing grows with them.
-float surface_offset(const Vec3f& p) {
-    float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), 1.0f});
-    return 1e-4f * m;
-}
 
 }  // namespace
 
-bool Scene::ShadowRays::lit(int i) const { return valid[i] && packet.tfar[i] != -kInf; }
+bool Scene::ShadowRays::lit(int i) const { return lanes.valid[i] && packet.tfar[i] != -kInf; }
 
 void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     RTCIntersectContext& context = hits.context;
@@ -78,76 +68,48 @@ int Scene::material_of(const CameraHits& hits, int i) const {
     return table.material[hits.packet.hit.primID[i]];
 }
 
-void Scene::diffuse_surface(const RayBatch& rays, CameraHits& hits, int i, const Material& m) const {
-    const RTCRayHitPacket& packet = hits.packet;
-    Vec3f& p = hits.p[i];
-    Vec3f& n = hits.n[i];
-    hits.diffuse[i] = true;
-    p = rays.origin[i] + rays.direction[i] * packet.ray.tfar[i];
-    n = normalize(Vec3f{packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]});
-    if (dot(n, rays.direction[i]) > 0.0f) n = -n;  // two-sided: shade the side the ray sees
+void Scene::gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material,
+                            float (&rgb)[3][kPacketSize]) const {
+    const int miss = material_columns_.miss();
+    for (int i = 0; i < kPacketSize; ++i)
+        material[i] = i < rays.count && !hits.missed(i) ? material_of(hits, i) : miss;
+    SurfaceLanes& s = hits.surface;
+    gather_lanes(shading_kernel_, material_columns_, material, s, rgb);
+    if (!any_velocity_) return;
     // A moving object carries its checker: read it where the point was at t = 0.
-    const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[packet.hit.geomID[i]];
-    Vec3f p_texture = p;
-    if (!table.velocity.empty())
-        p_texture = p - table.velocity[packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
-    hits.albedo[i] =
-        (m.checker_size_m > 0.0f && checker_is_odd(p_texture, m.checker_size_m)) ? m.checker_color : m.color;
+    for (int i = 0; i < rays.count; ++i) {
+        if (!s.diffuse[i]) continue;
+        const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[hits.packet.hit.geomID[i]];
+        if (table.velocity.empty()) continue;
+        const Vec3f shift = table.velocity[hits.packet.hit.primID[i]] * float(motion_.time_s(rays.time[i]));
+        s.moving[i] = -1;
+        s.shift_m[0][i] = shift.x, s.shift_m[1][i] = shift.y, s.shift_m[2][i] = shift.z;
+    }
 }
 
-bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, CameraHits& hits,
-                              ShadowRays& shadow) const {
-    const bool* diffuse = hits.diffuse;
-    const Vec3f* p = hits.p;
-    const Vec3f* n = hits.n;
-    RTCIntersectContext& context = hits.context;
+bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const {
+    const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
     RTCRayPacket& packet = shadow.packet;
-    bool any = false;
-    for (int i = 0; i < kPacketSize; ++i) {
-        shadow.valid[i] = 0;
-        shadow.cos_theta[i] = shadow.falloff[i] = 0.0f;
-        shadow.start_sphere[i] = -1, shadow.self_blocks[i] = 0;
-        // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
-        // split the packet and check the rays of every lane they are handed.
-        packet.org_x[i] = packet.org_y[i] = packet.org_z[i] = 0.0f;
-        packet.dir_x[i] = packet.dir_y[i] = 0.0f, packet.dir_z[i] = 1.0f;
-        packet.tnear[i] = packet.tfar[i] = packet.time[i] = 0.0f;
-        if (i >= rays.count || !diffuse[i]) continue;
-        Vec3f to_light = light.position_m - p[i];
-        float to_light_m = length(to_light);
-        shadow.cos_theta[i] = dot(n[i], to_light) / to_light_m;
-        if (!(shadow.cos_theta[i] > 0.0f)) continue;  // light behind the surface (or degenerate)
-        // 1 / d^2, at most 1 / (0.1 mm)^2 (POV-Ray's export caps it there too): a surface at
-        // the light itself stays finite.
-        shadow.falloff[i] =
-            light.inverse_square ? 1.0f / std::max(to_light_m * to_light_m, kNearestFalloffM2) : 1.0f;
-        Vec3f from = p[i] + n[i] * surface_offset(p[i]);
-        Vec3f d = light.position_m - from;
-        float dist = length(d);
-        packet.org_x[i] = from.x, packet.org_y[i] = from.y, packet.org_z[i] = from.z;
-        packet.dir_x[i] = d.x / dist, packet.dir_y[i] = d.y / dist, packet.dir_z[i] = d.z / dist;
-        packet.tnear[i] = 0.0f;
-        packet.tfar[i] = dist * (1.0f - 1e-5f);
-        packet.time[i] = rays.time[i];  // the shadow at the same instant
-        packet.mask[i] = 0xFFFFFFFFu;
-        packet.id[i] = unsigned(i);
-        packet.flags[i] = 0;
-        shadow.valid[i] = -1;
-        any = true;
-        if (!hits.hit_mover[i] && hits.packet.hit.geomID[i] == own_spheres_id_) {
-            // From an own sphere's surface: it blocks the ray exactly when the ray
-            // leaves its inner side (a normal flipped to face the camera) toward a light outside it.
-            const int k = int(hits.packet.hit.primID[i]);
-            const float* c = &own_spheres_[4 * size_t(k)];
-            const Vec3f ng{hits.packet.hit.Ng_x[i], hits.packet.hit.Ng_y[i], hits.packet.hit.Ng_z[i]};
-            const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],
-                         lz = double(light.position_m.z) - c[2];
-            const bool light_outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
-            shadow.start_sphere[i] = k;
-            shadow.self_blocks[i] = dot(n[i], ng) < 0.0f && light_outside;
-        }
-    }
+    const bool any = shadow_lanes(shading_kernel_, light_m, light.inverse_square, hits.surface, hits.packet.ray.time,
+                                  shadow.lanes, packet);
     if (!any) return false;
+    const int* valid = shadow.lanes.valid;
+    RTCIntersectContext& context = hits.context;
+    for (int i = 0; i < kPacketSize; ++i) {
+        shadow.start_sphere[i] = -1, shadow.self_blocks[i] = 0;
+        if (!valid[i] || hits.hit_mover[i] || hits.packet.hit.geomID[i] != own_spheres_id_) continue;
+        // From an own sphere's surface: it blocks the ray exactly when the ray
+        // leaves its inner side (a normal flipped to face the camera) toward a light outside it.
+        const int k = int(hits.packet.hit.primID[i]);
+        const float* c = &own_spheres_[4 * size_t(k)];
+        const Vec3f n{hits.surface.n[0][i], hits.surface.n[1][i], hits.surface.n[2][i]};
+        const Vec3f ng{hits.packet.hit.Ng_x[i], hits.packet.hit.Ng_y[i], hits.packet.hit.Ng_z[i]};
+        const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],
+                     lz = double(light.position_m.z) - c[2];
+        const bool light_outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
+        shadow.start_sphere[i] = k;
+        shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
+    }
     alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere blocks
     bool embree_asked = embree_still_;
     if (!own_spheres_.empty()) {
@@ -155,19 +117,19 @@ bool Scene::trace_shadow_rays(const PointLight& light, const RayBatch& rays, Cam
         const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
         const float* direction[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
         spheres_occluded(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction,
-                         packet.tfar, shadow.start_sphere, shadow.self_blocks, shadow.valid, blocked);
+                         packet.tfar, shadow.start_sphere, shadow.self_blocks, valid, blocked);
         int left = 0;
         for (int i = 0; i < kPacketSize; ++i) {
             if (blocked[i]) packet.tfar[i] = -kInf;  // as Embree marks a blocked ray
-            open[i] = shadow.valid[i] && !blocked[i] ? -1 : 0;
+            open[i] = valid[i] && !blocked[i] ? -1 : 0;
             left |= open[i];
         }
         embree_asked = embree_asked && left != 0;
     } else {
-        for (int i = 0; i < kPacketSize; ++i) open[i] = shadow.valid[i];
+        for (int i = 0; i < kPacketSize; ++i) open[i] = valid[i];
     }
     if (embree_asked) occluded_packet(open, scene_, &context, &packet);
-    if (motion_scene_) occlude_by_movers(shadow.valid, context, packet);
+    if (motion_scene_) occlude_by_movers(valid, context, packet);
     return true;
 }
 
