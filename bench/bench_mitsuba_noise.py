@@ -62,14 +62,15 @@ def mitsuba_sweep(mi, scene, model, counts, repeat, reference, folder, sampler):
         # The export's sampler is Mitsuba's plain independent one; a stratified one is its best case.
         path.write_text(path.read_text().replace('<sampler type="independent">', f'<sampler type="{sampler}">'))
         loaded = mi.load_file(str(path))
+        used = int(loaded.sensors()[0].sampler().sample_count())  # ldsampler and multijitter round the count
         np.asarray(mi.render(loaded, seed=0))  # JIT warm-up, not counted
         best, pixels = float("inf"), None
         for _ in range(repeat):
             start = time.perf_counter()
             pixels = np.array(mi.render(loaded, seed=0), dtype=np.float32)  # the array forces evaluation
             best = min(best, time.perf_counter() - start)
-        points.append({"spp": spp, "seconds": best, "relative_rmse": relative_rmse(reference, pixels)})
-        log(f"mitsuba {spp:5d} spp: {best:.3f} s, relative RMSE {points[-1]['relative_rmse']:.4f}")
+        points.append({"spp": spp, "spp_used": used, "seconds": best, "relative_rmse": relative_rmse(reference, pixels)})
+        log(f"mitsuba {spp:5d} spp ({used} used): {best:.3f} s, relative RMSE {points[-1]['relative_rmse']:.4f}")
     return points
 
 
@@ -104,6 +105,7 @@ def main() -> int:
 
     scene = load_scene(args.scene).with_camera(resolution=tuple(args.resolution))
     mi = load_mitsuba(args.variant)
+    mi.set_log_level(mi.LogLevel.Error)  # its warnings (rounded sample counts) go to stdout, the JSON's stream
     log(f"reference: native {args.model}, {args.reference_spp} spp")
     reference = render(scene, model=args.model, spp=args.reference_spp, threads=args.threads,
                        progress=False).pixels
@@ -131,7 +133,7 @@ def main() -> int:
         "best_mitsuba_sampler": best,
         "ratio_best_mitsuba_over_native": (reached[best] / t_native) if best and t_native else None,
     }
-    print(json.dumps(results, indent=2))
+    print(json.dumps(results, indent=2), flush=True)  # before Mitsuba's teardown, which may crash at exit
     return 0
 
 
