@@ -21,6 +21,7 @@ from ..errors import InputError
 from ..lenses.paraxial import chromatic_focal_shift_mm
 from ..plan import Plan
 from ..scene import Scene
+from .chromatic_measure import DISK_SPP, SEED, SPP
 
 __all__ = ["chromatic_section", "CHROMATIC_COLUMNS"]
 
@@ -87,14 +88,14 @@ def chromatic_section(plans: dict[str, tuple[Scene, Plan | dict]], *, figure: st
     note += ("" if dispersing else "None of the report's lenses disperses (no Abbe number or glass in the lens "
              "file's 5th column), so every size is 0; run the report with --lens on a lens that does. ")
     if measured:
-        note += ("Measured lateral colour: one spectral render per lens camera (the lens system, 64 spp, seed 15) of "
+        note += (f"Measured lateral colour: one spectral render per lens camera (the lens system, {SPP} spp, seed {SEED}) of "
                  "white dots emitting only the F line (486.13 nm) on one side and only the C line (656.27 nm) "
                  "on the other, on the plane of focus along the film diagonals; the C half turned 180 degrees "
                  "onto the F half and the F minus C radial centroid shift measured with "
                  "lenscompare.metrics.lateral_color, at the corner field (the column) and at 0.7 of it. ")
         note += " ".join(_field_text(name, seen) for name, seen in measured.items() if seen.get("fields_deg"))
         note += (" Measured longitudinal colour: one F-line dot on the axis rendered through the lens system "
-                 "with the film at the C line's paraxial focus (128 spp), its blur disk's second-moment "
+                 f"with the film at the C line's paraxial focus ({DISK_SPP} spp), its blur disk's second-moment "
                  "diameter (lenscompare.metrics.measure_blur_disk); real rays, so it exceeds the paraxial "
                  "prediction where the F light's spherical aberration adds to the defocus."
                  if any(seen.get("longitudinal_color_px") is not None for seen in measured.values())
