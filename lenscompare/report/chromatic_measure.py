@@ -152,6 +152,15 @@ def _f_and_turned_c(pixels: np.ndarray) -> np.ndarray:
     return np.stack([c_turned, 0.5 * (c_turned + f_image), f_image], axis=-1)
 
 
+def _measurable_lens(scene: Scene):
+    """The scene's lens when its colour can be measured: it disperses and the
+    scene has a finite plane of focus to put the chart on; else None (and no render)."""
+    lens = scene.camera.lens
+    if lens is None or not lens.disperses or not math.isfinite(scene.camera.focus_distance_m):
+        return None
+    return lens
+
+
 def measure_lateral_color(scene: Scene, *, threads: int | None = None) -> LateralColorMeasurement | None:
     """Render the scene's monochromatic dot chart and measure F minus C lateral colour.
 
@@ -168,8 +177,8 @@ def measure_lateral_color(scene: Scene, *, threads: int | None = None) -> Latera
         None, with no render, when the scene's lens does not disperse or the
         scene has no finite plane of focus to put the dots on.
     """
-    lens = scene.camera.lens
-    if lens is None or not lens.disperses or not math.isfinite(scene.camera.focus_distance_m):
+    lens = _measurable_lens(scene)
+    if lens is None:
         return None
     system = camera_for(scene, "lens")
     ideal = ideal_camera(scene)
@@ -220,8 +229,8 @@ def measure_longitudinal_color(scene: Scene, *, threads: int | None = None) -> t
         no render, when the lens does not disperse, the scene has no finite
         plane of focus or no f-number, or the prediction is 0.
     """
-    lens = scene.camera.lens
-    if lens is None or not lens.disperses or not math.isfinite(scene.camera.focus_distance_m):
+    lens = _measurable_lens(scene)
+    if lens is None:
         return None
     ideal = ideal_camera(scene)
     if ideal.f_number is None:
