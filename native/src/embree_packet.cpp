@@ -15,4 +15,12 @@ const char* embree_device_config() {
     return config.empty() ? nullptr : config.c_str();
 }
 
+RTCSceneFlags embree_edge_flags() {
+    static const RTCSceneFlags flags = [] {
+        const char* robust = std::getenv("LENSCOMPARE_EMBREE_ROBUST");
+        return (robust && std::strcmp(robust, "0") == 0) ? RTC_SCENE_FLAG_NONE : RTC_SCENE_FLAG_ROBUST;
+    }();
+    return flags;
+}
+
 }  // namespace lc

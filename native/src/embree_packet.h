@@ -28,5 +28,8 @@ inline void occluded_packet(const int* valid, RTCScene scene, RTCIntersectContex
 // the images of each; unset, Embree picks the CPU's best. Returns the config
 // string for rtcNewDevice (nullptr: defaults).
 const char* embree_device_config();
+// The scene flags for geometry with edges (quads, triangles): RTC_SCENE_FLAG_ROBUST
+// unless LENSCOMPARE_EMBREE_ROBUST=0 (for measuring what robust traversal costs).
+RTCSceneFlags embree_edge_flags();
 
 }  // namespace lc

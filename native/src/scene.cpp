@@ -101,7 +101,7 @@ Scene::Scene(const SceneArrays& a)
     if (!device_) throw std::runtime_error("could not create an Embree device");
     scene_ = rtcNewScene(device_);
     // Robust mode keeps box edges watertight (no light leaking between quads).
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(scene_, embree_edge_flags());
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
 
     // Without a time per sample every primitive is a still one, at its place
@@ -121,7 +121,7 @@ Scene::Scene(const SceneArrays& a)
             motion_scene_ = rtcNewScene(device_);
             rtcSetSceneBuildQuality(motion_scene_, RTC_BUILD_QUALITY_HIGH);
         }
-        if (moving && edged) rtcSetSceneFlags(motion_scene_, RTC_SCENE_FLAG_ROBUST);
+        if (moving && edged) rtcSetSceneFlags(motion_scene_, embree_edge_flags());
         return moving ? motion_scene_ : scene_;
     };
 
