@@ -21,7 +21,15 @@ native cost per sample is the same) and ``bench/scenes/peers_lit.toml``.
 
 Mitsuba's ``direct`` integrator as exported here picks one light per sample
 where the native tracer sums every light (one shadow ray per light per
-diffuse hit), so per sample the native tracer does more work.
+diffuse hit), so per sample the native tracer does more work. And Mitsuba
+builds its Embree scene without RTC_SCENE_FLAG_ROBUST (perf names its
+triangle kernel ``TriangleMIntersectorKMoeller``), where the native tracer
+keeps robust traversal so that no ray slips between primitives sharing an
+edge. Two more rows measure what each costs, with the work matched:
+
+- ``native_thin_not_robust``: ``LENSCOMPARE_EMBREE_ROBUST=0`` for that render's scene;
+- scene ``<name>_one_light`` (``--one-light``): the scene with its first light
+  only, so that both renderers trace one shadow ray per diffuse hit.
 
 With ``--time-to-rmse``, ``bench_povray.py`` also runs (uniform sampling
 only: POV-Ray fixed ``blur_samples`` against the native thin lens's sobol
@@ -30,7 +38,7 @@ sweep) and its ``time_to_target`` goes into the JSON.
 Usage::
 
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 \\
-        flock /tmp/bench.lock .venv/bin/python bench/bench_peers.py [--repeat 5] [--time-to-rmse]
+        flock /tmp/bench.lock .venv/bin/python bench/bench_peers.py [--repeat 5] [--one-light] [--time-to-rmse]
 
 (``make bench`` sets the variable.) Prints one JSON object. Not a test.
 """
@@ -38,6 +46,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import platform
@@ -92,9 +101,14 @@ class MitsubaRender:
         return time.perf_counter() - start
 
 
-def native_timer(scene, model, spp, threads):
+def native_timer(scene, model, spp, threads, *, robust=True):
     def run():
-        return render(scene, model=model, spp=spp, threads=threads, progress=False).metadata["seconds"]
+        # Read when the native scene is built: each render builds its own.
+        os.environ["LENSCOMPARE_EMBREE_ROBUST"] = "1" if robust else "0"
+        try:
+            return render(scene, model=model, spp=spp, threads=threads, progress=False).metadata["seconds"]
+        finally:
+            os.environ.pop("LENSCOMPARE_EMBREE_ROBUST")
     return run
 
 
@@ -124,6 +138,8 @@ def main() -> int:
     parser.add_argument("--scenes", default=",".join(SCENES), help="comma-separated names from " + ", ".join(SCENES))
     parser.add_argument("--no-mitsuba", action="store_true")
     parser.add_argument("--no-povray", action="store_true")
+    parser.add_argument("--one-light", action="store_true",
+                        help="also each scene with its first light only (one shadow ray per hit, as Mitsuba)")
     parser.add_argument("--time-to-rmse", action="store_true", help="also run bench_povray.py (uniform sampling)")
     args = parser.parse_args()
 
@@ -157,11 +173,15 @@ def main() -> int:
     }
     samples = args.resolution[0] * args.resolution[1] * args.spp
     with tempfile.TemporaryDirectory(prefix="bench-peers-") as folder:
-        for name in args.scenes.split(","):
-            scene = load_scene(SCENES[name]).with_camera(resolution=tuple(args.resolution))
+        runs = [(name, load_scene(SCENES[name])) for name in args.scenes.split(",")]
+        if args.one_light:
+            runs += [(f"{name}_one_light", dataclasses.replace(scene, lights=scene.lights[:1])) for name, scene in runs]
+        for name, scene in runs:
+            scene = scene.with_camera(resolution=tuple(args.resolution))
             lens_scene = scene.with_camera(lens=LENS, f_number=None)
             timers = {
                 "native_thin": native_timer(scene, "thin", args.spp, args.threads),
+                "native_thin_not_robust": native_timer(scene, "thin", args.spp, args.threads, robust=False),
                 "native_pinhole": native_timer(scene, "pinhole", args.spp, args.threads),
                 "native_lens": native_timer(lens_scene, "lens", args.spp, args.threads),
             }
@@ -186,12 +206,17 @@ def main() -> int:
                     if f"mitsuba_{variant}_{model}" in sps:
                         ratios[f"native_{model}_over_mitsuba_{variant}"] = (
                             sps[f"native_{model}"] / sps[f"mitsuba_{variant}_{model}"])
+            if "mitsuba_llvm_ad_rgb_thin" in sps:
+                ratios["native_thin_not_robust_over_mitsuba_llvm_ad_rgb"] = (
+                    sps["native_thin_not_robust"] / sps["mitsuba_llvm_ad_rgb_thin"])
+            ratios["native_thin_not_robust_over_native_thin"] = sps["native_thin_not_robust"] / sps["native_thin"]
             ratios["native_lens_over_native_pinhole"] = sps["native_lens"] / sps["native_pinhole"]
             ratios["native_thin_over_native_pinhole"] = sps["native_thin"] / sps["native_pinhole"]
             if "povray_thin" in sps:
                 ratios["native_thin_over_povray_thin"] = sps["native_thin"] / sps["povray_thin"]
+            base = name.removesuffix("_one_light")
             results["scenes"][name] = {
-                "source": str(SCENES[name].relative_to(ROOT)),
+                "source": str(SCENES[base].relative_to(ROOT)) + (" (first light only)" if base != name else ""),
                 "best_seconds": best,
                 "samples_per_second": sps,
                 "ratios": ratios,
@@ -202,6 +227,8 @@ def main() -> int:
 
     goals = {}
     for name, entry in results["scenes"].items():
+        if name.endswith("_one_light"):
+            continue  # matched work, not the goal's scenes
         for model in ("thin", "pinhole"):
             ratio = entry["ratios"].get(f"native_{model}_over_mitsuba_llvm_ad_rgb")
             if ratio is not None:

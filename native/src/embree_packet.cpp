@@ -16,11 +16,9 @@ const char* embree_device_config() {
 }
 
 RTCSceneFlags embree_edge_flags() {
-    static const RTCSceneFlags flags = [] {
-        const char* robust = std::getenv("LENSCOMPARE_EMBREE_ROBUST");
-        return (robust && std::strcmp(robust, "0") == 0) ? RTC_SCENE_FLAG_NONE : RTC_SCENE_FLAG_ROBUST;
-    }();
-    return flags;
+    // Read per scene (not once): bench_peers.py times both settings in one process.
+    const char* robust = std::getenv("LENSCOMPARE_EMBREE_ROBUST");
+    return (robust && std::strcmp(robust, "0") == 0) ? RTC_SCENE_FLAG_NONE : RTC_SCENE_FLAG_ROBUST;
 }
 
 }  // namespace lc

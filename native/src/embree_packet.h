@@ -28,8 +28,10 @@ inline void occluded_packet(const int* valid, RTCScene scene, RTCIntersectContex
 // the images of each; unset, Embree picks the CPU's best. Returns the config
 // string for rtcNewDevice (nullptr: defaults).
 const char* embree_device_config();
-// The scene flags for geometry with edges (quads, triangles): RTC_SCENE_FLAG_ROBUST
-// unless LENSCOMPARE_EMBREE_ROBUST=0 (for measuring what robust traversal costs).
+// The scene flags for geometry with edges (quads, triangles): RTC_SCENE_FLAG_ROBUST,
+// which keeps rays from slipping between primitives that share an edge, unless
+// LENSCOMPARE_EMBREE_ROBUST=0 (Mitsuba 3's setting; for measuring what robust
+// traversal costs: bench/bench_peers.py).
 RTCSceneFlags embree_edge_flags();
 
 }  // namespace lc
