@@ -353,6 +353,28 @@ class _Diagnostics(types.ModuleType):
         """out[i]: whether segment i crosses a sphere's surface, as the render's shadow rays see it."""
 
     @staticmethod
+    def own_quads_closest(
+        corners: numpy.ndarray,  # float32 (k, 4, 3): parallelograms, corners in order round each
+        origin: numpy.ndarray,  # float32 (n, 3)
+        direction: numpy.ndarray,  # float32 (n, 3)
+        t_far: numpy.ndarray,  # float32 (n,), read and written
+        index: numpy.ndarray,  # int32 (n,), written (-1: no hit)
+        kernel: str,
+    ) -> None:
+        """Closest hits at t in [0, t_far) as the render's camera rays get them, in place."""
+
+    @staticmethod
+    def own_quads_occluded(
+        corners: numpy.ndarray,  # float32 (k, 4, 3)
+        origin: numpy.ndarray,  # float32 (n, 3)
+        direction: numpy.ndarray,  # float32 (n, 3)
+        t_far: numpy.ndarray,  # float32 (n,)
+        out: numpy.ndarray,  # bool (n,), written
+        kernel: str,
+    ) -> None:
+        """out[i]: whether segment i crosses a parallelogram, as the render's shadow rays see it."""
+
+    @staticmethod
     def raw_primary_throughput(scene: Scene, camera: PinholeCamera, spp: int, threads: int) -> tuple[float, int, int]:
         """(seconds, rays, hits) of bare pinhole rays (Embree and the own sphere test), no shading: the ceiling of a render."""
 

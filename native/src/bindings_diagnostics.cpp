@@ -26,6 +26,7 @@
 #include "motion.h"
 #include "samplers.h"
 #include "scene.h"
+#include "quad_lanes.h"
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
 
@@ -307,10 +308,79 @@ void bind_own_spheres(nb::module_& m) {
           "see it; a ray starting on sphere start_sphere[i] (-1: none) is blocked by it only if self_blocks[i].");
 }
 
+std::vector<OwnQuad> own_quads_from(CArray<const float, -1, 4, 3> corners) {
+    std::vector<OwnQuad> quads(corners.shape(0));
+    for (size_t k = 0; k < quads.size(); ++k)
+        if (!make_own_quad(corners.data() + 12 * k, &quads[k]))
+            throw std::invalid_argument("quads: quad " + std::to_string(k) + " is not a parallelogram with area");
+    return quads;
+}
+
+void bind_own_quads(nb::module_& m) {
+    m.def("own_quads_closest",
+          [](CArray<const float, -1, 4, 3> corners, CArray<const float, -1, 3> origin,
+             CArray<const float, -1, 3> direction, CArray<float, -1> t_far, CArray<int32_t, -1> index,
+             const std::string& kernel) {
+              constexpr int N = kSphereLanes;
+              const SphereKernel k = sphere_kernel_named(kernel);
+              const std::vector<OwnQuad> quads = own_quads_from(corners);
+              const size_t n = origin.shape(0);
+              if (direction.shape(0) != n || t_far.shape(0) != n || index.shape(0) != n)
+                  throw std::invalid_argument("origin, direction, t_far and index need one row per ray");
+              for (size_t first = 0; first < n; first += N) {
+                  float lanes[6][N], t[N], nrm[3][N];
+                  int active[N], idx[N];
+                  for (int i = 0; i < N; ++i) {
+                      const size_t r = std::min(first + size_t(i), n - 1);
+                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
+                      t[i] = t_far(r);
+                      active[i] = first + size_t(i) < n;
+                  }
+                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  float* const nn[3] = {nrm[0], nrm[1], nrm[2]};
+                  quads_closest(k, quads.data(), int(quads.size()), o, d, active, t, idx, nn);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i) t_far(first + size_t(i)) = t[i], index(first + size_t(i)) = idx[i];
+              }
+          },
+          "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "kernel"_a,
+          "Closest hits at t in [0, t_far) with parallelograms (corners in order round each, xyz): t_far and "
+          "index (-1: none), in place, as the render's camera rays get them.");
+
+    m.def("own_quads_occluded",
+          [](CArray<const float, -1, 4, 3> corners, CArray<const float, -1, 3> origin,
+             CArray<const float, -1, 3> direction, CArray<const float, -1> t_far, CArray<bool, -1> out,
+             const std::string& kernel) {
+              constexpr int N = kSphereLanes;
+              const SphereKernel k = sphere_kernel_named(kernel);
+              const std::vector<OwnQuad> quads = own_quads_from(corners);
+              const size_t n = origin.shape(0);
+              if (direction.shape(0) != n || t_far.shape(0) != n || out.shape(0) != n)
+                  throw std::invalid_argument("origin, direction, t_far and out need one row per ray");
+              for (size_t first = 0; first < n; first += N) {
+                  float lanes[6][N], t[N];
+                  int active[N], blocked[N];
+                  for (int i = 0; i < N; ++i) {
+                      const size_t r = std::min(first + size_t(i), n - 1);
+                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
+                      t[i] = t_far(r);
+                      active[i] = first + size_t(i) < n;
+                  }
+                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  quads_occluded(k, quads.data(), int(quads.size()), o, d, t, active, blocked);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i) out(first + size_t(i)) = blocked[i] != 0;
+              }
+          },
+          "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "out"_a, "kernel"_a,
+          "out[i]: whether segment i (t in [0, t_far]) crosses a parallelogram, as the render's shadow rays see it.");
+}
+
 }  // namespace
 
 void bind_diagnostics(nb::module_& m) {
     bind_own_spheres(m);
+    bind_own_quads(m);
     bind_motion_culling(m);
     bind_samplers(m);
     bind_lens(m);

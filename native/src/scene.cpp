@@ -174,10 +174,34 @@ Scene::Scene(const SceneArrays& a)
     }
 
     // Quads: four corners each.
+    GeometryTable own_quad_table;
     const Split quads = split_by_velocity(a.quad_velocity, size_t(a.n_quads), sampled);
     for (int moving = 0; moving < 2; ++moving) {
         const std::vector<size_t>& ids = moving ? quads.moving : quads.still;
         if (ids.empty()) continue;
+        // A few still parallelograms: the render's own test (quad_lanes.h), at
+        // the place Embree would have had them; all of them or none.
+        if (!moving && int(ids.size()) <= max_own_quads()) {
+            std::vector<OwnQuad> own(ids.size());
+            bool all_parallelograms = true;
+            for (size_t k = 0; k < ids.size() && all_parallelograms; ++k) {
+                float corners[12];
+                for (size_t c = 0; c < 4; ++c) {
+                    const float* src = a.quads + 12 * ids[k] + 3 * c;
+                    if (offset) moved(src, velocity_at(a.quad_velocity, ids[k]), open_s, corners + 3 * c);
+                    else std::copy(src, src + 3, corners + 3 * c);
+                }
+                all_parallelograms = make_own_quad(corners, &own[k]);
+            }
+            if (all_parallelograms) {
+                own_quads_ = std::move(own);
+                for (size_t i : ids) {
+                    own_quad_table.material.push_back(a.quad_material[i]);
+                    if (a.quad_velocity) own_quad_table.velocity.push_back(velocity_at(a.quad_velocity, i));
+                }
+                continue;
+            }
+        }
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_QUAD);
         const int slots = moving ? steps : 1;
         rtcSetGeometryTimeStepCount(g, unsigned(slots));
@@ -261,16 +285,19 @@ Scene::Scene(const SceneArrays& a)
         }
         attach(target_of(moving, true), g, std::move(table));
     }
-    // The own spheres' table after every Embree geometry's: an ID Embree never gives.
+    // The own spheres' and quads' tables after every Embree geometry's: IDs Embree never gives.
     embree_still_ = !tables_.empty();
-    if (!own_spheres_.empty()) {
+    auto own_id = [&](GeometryTable& table) {
         bool still = true;  // as attach: zero velocities are no motion
-        for (const Vec3f& v : own_table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
-        if (still) own_table.velocity.clear();
-        own_spheres_id_ = unsigned(tables_.size());
-        tables_.push_back(std::move(own_table));
-        if (own_spheres_id_ == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
-    }
+        for (const Vec3f& v : table.velocity) still = still && v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
+        if (still) table.velocity.clear();
+        const unsigned id = unsigned(tables_.size());
+        tables_.push_back(std::move(table));
+        if (id == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
+        return id;
+    };
+    if (!own_spheres_.empty()) own_spheres_id_ = own_id(own_table);
+    if (!own_quads_.empty()) own_quads_id_ = own_id(own_quad_table);
     sphere_kernel_ = fastest_sphere_kernel();
     shading_kernel_ = shading_kernel();
     material_columns_ = material_columns(materials_, background_);
@@ -337,6 +364,20 @@ float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) con
         float* const normal[3] = {n[0], n[1], n[2]};
         spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), o, d, active, t_far,
                         index, normal);
+        t = t_far[0];
+    }
+    if (!own_quads_.empty()) {  // the same, one lane of a packet of copies
+        float lanes[6][kSphereLanes], n[3][kSphereLanes], t_far[kSphereLanes];
+        int active[kSphereLanes] = {1}, index[kSphereLanes];
+        for (int i = 0; i < kSphereLanes; ++i) {
+            lanes[0][i] = origin.x, lanes[1][i] = origin.y, lanes[2][i] = origin.z;
+            lanes[3][i] = direction.x, lanes[4][i] = direction.y, lanes[5][i] = direction.z;
+            t_far[i] = t;
+        }
+        const float* o[3] = {lanes[0], lanes[1], lanes[2]};
+        const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+        float* const normal[3] = {n[0], n[1], n[2]};
+        quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), o, d, active, t_far, index, normal);
         t = t_far[0];
     }
     if (motion_scene_) {

@@ -17,6 +17,7 @@
 
 #include "embree_packet.h"
 #include "motion.h"
+#include "quad_lanes.h"
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
@@ -148,6 +149,9 @@ class Scene {
     // their hits carry geometry ID own_spheres_id_ (a table of tables_ that Embree never uses).
     std::vector<float> own_spheres_;
     unsigned own_spheres_id_ = RTC_INVALID_GEOMETRY_ID;
+    // Still quads the render tests itself (quad_lanes.h), all or none; their hits carry own_quads_id_.
+    std::vector<OwnQuad> own_quads_;
+    unsigned own_quads_id_ = RTC_INVALID_GEOMETRY_ID;
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry

@@ -59,6 +59,22 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
             packet.hit.u[i] = packet.hit.v[i] = 0.0f;
         }
     }
+    // Then the own quads, nearer than any sphere hit
+    if (!own_quads_.empty()) {
+        int index[kPacketSize];
+        float ng[3][kPacketSize];
+        const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
+        const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
+        float* const normal[3] = {ng[0], ng[1], ng[2]};
+        quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
+                      packet.ray.tfar, index, normal);
+        for (int i = 0; i < rays.count; ++i) {
+            if (index[i] < 0) continue;
+            packet.hit.geomID[i] = own_quads_id_, packet.hit.primID[i] = unsigned(index[i]);
+            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
+            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
+        }
+    }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
 }
@@ -110,25 +126,34 @@ bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowR
         shadow.start_sphere[i] = k;
         shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
     }
-    alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere blocks
-    bool embree_asked = embree_still_;
-    if (!own_spheres_.empty()) {
-        int blocked[kPacketSize];
-        const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
-        const float* direction[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-        spheres_occluded(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction,
-                         packet.tfar, shadow.start_sphere, shadow.self_blocks, valid, blocked);
+    alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere or quad blocks
+    for (int i = 0; i < kPacketSize; ++i) open[i] = valid[i];
+    const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* direction[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    // Blocked lanes get tfar -inf, as Embree marks them; returns whether any lane is left open.
+    auto close_blocked = [&](const int* blocked) {
         int left = 0;
         for (int i = 0; i < kPacketSize; ++i) {
-            if (blocked[i]) packet.tfar[i] = -kInf;  // as Embree marks a blocked ray
-            open[i] = valid[i] && !blocked[i] ? -1 : 0;
+            if (blocked[i]) packet.tfar[i] = -kInf;
+            open[i] = open[i] && !blocked[i] ? -1 : 0;
             left |= open[i];
         }
-        embree_asked = embree_asked && left != 0;
-    } else {
-        for (int i = 0; i < kPacketSize; ++i) open[i] = valid[i];
+        return left != 0;
+    };
+    bool any_open = true;
+    if (!own_spheres_.empty()) {
+        int blocked[kPacketSize];
+        spheres_occluded(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction,
+                         packet.tfar, shadow.start_sphere, shadow.self_blocks, open, blocked);
+        any_open = close_blocked(blocked);
     }
-    if (embree_asked) occluded_packet(open, scene_, &context, &packet);
+    if (any_open && !own_quads_.empty()) {
+        int blocked[kPacketSize];
+        quads_occluded(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, packet.tfar,
+                       open, blocked);
+        any_open = close_blocked(blocked);
+    }
+    if (embree_still_ && any_open) occluded_packet(open, scene_, &context, &packet);
     if (motion_scene_) occlude_by_movers(valid, context, packet);
     return true;
 }

@@ -1,5 +1,7 @@
 #include "sphere_lanes.h"
 
+#include "near_line_lanes.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -12,28 +14,6 @@ constexpr int N = kSphereLanes;
 // Lane loops without branches, written once and compiled per instruction set
 // (the always_inline bodies below, called from functions with a target
 // attribute), so that GCC runs the lanes side by side in each.
-
-// Whether a lane may meet sphere c (centre xyz, radius) anywhere on its line:
-// the squared perpendicular distance in float against the radius with a
-// margin of some hundred float steps of the coordinates (the exact test
-// decides); NaN keeps the lane. Returns whether any lane may.
-[[gnu::always_inline]] inline bool near_line(const float* c, const float* const origin[3],
-                                             const float* const direction[3], const float* inv_dd,
-                                             const float* origin_size, const int* active) {
-    float centre_size = 1.0f;
-    for (int a = 0; a < 4; ++a) centre_size = std::fabs(c[a]) > centre_size ? std::fabs(c[a]) : centre_size;
-    int any = 0;
-    for (int i = 0; i < N; ++i) {
-        const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
-        const float fx = origin[0][i] - c[0], fy = origin[1][i] - c[1], fz = origin[2][i] - c[2];
-        const float s = (fx * dx + fy * dy + fz * dz) * inv_dd[i];
-        const float px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
-        const float reach = c[3] * (1.0f + 1e-5f) + 1e-5f * (centre_size + origin_size[i]);
-        // & not &&: a branch per lane keeps GCC from running the lanes side by side
-        any |= (active[i] != 0) & !(px * px + py * py + pz * pz > reach * reach);
-    }
-    return any != 0;
-}
 
 // Both roots t_lo <= t_hi of lane i's line with sphere c, in double; NaN
 // where the line misses (a negative discriminant) or is degenerate.
@@ -68,26 +48,16 @@ struct Roots {
     }
 }
 
-[[gnu::always_inline]] inline void lane_scales(const float* const origin[3], const float* const direction[3],
-                                               float* inv_dd, float* origin_size) {
-    for (int i = 0; i < N; ++i) {
-        inv_dd[i] = 1.0f / (direction[0][i] * direction[0][i] + direction[1][i] * direction[1][i] +
-                            direction[2][i] * direction[2][i]);
-        const float x = std::fabs(origin[0][i]), y = std::fabs(origin[1][i]), z = std::fabs(origin[2][i]);
-        origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
-    }
-}
-
 [[gnu::always_inline]] inline void closest_body(const float* spheres, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
-    lane_scales(origin, direction, inv_dd, origin_size);
+    lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     double t_best[N] = {};
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
-        if (!near_line(c, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
         Roots t;
         roots(c, origin, direction, t);
         for (int i = 0; i < N; ++i) {
@@ -117,11 +87,11 @@ struct Roots {
                                                  const int* start_sphere, const int* self_blocks, const int* active,
                                                  int* blocked) {
     float inv_dd[N], origin_size[N];
-    lane_scales(origin, direction, inv_dd, origin_size);
+    lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
-        if (!near_line(c, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
         Roots t;
         roots(c, origin, direction, t);
         for (int i = 0; i < N; ++i) {

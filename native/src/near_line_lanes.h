@@ -1,0 +1,46 @@
+// The float test that the own primitives (sphere_lanes.h, quad_lanes.h) run
+// first, to skip a primitive no lane of a packet comes near: the squared
+// distance of each lane's line from a bounding sphere's centre against its
+// radius, with a margin of some hundred float steps of the coordinates (the
+// exact test in double decides). Written once as always_inline bodies so that
+// each caller's per-instruction-set functions compile it for their own set.
+#pragma once
+
+#include <cmath>
+
+namespace lc::lanes {
+
+// Whether a lane may meet the sphere c (centre xyz, radius) anywhere on its
+// line; NaN keeps the lane. Returns whether any lane may.
+template <int N>
+[[gnu::always_inline]] inline bool near_line(const float* c, const float* const origin[3],
+                                             const float* const direction[3], const float* inv_dd,
+                                             const float* origin_size, const int* active) {
+    float centre_size = 1.0f;
+    for (int a = 0; a < 4; ++a) centre_size = std::fabs(c[a]) > centre_size ? std::fabs(c[a]) : centre_size;
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
+        const float fx = origin[0][i] - c[0], fy = origin[1][i] - c[1], fz = origin[2][i] - c[2];
+        const float s = (fx * dx + fy * dy + fz * dz) * inv_dd[i];
+        const float px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
+        const float reach = c[3] * (1.0f + 1e-5f) + 1e-5f * (centre_size + origin_size[i]);
+        // & not &&: a branch per lane keeps GCC from running the lanes side by side
+        any |= (active[i] != 0) & !(px * px + py * py + pz * pz > reach * reach);
+    }
+    return any != 0;
+}
+
+// Per lane: 1 / |d|^2 and the largest origin coordinate, which near_line takes.
+template <int N>
+[[gnu::always_inline]] inline void lane_scales(const float* const origin[3], const float* const direction[3],
+                                               float* inv_dd, float* origin_size) {
+    for (int i = 0; i < N; ++i) {
+        inv_dd[i] = 1.0f / (direction[0][i] * direction[0][i] + direction[1][i] * direction[1][i] +
+                            direction[2][i] * direction[2][i]);
+        const float x = std::fabs(origin[0][i]), y = std::fabs(origin[1][i]), z = std::fabs(origin[2][i]);
+        origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+    }
+}
+
+}  // namespace lc::lanes

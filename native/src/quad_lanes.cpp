@@ -1,0 +1,204 @@
+#include "quad_lanes.h"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "near_line_lanes.h"
+
+namespace lc {
+namespace {
+
+constexpr int N = kSphereLanes;
+
+// Lane i's distance to quad q's plane and whether the hit lies on the quad
+// (within its margins), in double; t is NaN or infinite for a ray in the plane.
+[[gnu::always_inline]] inline void plane_hits(const OwnQuad& q, const float* const origin[3],
+                                              const float* const direction[3], double* t_out, int* inside) {
+    for (int i = 0; i < N; ++i) {
+        const double dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
+        const double fx = q.v0[0] - double(origin[0][i]), fy = q.v0[1] - double(origin[1][i]),
+                     fz = q.v0[2] - double(origin[2][i]);
+        const double t = (fx * q.n[0] + fy * q.n[1] + fz * q.n[2]) / (dx * q.n[0] + dy * q.n[1] + dz * q.n[2]);
+        // The hit relative to v0: o + t d - v0
+        const double rx = t * dx - fx, ry = t * dy - fy, rz = t * dz - fz;
+        const double u = rx * q.a1[0] + ry * q.a1[1] + rz * q.a1[2];
+        const double v = rx * q.a2[0] + ry * q.a2[1] + rz * q.a2[2];
+        // NaN fails every comparison, so a ray in the plane is outside.
+        inside[i] = (u >= -q.margin_u) & (u <= 1.0 + q.margin_u) & (v >= -q.margin_v) & (v <= 1.0 + q.margin_v) &
+                    (t >= 0.0);
+        t_out[i] = t;
+    }
+}
+
+// Whether some active lane's segment t in [0, t_far] may cross q's plane:
+// its ends are not both strictly on one side. Shadow rays mostly start and
+// end on one side of a quad's plane (a floor's faces, a wall behind the
+// lights): then the quad is skipped before plane_hits' division.
+[[gnu::always_inline]] inline bool may_cross_plane(const OwnQuad& q, const float* const origin[3],
+                                                   const float* const direction[3], const float* t_far,
+                                                   const int* active) {
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        const double fx = double(origin[0][i]) - q.v0[0], fy = double(origin[1][i]) - q.v0[1],
+                     fz = double(origin[2][i]) - q.v0[2];
+        const double start = fx * q.n[0] + fy * q.n[1] + fz * q.n[2];
+        const double along = double(direction[0][i]) * q.n[0] + double(direction[1][i]) * q.n[1] +
+                             double(direction[2][i]) * q.n[2];
+        const double end = start + double(t_far[i]) * along;
+        any |= (active[i] != 0) & !(start * end > 0.0);
+    }
+    return any != 0;
+}
+
+[[gnu::always_inline]] inline void closest_body(const OwnQuad* quads, int n, const float* const origin[3],
+                                                const float* const direction[3], const int* active, float* t_far,
+                                                int* index, float* const normal[3]) {
+    float inv_dd[N], origin_size[N];
+    lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    for (int i = 0; i < N; ++i) index[i] = -1;
+    for (int k = 0; k < n; ++k) {
+        const OwnQuad& q = quads[k];
+        if (!may_cross_plane(q, origin, direction, t_far, active)) continue;
+        if (!lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active)) continue;
+        double t[N];
+        int inside[N];
+        plane_hits(q, origin, direction, t, inside);
+        for (int i = 0; i < N; ++i) {
+            const float hit_f = float(t[i]);
+            // Strictly nearer: of two quads at one distance (a shared edge) the first keeps the hit
+            const bool take = (active[i] != 0) & (inside[i] != 0) & (hit_f < t_far[i]);
+            t_far[i] = take ? hit_f : t_far[i];
+            index[i] = take ? k : index[i];
+        }
+    }
+    for (int i = 0; i < N; ++i) {
+        const OwnQuad& q = quads[index[i] < 0 ? 0 : index[i]];
+        for (int a = 0; a < 3; ++a) normal[a][i] = q.unit_normal[a];
+    }
+}
+
+[[gnu::always_inline]] inline bool occluded_body(const OwnQuad* quads, int n, const float* const origin[3],
+                                                 const float* const direction[3], const float* t_far,
+                                                 const int* active, int* blocked) {
+    float inv_dd[N], origin_size[N];
+    lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    int met[N] = {};
+    for (int k = 0; k < n; ++k) {
+        const OwnQuad& q = quads[k];
+        if (!may_cross_plane(q, origin, direction, t_far, active)) continue;
+        if (!lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active)) continue;
+        double t[N];
+        int inside[N];
+        plane_hits(q, origin, direction, t, inside);
+        for (int i = 0; i < N; ++i) met[i] |= (inside[i] != 0) & (t[i] <= double(t_far[i]));
+    }
+    int any = 0;
+    for (int i = 0; i < N; ++i) {
+        blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
+        any |= blocked[i];
+    }
+    return any != 0;
+}
+
+void closest_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const int* active,
+                     float* t_far, int* index, float* const normal[3]) {
+    closest_body(q, n, o, d, active, t_far, index, normal);
+}
+[[gnu::target("avx2")]] void closest_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
+                                          const int* active, float* t_far, int* index, float* const normal[3]) {
+    closest_body(q, n, o, d, active, t_far, index, normal);
+}
+[[gnu::target("avx512f")]] void closest_avx512(const OwnQuad* q, int n, const float* const o[3],
+                                               const float* const d[3], const int* active, float* t_far, int* index,
+                                               float* const normal[3]) {
+    closest_body(q, n, o, d, active, t_far, index, normal);
+}
+
+bool occluded_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const float* t_far,
+                      const int* active, int* blocked) {
+    return occluded_body(q, n, o, d, t_far, active, blocked);
+}
+[[gnu::target("avx2")]] bool occluded_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
+                                           const float* t_far, const int* active, int* blocked) {
+    return occluded_body(q, n, o, d, t_far, active, blocked);
+}
+[[gnu::target("avx512f")]] bool occluded_avx512(const OwnQuad* q, int n, const float* const o[3],
+                                                const float* const d[3], const float* t_far, const int* active,
+                                                int* blocked) {
+    return occluded_body(q, n, o, d, t_far, active, blocked);
+}
+
+void cross(const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+}  // namespace
+
+bool make_own_quad(const float* corners, OwnQuad* out) {
+    const float* c0 = corners;
+    const float* c1 = corners + 3;
+    const float* c2 = corners + 6;
+    const float* c3 = corners + 9;
+    double e1[3], e2[3], size = 1.0;
+    for (int a = 0; a < 12; ++a) size = std::fmax(size, std::fabs(double(corners[a])));
+    for (int a = 0; a < 3; ++a) e1[a] = double(c1[a]) - c0[a], e2[a] = double(c3[a]) - c0[a];
+    // A few float steps at the quad's largest coordinate: how far its corners
+    // may have rounded from where the scene put them.
+    const double slack_m = 8.0 * 0x1p-24 * size;
+    for (int a = 0; a < 3; ++a)
+        if (std::fabs(double(c2[a]) - (double(c1[a]) + e2[a])) > slack_m) return false;  // not a parallelogram
+    double n[3];
+    cross(e1, e2, n);
+    const double nn = dot(n, n), e1_length = std::sqrt(dot(e1, e1)), e2_length = std::sqrt(dot(e2, e2));
+    if (!(nn > 0.0) || !std::isfinite(nn)) return false;  // degenerate: no area
+    cross(e2, n, out->a1);
+    cross(n, e1, out->a2);
+    for (int a = 0; a < 3; ++a) {
+        out->v0[a] = c0[a], out->n[a] = n[a];
+        out->a1[a] /= nn, out->a2[a] /= nn;
+        out->unit_normal[a] = float(n[a] / std::sqrt(nn));
+    }
+    out->margin_u = slack_m / e1_length, out->margin_v = slack_m / e2_length;
+    // Bounding sphere: the centre, and half the longer diagonal
+    double diagonal_sum = 0.0, diagonal_difference = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        out->bound[a] = float(c0[a] + 0.5 * (e1[a] + e2[a]));
+        diagonal_sum += (e1[a] + e2[a]) * (e1[a] + e2[a]);
+        diagonal_difference += (e1[a] - e2[a]) * (e1[a] - e2[a]);
+    }
+    out->bound[3] = float(0.5 * std::sqrt(std::fmax(diagonal_sum, diagonal_difference)) + 2.0 * slack_m);
+    return true;
+}
+
+int max_own_quads() {
+    constexpr int kMaxOwnQuads = 16;
+    const char* text = std::getenv("LENSCOMPARE_MAX_OWN_QUADS");
+    if (!text || !*text) return kMaxOwnQuads;
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    return (*end == '\0' && v >= 0 && v <= 1000000) ? int(v) : kMaxOwnQuads;
+}
+
+void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
+                   const float* const direction[3], const int* active, float* t_far, int* index,
+                   float* const normal[3]) {
+    switch (kernel) {
+        case SphereKernel::Avx512: return closest_avx512(quads, n, origin, direction, active, t_far, index, normal);
+        case SphereKernel::Avx2: return closest_avx2(quads, n, origin, direction, active, t_far, index, normal);
+        default: return closest_default(quads, n, origin, direction, active, t_far, index, normal);
+    }
+}
+
+bool quads_occluded(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
+                    const float* const direction[3], const float* t_far, const int* active, int* blocked) {
+    switch (kernel) {
+        case SphereKernel::Avx512: return occluded_avx512(quads, n, origin, direction, t_far, active, blocked);
+        case SphereKernel::Avx2: return occluded_avx2(quads, n, origin, direction, t_far, active, blocked);
+        default: return occluded_default(quads, n, origin, direction, t_far, active, blocked);
+    }
+}
+
+}  // namespace lc

@@ -1,0 +1,58 @@
+// Still quads (boxes' faces, rectangles: parallelograms) the render
+// intersects itself, a packet of rays at a time, as it does a few spheres
+// (sphere_lanes.h), instead of handing them to Embree. On showcase and
+// lit_showcase (one box and one rectangle: 7 quads) Embree then traces no
+// camera or shadow ray at all; robust traversal, which keeps rays from slipping
+// between quads that share an edge, cost a fifth of its time there
+// (bench/bench_peers.py, native_thin_not_robust).
+//
+// The test runs in double: the plane's distance t = (v0 - o) . n / (d . n),
+// then the hit's coordinates (u, v) along the two edges from dual vectors,
+// accepted on [-margin, 1 + margin]. The margin is a few float steps of the
+// quad's largest coordinate (in edge lengths), so where two quads share an
+// edge whose float corners round apart, their tests overlap by a hair
+// instead of leaving a gap: watertight by construction. A ray in the
+// quad's plane (d . n = 0) misses it (t is infinite or NaN).
+#pragma once
+
+#include <vector>
+
+#include "sphere_lanes.h"
+
+namespace lc {
+
+// One quad, set up once (make_own_quad): corner v0, normal n = e1 x e2, the
+// dual vectors a1, a2 (p - v0 = u e1 + v e2 gives u = (p - v0) . a1, v = ...
+// . a2), the margins in u and v, and for the cull a bounding sphere (centre
+// xyz, radius, float) and the unit normal (float) the hit reports.
+struct OwnQuad {
+    double v0[3], n[3], a1[3], a2[3], margin_u, margin_v;
+    float bound[4], unit_normal[3];
+};
+
+// The quad with corners v0, v1, v2, v3 (in order round it, float xyz each),
+// or false when it is not a parallelogram (v2 != v1 + v3 - v0 beyond float
+// rounding) or is degenerate: Embree takes such quads.
+bool make_own_quad(const float* corners, OwnQuad* out);
+
+// The largest count of still quads the render intersects itself (16); more go
+// to Embree, all of them. LENSCOMPARE_MAX_OWN_QUADS overrides it (0: Embree
+// takes all), for tests and benchmarks that compare the two.
+int max_own_quads();
+
+// Closest hits, as spheres_closest (sphere_lanes.h): where lane i (active[i]
+// set) meets a quad at t in [0, t_far[i]), t_far[i] becomes the hit distance,
+// index[i] the quad and normal[.][i] its unit normal (either side); other lanes
+// keep t_far and get index -1. The same kernels as the spheres'.
+void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
+                   const float* const direction[3], const int* active, float* t_far, int* index,
+                   float* const normal[3]);
+
+// Whether the segments t in [0, t_far[i]] cross some quad: blocked[i] = -1
+// where so (active lanes), else 0. Returns whether any lane is blocked. Shadow
+// rays start lifted off their surface (shading_lanes.h), so a quad does not
+// block the rays that leave it.
+bool quads_occluded(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
+                    const float* const direction[3], const float* t_far, const int* active, int* blocked);
+
+}  // namespace lc

@@ -1,0 +1,182 @@
+"""The render's own test for still quads (native quad_lanes.cpp: boxes' faces
+and rectangles, all parallelograms), which replaces Embree's for scenes of at
+most 16 of them.
+
+Truth is the ray-plane intersection in extended precision (numpy's
+longdouble) from the very float32 rays and corners the kernel sees. Rays aimed
+at an edge two quads share must hit one of them (no gap: Embree needs its
+robust mode for that), every kernel must give the same bits, and a render with
+the own test must match one where Embree intersects the quads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from helpers import REFERENCE_SCENES
+from lenscompare._native import diagnostics
+from lenscompare.native_scene import box_quads, rectangle_quad
+from lenscompare.render import render
+from lenscompare.scene import load_scene
+
+RNG = np.random.default_rng(23)
+KERNELS = diagnostics.sphere_kernels()
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
+def closest(corners, origin, direction, kernel="default", t_far=None):
+    n = len(origin)
+    t = np.full(n, np.inf, np.float32) if t_far is None else np.asarray(t_far, np.float32).copy()
+    index = np.zeros(n, np.int32)
+    diagnostics.own_quads_closest(np.ascontiguousarray(corners, np.float32), origin, direction, t, index, kernel)
+    return t, index
+
+
+def occluded(corners, origin, direction, t_far, kernel="default"):
+    out = np.zeros(len(origin), bool)
+    diagnostics.own_quads_occluded(np.ascontiguousarray(corners, np.float32), origin, direction,
+                                   np.asarray(t_far, np.float32), out, kernel)
+    return out
+
+
+def slanted_pair(size_m: float, offset_m: float) -> np.ndarray:
+    """Two parallelograms sharing an edge, not in one plane, at any scale."""
+    c = RNG.uniform(-1, 1, 3) * offset_m
+    e1, e2, e3 = (RNG.normal(size=(3, 3)) * size_m)
+    return np.array([rectangle_quad(c - e1, e1, e2), rectangle_quad(c, e3, e2)], np.float32)
+
+
+def split_pair(size_m: float, offset_m: float) -> np.ndarray:
+    """One parallelogram cut in two along a line parallel to its edge e2: the halves share that line's
+    float corners, and any ray across the whole must cross one of them."""
+    c = RNG.uniform(-1, 1, 3) * offset_m
+    e1, e2 = (RNG.normal(size=(2, 3)) * size_m)
+    s = RNG.uniform(0.3, 0.7)
+    cut = (c + s * e1).astype(np.float32).astype(np.float64)
+    return np.array([[c, cut, cut + e2, c + e2], [cut, c + e1, c + e1 + e2, cut + e2]], np.float32)
+
+
+def rays_at(points: np.ndarray, distance_m: float):
+    """Rays from random directions toward the given points, each distance_m away."""
+    direction = unit(RNG.normal(size=points.shape)).astype(np.float32)
+    origin = (points.astype(np.float64) - direction * distance_m).astype(np.float32)
+    return origin, direction
+
+
+@pytest.mark.parametrize("size_m,offset_m", [(1e-3, 1.0), (1.0, 0.0), (1.0, 100.0), (1e3, 10.0)])
+def test_rays_across_a_shared_edge_hit_one_of_its_quads(size_m, offset_m):
+    quads = split_pair(size_m, offset_m)
+    a, b = quads[0, 1].astype(np.float64), quads[0, 2].astype(np.float64)  # the shared edge's ends
+    s = RNG.uniform(0.001, 0.999, 20000)[:, None]
+    points = (a + s * (b - a)).astype(np.float32)
+    origin, direction = rays_at(points, 3.0 * size_m)
+    # Not grazing: a float origin rounds the ray off its point, which moves a grazing ray's crossing far
+    normal = unit(np.cross(quads[0, 1] - quads[0, 0], quads[0, 3] - quads[0, 0]).astype(np.float64)[None])[0]
+    steep = np.abs(direction @ normal) > 0.05
+    origin, direction = origin[steep], direction[steep]
+    t, index = closest(quads, origin, direction)
+    assert np.all(index >= 0), f"{np.sum(index < 0)} of {len(index)} rays slipped through the shared edge"
+    # Where: at the aimed-at point, give or take the origin's rounding (float steps of the offset) over the slope
+    assert np.allclose(t, 3.0 * size_m, rtol=1e-4, atol=20 * 2.0**-24 * max(offset_m, 1.0) / 0.05)
+
+
+def test_rays_into_a_box_across_its_edges_and_corners_hit_it():
+    lo, hi = np.array([-1.3, 0.2, 4.0]), np.array([0.7, 1.9, 4.6])
+    quads = box_quads(lo, hi).astype(np.float32)
+    corners = quads.reshape(-1, 3).astype(np.float64)
+    pick = RNG.integers(0, len(corners), (40000, 2))
+    s = RNG.uniform(0.0, 1.0, 40000)[:, None]
+    points = corners[pick[:, 0]] + s * (corners[pick[:, 1]] - corners[pick[:, 0]])
+    on_edge = np.sum(np.isclose(points, lo) | np.isclose(points, hi), axis=1) >= 2
+    # A hair inside, so that every ray from outside toward the point crosses the surface at an edge
+    inside = points[on_edge] + 1e-6 * ((lo + hi) / 2 - points[on_edge])
+    origin, direction = rays_at(inside, 5.0)
+    outside = np.any((origin < lo) | (origin > hi), axis=1)
+    t, index = closest(quads, origin[outside], direction[outside])
+    assert len(t) > 1000
+    assert np.all(index >= 0), f"{np.sum(index < 0)} of {len(index)} rays slipped into the box"
+    assert np.all(t <= 5.0 * (1 + 1e-5))
+
+
+def test_hits_match_extended_precision_and_rays_past_the_edges_miss():
+    quads = np.concatenate([slanted_pair(10 ** RNG.uniform(-2, 2), 50.0) for _ in range(4)])
+    k = RNG.integers(0, len(quads), 8000)
+    uv = RNG.uniform(0.01, 0.99, (8000, 2))
+    outside = RNG.random(8000) < 0.5
+    uv[outside, 0] = RNG.uniform(1.01, 2.0, outside.sum())  # past the edge e1 reaches
+    ld = np.longdouble
+    v0, e1, e2 = (quads[k, 0].astype(ld), (quads[k, 1] - quads[k, 0]).astype(ld),
+                  (quads[k, 3] - quads[k, 0]).astype(ld))
+    target = v0 + uv[:, :1] * e1 + uv[:, 1:] * e2
+    scale = np.linalg.norm(quads[k, 1] - quads[k, 0], axis=1).astype(np.float64)
+    direction = unit(RNG.normal(size=(8000, 3))).astype(np.float32)
+    origin = (target.astype(np.float64) - direction * (2.0 * scale)[:, None]).astype(np.float32)
+    for i in range(0, 8000, 1000):  # one quad at a time, so no other quad is in the way
+        sl = slice(i, i + 1000)
+        for q in np.unique(k[sl]):
+            rows = np.flatnonzero(k[sl] == q) + i
+            t, index = closest(quads[q:q + 1], origin[rows], direction[rows])
+            n = np.cross(e1[rows[0]], e2[rows[0]])
+            f = v0[rows[0]] - origin[rows].astype(ld)
+            t_true = (f @ n) / (direction[rows].astype(ld) @ n)
+            hit = ~outside[rows]
+            assert np.all(index[hit] == 0) and np.all(index[~hit] == -1)
+            assert np.allclose(t[hit], t_true[hit].astype(np.float64), rtol=3e-7)
+
+
+def test_rays_in_the_plane_or_never_reaching_it_miss_without_nan():
+    quad = np.array([rectangle_quad([0.0, 0.0, 5.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])], np.float32)
+    origin = np.array([[-1.0, 0.5, 5.0], [0.5, 0.5, 4.0], [0.5, 0.5, 4.0], [0.5, 0.5, 6.0]], np.float32)
+    direction = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], np.float32)
+    t, index = closest(quad, origin, direction)
+    assert np.all(index == -1) and np.all(np.isinf(t))
+    assert not occluded(quad, origin, direction, np.full(4, 10.0)).any()
+
+
+def test_a_segment_is_blocked_exactly_when_it_crosses():
+    quad = np.array([rectangle_quad([-1.0, -1.0, 5.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.3])], np.float32)
+    origin = np.zeros((3, 3), np.float32)
+    direction = np.array([[0.0, 0.0, 1.0]] * 3, np.float32)
+    # The plane is at z = 5.15 on the axis: ending before it, across it, starting past it
+    origin[2, 2] = 6.0
+    blocked = occluded(quad, origin, direction, np.array([5.0, 5.3, 3.0]))
+    assert blocked.tolist() == [False, True, False]
+
+
+def test_every_kernel_gives_the_same_bits():
+    quads = np.concatenate([slanted_pair(1.0, 20.0) for _ in range(6)])
+    target = quads[RNG.integers(0, len(quads), 4000), 0] + RNG.normal(size=(4000, 3)).astype(np.float32)
+    origin, direction = rays_at(target.astype(np.float32), 7.0)
+    results = {kernel: closest(quads, origin, direction, kernel) for kernel in KERNELS}
+    blocked = {kernel: occluded(quads, origin, direction, np.full(4000, 7.0), kernel) for kernel in KERNELS}
+    first = KERNELS[0]
+    for kernel in KERNELS[1:]:
+        assert np.array_equal(results[kernel][0], results[first][0])
+        assert np.array_equal(results[kernel][1], results[first][1])
+        assert np.array_equal(blocked[kernel], blocked[first])
+
+
+def test_a_quad_that_is_not_a_parallelogram_is_refused():
+    quad = rectangle_quad([0.0, 0.0, 5.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]).astype(np.float32)
+    quad[2] += 0.1
+    with pytest.raises(ValueError, match="not a parallelogram"):
+        closest(quad[None], np.zeros((1, 3), np.float32), np.array([[0.0, 0.0, 1.0]], np.float32))
+
+
+@pytest.mark.parametrize("name", ["showcase", "lit_showcase"])
+def test_renders_match_embree_quads(monkeypatch, name):
+    scene = load_scene(REFERENCE_SCENES / f"{name}.toml").with_camera(resolution=(120, 80))
+    images = {}
+    for own in ("16", "0"):
+        monkeypatch.setenv("LENSCOMPARE_MAX_OWN_QUADS", own)
+        images[own] = render(scene, model="thin", spp=16, threads=2, progress=False).pixels
+    ours, embree = images["16"], images["0"]
+    assert np.isfinite(ours).all()
+    assert abs(ours.mean() - embree.mean()) < 1e-5 * embree.mean()
+    # A sample at a hair from an edge or a checker line may land on the other side: a few pixels
+    differ = np.abs(ours - embree).max(axis=2) > 1e-3
+    assert differ.mean() < 1e-3
