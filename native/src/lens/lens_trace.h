@@ -64,6 +64,17 @@ struct LensRay {
     Vec3d direction;  // unit
 };
 
+// Spheres at least this curved (|R| <= 10 m) take their near root as
+// (s sqrt(disc) - b) R / 2, a multiplication, instead of k / q: the
+// cancellation there costs at most a few eps |R| (~1e-12 mm), while the
+// divider it frees is what the lens trace waits for. Flatter spheres keep the
+// division, which loses no bits however small c is.
+constexpr double kDirectRootMinCurvaturePerMm = 1e-4;
+
+inline bool direct_near_root(double curvature_per_mm) {
+    return std::fabs(curvature_per_mm) >= kDirectRootMinCurvaturePerMm;
+}
+
 // Roots this little behind the origin still count: a ray leaving one surface
 // where the next touches it (cemented, zero thickness) starts on both.
 constexpr double kBehindToleranceMm = 1e-9;
@@ -105,7 +116,7 @@ inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* 
     // Numerically stable pair of roots.
     double q = -0.5 * (b + std::copysign(sq, b));
     double t0 = q * (1.0 / c);
-    double t1 = q != 0.0 ? k / q : INFINITY;
+    double t1 = direct_near_root(c) ? (std::copysign(sq, b) - b) * (0.5 * (1.0 / c)) : q != 0.0 ? k / q : INFINITY;
     // cos_i = -n . d = c (p . d + t) - d.z = b / 2 + c t: half the quadratic's
     // slope at the root, +-sqrt(disc) / 2 (its sign: + at k / q, - at q / c),
     // and its square disc / 4.
@@ -263,6 +274,7 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
         }
     } else {
         const double radius = 1.0 / c;
+        const bool direct = direct_near_root(c);
         for (int i = 0; i < kLensBatch; ++i) {
             const double ox = b->ox[i], oy = b->oy[i], dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             const double pz = b->oz[i] - v;
@@ -272,7 +284,7 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
             const double sq = std::sqrt(disc >= 0.0 ? disc : 0.0);
             const double q = -0.5 * (bq + std::copysign(sq, bq));
             const double t0 = q * radius;
-            const double t1 = q != 0.0 ? k / q : INFINITY;
+            const double t1 = direct ? (std::copysign(sq, bq) - bq) * (0.5 * radius) : q != 0.0 ? k / q : INFINITY;
             const bool swap = t0 > t1;
             const double lo = swap ? t1 : t0, hi = swap ? t0 : t1;
             const bool lo_ok = (lo >= -kBehindToleranceMm) & (std::fabs(lo) < INFINITY) & (c * (pz + lo * dz) < 1.0);

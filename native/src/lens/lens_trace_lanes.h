@@ -26,13 +26,14 @@ namespace lc {
 // roots and divisions wait for. The same values as the scalar trace's.
 struct SurfaceScalars {
     double four_c, radius_mm, semi2_mm2, eta, eta2;
-    bool refracts;
+    bool refracts, direct_near_root;
 
     static SurfaceScalars of(const LensElement& e) {
         SurfaceScalars f;
         f.four_c = 4.0 * e.curvature_per_mm;
         f.radius_mm = e.curvature_per_mm != 0.0 ? 1.0 / e.curvature_per_mm : 0.0;
         f.semi2_mm2 = e.semi_aperture_mm * e.semi_aperture_mm;
+        f.direct_near_root = lc::direct_near_root(e.curvature_per_mm);
         f.refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
         f.eta = f.refracts ? e.n_film_side / e.n_scene_side : 1.0;
         f.eta2 = f.eta * f.eta;
@@ -92,7 +93,8 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, co
         const D sq = sqrt(select(real, disc, zero));
         const D q = D(-0.5) * (bq + copysign(sq, bq));
         const D t0 = q * D(f.radius_mm);
-        const D t1 = select(q != zero, k / q, inf);
+        const D t1 = f.direct_near_root ? (copysign(sq, bq) - bq) * D(0.5 * f.radius_mm)
+                                        : select(q != zero, k / q, inf);
         const M swap = t0 > t1;
         const D lo = select(swap, t1, t0), hi = select(swap, t0, t1);
         // lo >= behind rules out -inf (and NaN): lo < inf is then |lo| < inf.
