@@ -299,8 +299,10 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
     }
     // Hit point and aperture test
     double px[kLensBatch], py[kLensBatch], pz[kLensBatch];
+    bool hit[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
         px[i] = b->ox[i] + b->dx[i] * t[i], py[i] = b->oy[i] + b->dy[i] * t[i], pz[i] = b->oz[i] + b->dz[i] * t[i];
+        hit[i] = ok[i];
         ok[i] = ok[i] & !(px[i] * px[i] + py[i] * py[i] > semi2);
     }
     for (int k = 0; k < e.blades; ++k) {
@@ -344,10 +346,14 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
             ok[i] = ok[i] & (!bends[i] | ((sin2_t < 1.0) & (nz[i] < 0.0)));
         }
     }
-    // Dead lanes keep their old values: nothing undefined travels on.
+    // Lanes without a hit keep their old values: nothing undefined travels on.
+    // Lanes with one move on to it even if a later test stopped them (their
+    // values are finite and never read), as the SIMD kernels do so that the
+    // next surface need not wait for those tests.
     for (int i = 0; i < kLensBatch; ++i) {
-        b->ox[i] = ok[i] ? px[i] : b->ox[i], b->oy[i] = ok[i] ? py[i] : b->oy[i], b->oz[i] = ok[i] ? pz[i] : b->oz[i];
-        b->dx[i] = ok[i] ? nx[i] : b->dx[i], b->dy[i] = ok[i] ? ny[i] : b->dy[i], b->dz[i] = ok[i] ? nz[i] : b->dz[i];
+        const bool h = hit[i];
+        b->ox[i] = h ? px[i] : b->ox[i], b->oy[i] = h ? py[i] : b->oy[i], b->oz[i] = h ? pz[i] : b->oz[i];
+        b->dx[i] = h ? nx[i] : b->dx[i], b->dy[i] = h ? ny[i] : b->dy[i], b->dz[i] = h ? nz[i] : b->dz[i];
         b->alive[i] = ok[i];
     }
 }

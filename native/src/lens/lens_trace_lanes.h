@@ -108,6 +108,7 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, co
     }
     // Hit point and aperture test
     const D px = l->ox + l->dx * t, py = l->oy + l->dy * t, pz = l->oz + l->dz * t;
+    const M hit = ok;
     ok = ok & not_greater(px * px + py * py, D(f.semi2_mm2));
     for (int k = 0; k < e.blades; ++k)
         ok = ok & not_greater(px * D(e.edge_normal_x[size_t(k)]) + py * D(e.edge_normal_y[size_t(k)]),
@@ -131,9 +132,12 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, co
     } else if (f.refracts) {
         ok = ok & refract_lanes(e, px, py, pz, cos_i, cos2_i, D(f.eta), D(f.eta2), *l, &nx, &ny, &nz);
     }
-    // Dead lanes keep their old values
-    l->ox = select(ok, px, l->ox), l->oy = select(ok, py, l->oy), l->oz = select(ok, pz, l->oz);
-    l->dx = select(ok, nx, l->dx), l->dy = select(ok, ny, l->dy), l->dz = select(ok, nz, l->dz);
+    // Lanes that found no hit keep their old values; those that hit go on
+    // from there whether or not the rim, total internal reflection or the
+    // turn-back test then stopped them (finite values either way, and a dead
+    // lane's are never read), so the next surface need not wait for those tests.
+    l->ox = select(hit, px, l->ox), l->oy = select(hit, py, l->oy), l->oz = select(hit, pz, l->oz);
+    l->dx = select(hit, nx, l->dx), l->dy = select(hit, ny, l->dy), l->dz = select(hit, nz, l->dz);
     l->alive = ok;
 }
 
