@@ -64,12 +64,33 @@ struct LensRay {
     Vec3d direction;  // unit
 };
 
+// Spheres at least this curved (|R| <= 10 m) take their near root as
+// (s sqrt(disc) - b) R / 2, a multiplication, instead of k / q: the
+// cancellation there costs at most a few eps |R| (~1e-12 mm), while the
+// divider it frees is what the lens trace waits for. Flatter spheres keep the
+// division, which loses no bits however small c is.
+constexpr double kDirectRootMinCurvaturePerMm = 1e-4;
+
+inline bool direct_near_root(double curvature_per_mm) {
+    return std::fabs(curvature_per_mm) >= kDirectRootMinCurvaturePerMm;
+}
+
 // Roots this little behind the origin still count: a ray leaving one surface
 // where the next touches it (cemented, zero thickness) starts on both.
 constexpr double kBehindToleranceMm = 1e-9;
 
+// The cosine of the angle of incidence (-n . d, n the normal of
+// surface_normal) and its square, as intersect_surface finds them.
+struct Incidence {
+    double cos_i, cos2_i;
+};
+
 // Where the ray meets the surface's physical cap; false when it does not.
-inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* t_out) {
+// With incidence: also the cosine there, which on a sphere comes from the
+// quadratic's discriminant (see below) instead of a dot product at the hit
+// point, so that refraction need not wait for the root.
+inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* t_out,
+                              Incidence* incidence = nullptr) {
     const Vec3d& o = ray.origin_mm;
     const Vec3d& d = ray.direction;
     if (e.curvature_per_mm == 0.0) {
@@ -77,6 +98,7 @@ inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* 
         double t = (e.vertex_z_mm - o.z) / d.z;
         if (!(t >= -kBehindToleranceMm)) return false;
         *t_out = t;
+        if (incidence) *incidence = {-d.z, d.z * d.z};
         return true;
     }
     // Sphere of radius R centred at vertex + R on the axis, written with the
@@ -94,15 +116,23 @@ inline bool intersect_surface(const LensElement& e, const LensRay& ray, double* 
     // Numerically stable pair of roots.
     double q = -0.5 * (b + std::copysign(sq, b));
     double t0 = q * (1.0 / c);
-    double t1 = q != 0.0 ? k / q : INFINITY;
-    if (t0 > t1) std::swap(t0, t1);
-    for (double t : {t0, t1}) {
+    double t1 = direct_near_root(c) ? (std::copysign(sq, b) - b) * (0.5 * (1.0 / c)) : q != 0.0 ? k / q : INFINITY;
+    // cos_i = -n . d = c (p . d + t) - d.z = b / 2 + c t: half the quadratic's
+    // slope at the root, +-sqrt(disc) / 2 (its sign: + at k / q, - at q / c),
+    // and its square disc / 4.
+    const double half_slope = 0.5 * std::copysign(sq, b);
+    const bool swapped = t0 > t1;
+    if (swapped) std::swap(t0, t1);
+    for (int root = 0; root < 2; ++root) {
+        const double t = root == 0 ? t0 : t1;
         if (!(t >= -kBehindToleranceMm) || !std::isfinite(t)) continue;
         // The physical cap is the half of the sphere on the vertex side:
         // c (z - v) < 1, i.e. z short of the centre.
         double z_rel = p.z + t * d.z;
         if (c * z_rel < 1.0) {
             *t_out = t;
+            const bool at_k_over_q = (root == 0) == swapped;
+            if (incidence) *incidence = {at_k_over_q ? half_slope : -half_slope, 0.25 * disc};
             return true;
         }
     }
@@ -121,16 +151,17 @@ inline Vec3d surface_normal(const LensElement& e, const Vec3d& p) {
 }
 
 // Snell refraction of unit d at unit normal n (either orientation) from index
-// n1 into n2; false on total internal reflection.
-inline bool refract(const Vec3d& d, Vec3d n, double n1, double n2, Vec3d* out) {
-    double cos_i = -dot(n, d);
+// n1 into n2, the incidence cosine -n . d and its square given; false on
+// total internal reflection.
+inline bool refract(const Vec3d& d, Vec3d n, Incidence incidence, double n1, double n2, Vec3d* out) {
+    double cos_i = incidence.cos_i;
     if (cos_i < 0.0) {
         n = -n;
         cos_i = -cos_i;
     }
     double eta = n1 / n2;
     // x > 0 ? x : 0 rather than fmax: the same bits as the SIMD max instruction
-    double sin2_i = 1.0 - cos_i * cos_i;
+    double sin2_i = 1.0 - incidence.cos2_i;
     double sin2_t = eta * eta * (sin2_i > 0.0 ? sin2_i : 0.0);
     if (sin2_t >= 1.0) return false;
     double cos_t = std::sqrt(1.0 - sin2_t);
@@ -144,14 +175,16 @@ inline bool refract(const Vec3d& d, Vec3d n, double n1, double n2, Vec3d* out) {
 // find chief rays).
 inline bool cross_toward_scene(const LensElement& e, LensRay* ray, bool test_aperture = true) {
     double t;
-    if (!intersect_surface(e, *ray, &t)) return false;
+    Incidence incidence;
+    if (!intersect_surface(e, *ray, &t, &incidence)) return false;
     Vec3d p = ray->origin_mm + ray->direction * t;
     if (test_aperture && p.x * p.x + p.y * p.y > e.semi_aperture_mm * e.semi_aperture_mm) return false;
     if (test_aperture && !inside_blades(e, p.x, p.y)) return false;
     ray->origin_mm = p;
     if (e.is_stop || e.n_scene_side == e.n_film_side) return true;
     Vec3d refracted;
-    if (!refract(ray->direction, surface_normal(e, p), e.n_film_side, e.n_scene_side, &refracted)) return false;
+    if (!refract(ray->direction, surface_normal(e, p), incidence, e.n_film_side, e.n_scene_side, &refracted))
+        return false;
     if (!(refracted.z < 0.0)) return false;  // turned back toward the film (pbrt-v3 #92)
     ray->direction = refracted;
     return true;
@@ -231,15 +264,17 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
     const double semi2 = e.semi_aperture_mm * e.semi_aperture_mm;
     // The surface type is the same for every lane: branch once, outside the
     // lane loops, so that each loop is straight-line code.
-    double t[kLensBatch];
+    double t[kLensBatch], cos_i[kLensBatch], cos2_i[kLensBatch];
     bool ok[kLensBatch];
     if (c == 0.0) {
         for (int i = 0; i < kLensBatch; ++i) {
             t[i] = (v - b->oz[i]) / b->dz[i];
             ok[i] = b->alive[i] & (b->dz[i] != 0.0) & (t[i] >= -kBehindToleranceMm);
+            cos_i[i] = -b->dz[i], cos2_i[i] = b->dz[i] * b->dz[i];
         }
     } else {
         const double radius = 1.0 / c;
+        const bool direct = direct_near_root(c);
         for (int i = 0; i < kLensBatch; ++i) {
             const double ox = b->ox[i], oy = b->oy[i], dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             const double pz = b->oz[i] - v;
@@ -249,18 +284,25 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
             const double sq = std::sqrt(disc >= 0.0 ? disc : 0.0);
             const double q = -0.5 * (bq + std::copysign(sq, bq));
             const double t0 = q * radius;
-            const double t1 = q != 0.0 ? k / q : INFINITY;
-            const double lo = t0 > t1 ? t1 : t0, hi = t0 > t1 ? t0 : t1;
+            const double t1 = direct ? (std::copysign(sq, bq) - bq) * (0.5 * radius) : q != 0.0 ? k / q : INFINITY;
+            const bool swap = t0 > t1;
+            const double lo = swap ? t1 : t0, hi = swap ? t0 : t1;
             const bool lo_ok = (lo >= -kBehindToleranceMm) & (std::fabs(lo) < INFINITY) & (c * (pz + lo * dz) < 1.0);
             const bool hi_ok = (hi >= -kBehindToleranceMm) & (std::fabs(hi) < INFINITY) & (c * (pz + hi * dz) < 1.0);
             ok[i] = b->alive[i] & (disc >= 0.0) & (lo_ok | hi_ok);
             t[i] = lo_ok ? lo : hi;
+            // intersect_surface's incidence cosine: + half the slope at k / q, - at q / c
+            const double h = 0.5 * std::copysign(sq, bq);
+            cos_i[i] = lo_ok ? (swap ? h : -h) : (swap ? -h : h);
+            cos2_i[i] = 0.25 * disc;
         }
     }
     // Hit point and aperture test
     double px[kLensBatch], py[kLensBatch], pz[kLensBatch];
+    bool hit[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
         px[i] = b->ox[i] + b->dx[i] * t[i], py[i] = b->oy[i] + b->dy[i] * t[i], pz[i] = b->oz[i] + b->dz[i] * t[i];
+        hit[i] = ok[i];
         ok[i] = ok[i] & !(px[i] * px[i] + py[i] * py[i] > semi2);
     }
     for (int k = 0; k < e.blades; ++k) {
@@ -291,13 +333,12 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
             const double dx = b->dx[i], dy = b->dy[i], dz = b->dz[i];
             // Normal (0,0,1) - c (p - vertex)
             const double mx = -c * px[i], my = -c * py[i], mz = 1.0 - c * (pz[i] - v);
-            const double cos_i = -(mx * dx + my * dy + mz * dz);
-            const double sin2_i = 1.0 - cos_i * cos_i;
+            const double sin2_i = 1.0 - cos2_i[i];
             const double sin2_t = eta[i] * eta[i] * (sin2_i > 0.0 ? sin2_i : 0.0);
             const double cos_t = std::sqrt(sin2_t < 1.0 ? 1.0 - sin2_t : 0.0);
             // refract() turns the normal to face the ray (m and cos_i negated
             // when cos_i < 0); negating cos_t instead negates s: the same bits.
-            const double s = eta[i] * cos_i - (cos_i < 0.0 ? -cos_t : cos_t);
+            const double s = eta[i] * cos_i[i] - (cos_i[i] < 0.0 ? -cos_t : cos_t);
             nx[i] = bends[i] ? dx * eta[i] + mx * s : dx;
             ny[i] = bends[i] ? dy * eta[i] + my * s : dy;
             nz[i] = bends[i] ? dz * eta[i] + mz * s : dz;
@@ -305,10 +346,14 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
             ok[i] = ok[i] & (!bends[i] | ((sin2_t < 1.0) & (nz[i] < 0.0)));
         }
     }
-    // Dead lanes keep their old values: nothing undefined travels on.
+    // Lanes without a hit keep their old values: nothing undefined travels on.
+    // Lanes with one move on to it even if a later test stopped them (their
+    // values are finite and never read), as the SIMD kernels do so that the
+    // next surface need not wait for those tests.
     for (int i = 0; i < kLensBatch; ++i) {
-        b->ox[i] = ok[i] ? px[i] : b->ox[i], b->oy[i] = ok[i] ? py[i] : b->oy[i], b->oz[i] = ok[i] ? pz[i] : b->oz[i];
-        b->dx[i] = ok[i] ? nx[i] : b->dx[i], b->dy[i] = ok[i] ? ny[i] : b->dy[i], b->dz[i] = ok[i] ? nz[i] : b->dz[i];
+        const bool h = hit[i];
+        b->ox[i] = h ? px[i] : b->ox[i], b->oy[i] = h ? py[i] : b->oy[i], b->oz[i] = h ? pz[i] : b->oz[i];
+        b->dx[i] = h ? nx[i] : b->dx[i], b->dy[i] = h ? ny[i] : b->dy[i], b->dz[i] = h ? nz[i] : b->dz[i];
         b->alive[i] = ok[i];
     }
 }

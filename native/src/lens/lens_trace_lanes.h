@@ -21,6 +21,26 @@
 
 namespace lc {
 
+// A surface's scalar terms, worked out once per batch rather than once per
+// group of lanes: each division here occupies the divider the lanes' square
+// roots and divisions wait for. The same values as the scalar trace's.
+struct SurfaceScalars {
+    double four_c, radius_mm, semi2_mm2, eta, eta2;
+    bool refracts, direct_near_root;
+
+    static SurfaceScalars of(const LensElement& e) {
+        SurfaceScalars f;
+        f.four_c = 4.0 * e.curvature_per_mm;
+        f.radius_mm = e.curvature_per_mm != 0.0 ? 1.0 / e.curvature_per_mm : 0.0;
+        f.semi2_mm2 = e.semi_aperture_mm * e.semi_aperture_mm;
+        f.direct_near_root = lc::direct_near_root(e.curvature_per_mm);
+        f.refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
+        f.eta = f.refracts ? e.n_film_side / e.n_scene_side : 1.0;
+        f.eta2 = f.eta * f.eta;
+        return f;
+    }
+};
+
 template <class D, class M>
 struct LaneGroup {
     D ox, oy, oz, dx, dy, dz;
@@ -31,13 +51,12 @@ struct LaneGroup {
 // eta (its square eta2) into n; the lanes that transmit and go on toward the
 // scene (not totally reflected, not turned back toward the film: pbrt-v3 #92).
 template <class D, class M>
-inline M refract_lanes(const LensElement& e, D px, D py, D pz, D eta, D eta2, const LaneGroup<D, M>& l, D* nx,
-                       D* ny, D* nz) {
+inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i, D eta, D eta2,
+                       const LaneGroup<D, M>& l, D* nx, D* ny, D* nz) {
     const D zero(0.0), one(1.0), c(e.curvature_per_mm), v(e.vertex_z_mm);
     // Normal (0,0,1) - c (p - vertex)
     const D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py, mz = one - c * (pz - v);
-    const D cos_i = -(mx * l.dx + my * l.dy + mz * l.dz);
-    const D sin2_t = eta2 * max(one - cos_i * cos_i, zero);
+    const D sin2_t = eta2 * max(one - cos2_i, zero);
     const M transmits = sin2_t < one;
     const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
     // refract() turns the normal to face the ray (m and cos_i negated when
@@ -54,35 +73,43 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D eta, D eta2, co
 // Not inlined into the trace loop: GCC left it out of line before it had a
 // dispersed variant, and the RGB trace is fastest that way (measured).
 template <class D, class M, bool kDispersed>
-__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, size_t surface, LaneGlass glass,
-                                                        int first, LaneGroup<D, M>* l) {
+__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
+                                                        size_t surface, LaneGlass glass, int first,
+                                                        LaneGroup<D, M>* l) {
     const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
-    D t;
+    D t, cos_i, cos2_i;
     M ok;
     if (e.curvature_per_mm == 0.0) {
         t = (v - l->oz) / l->dz;
         ok = l->alive & (l->dz != zero) & (t >= behind);
+        cos_i = -l->dz, cos2_i = l->dz * l->dz;
     } else {
         const D pz = l->oz - v;
         const D bq = D(2.0) * (c * (l->ox * l->dx + l->oy * l->dy + pz * l->dz) - l->dz);
         const D k = c * (l->ox * l->ox + l->oy * l->oy + pz * pz) - D(2.0) * pz;
-        const D disc = bq * bq - D(4.0) * c * k;
+        const D disc = bq * bq - D(f.four_c) * k;
         const M real = disc >= zero;
         const D sq = sqrt(select(real, disc, zero));
         const D q = D(-0.5) * (bq + copysign(sq, bq));
-        const D t0 = q * D(1.0 / e.curvature_per_mm);
-        const D t1 = select(q != zero, k / q, inf);
+        const D t0 = q * D(f.radius_mm);
+        const D t1 = f.direct_near_root ? (copysign(sq, bq) - bq) * D(0.5 * f.radius_mm)
+                                        : select(q != zero, k / q, inf);
         const M swap = t0 > t1;
         const D lo = select(swap, t1, t0), hi = select(swap, t0, t1);
-        const M lo_ok = (lo >= behind) & (abs(lo) < inf) & (c * (pz + lo * l->dz) < one);
-        const M hi_ok = (hi >= behind) & (abs(hi) < inf) & (c * (pz + hi * l->dz) < one);
+        // lo >= behind rules out -inf (and NaN): lo < inf is then |lo| < inf.
+        const M lo_ok = (lo >= behind) & (lo < inf) & (c * (pz + lo * l->dz) < one);
+        const M hi_ok = (hi >= behind) & (hi < inf) & (c * (pz + hi * l->dz) < one);
         ok = l->alive & real & (lo_ok | hi_ok);
         t = select(lo_ok, lo, hi);
+        const D h = D(0.5) * copysign(sq, bq), mh = -h;
+        cos_i = select(lo_ok, select(swap, h, mh), select(swap, mh, h));
+        cos2_i = D(0.25) * disc;
     }
     // Hit point and aperture test
     const D px = l->ox + l->dx * t, py = l->oy + l->dy * t, pz = l->oz + l->dz * t;
-    ok = ok & not_greater(px * px + py * py, D(e.semi_aperture_mm * e.semi_aperture_mm));
+    const M hit = ok;
+    ok = ok & not_greater(px * px + py * py, D(f.semi2_mm2));
     for (int k = 0; k < e.blades; ++k)
         ok = ok & not_greater(px * D(e.edge_normal_x[size_t(k)]) + py * D(e.edge_normal_y[size_t(k)]),
                               D(e.apothem_mm));
@@ -92,7 +119,7 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, si
         if (d.bends[surface] != LensDispersion::Bends::Never) {
             const size_t table = surface * d.rows;
             const D eta = D::gather(d.eta.data() + table, glass.row + first);
-            M passes = refract_lanes(e, px, py, pz, eta, eta * eta, *l, &nx, &ny, &nz);
+            M passes = refract_lanes(e, px, py, pz, cos_i, cos2_i, eta, eta * eta, *l, &nx, &ny, &nz);
             if (d.bends[surface] == LensDispersion::Bends::Some) {
                 // Lanes where this surface does not refract go straight on, untested.
                 const D bends_at = D::gather(d.bends_at.data() + table, glass.row + first);
@@ -102,13 +129,15 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, si
             }
             ok = ok & passes;
         }
-    } else if (!(e.is_stop || e.n_scene_side == e.n_film_side)) {
-        const double eta_scalar = e.n_film_side / e.n_scene_side;
-        ok = ok & refract_lanes(e, px, py, pz, D(eta_scalar), D(eta_scalar * eta_scalar), *l, &nx, &ny, &nz);
+    } else if (f.refracts) {
+        ok = ok & refract_lanes(e, px, py, pz, cos_i, cos2_i, D(f.eta), D(f.eta2), *l, &nx, &ny, &nz);
     }
-    // Dead lanes keep their old values
-    l->ox = select(ok, px, l->ox), l->oy = select(ok, py, l->oy), l->oz = select(ok, pz, l->oz);
-    l->dx = select(ok, nx, l->dx), l->dy = select(ok, ny, l->dy), l->dz = select(ok, nz, l->dz);
+    // Lanes that found no hit keep their old values; those that hit go on
+    // from there whether or not the rim, total internal reflection or the
+    // turn-back test then stopped them (finite values either way, and a dead
+    // lane's are never read), so the next surface need not wait for those tests.
+    l->ox = select(hit, px, l->ox), l->oy = select(hit, py, l->oy), l->oz = select(hit, pz, l->oz);
+    l->dx = select(hit, nx, l->dx), l->dy = select(hit, ny, l->dy), l->dz = select(hit, nz, l->dz);
     l->alive = ok;
 }
 
@@ -128,9 +157,10 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
     }
     for (size_t s = count; s-- > 0;) {
+        const SurfaceScalars scalars = SurfaceScalars::of(elements[s]);
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
-            cross_toward_scene_lanes<D, M, kDispersed>(elements[s], s, glass, kWidth * g, &lanes[g]);
+            cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
             any_alive |= any(lanes[g].alive);
         }
         if (!any_alive) break;

@@ -1,0 +1,87 @@
+"""Lens-system camera rays alone: CPU nanoseconds per ray on each trace kernel.
+
+bench_lens_cpu.py times whole renders, where the lens trace is a third of the
+lens model's cost and other work on a shared machine moves the ratio by a few
+per cent. This times only what the lens camera adds: film point, exit-pupil
+pick, aim, the trace through the Double Gauss (full aperture) and the
+lens-to-world step, through the render loop's batched path
+(``diagnostics.generate_lens_rays_batched``), on showcase.toml's camera. The
+samples come in the render loop's order (16-pixel tiles, several samples per
+pixel in a row), so the pupil tables stay cached as they do in a render. Cost
+is this process's CPU time, best of ``--repeat``. Each kernel's rays are
+hashed: every kernel must give the same bits. Prints one JSON object. Not a
+test. Usage::
+
+    flock /tmp/bench.lock .venv/bin/python bench/bench_lens_rays_cpu.py [--repeat 15]
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from lenscompare._native import diagnostics  # noqa: E402
+from lenscompare.cameras import camera_for  # noqa: E402
+from lenscompare.scene import load_scene  # noqa: E402
+
+LENS = "dgauss.50mm"
+WIDTH_PX, HEIGHT_PX, TILE_PX = 240, 160, 16
+
+
+def render_order_samples(*, samples_per_pixel, seed):
+    """Raster points tile by tile, pixel by pixel, samples_per_pixel in a row; lens samples uniform."""
+    rng = np.random.default_rng(seed)
+    pixels = [(tx + x, ty + y)
+              for ty in range(0, HEIGHT_PX, TILE_PX) for tx in range(0, WIDTH_PX, TILE_PX)
+              for y in range(TILE_PX) for x in range(TILE_PX)]
+    corners = np.repeat(np.array(pixels, float), samples_per_pixel, axis=0)
+    raster = (corners + rng.random(corners.shape)).astype(np.float32)
+    lens = rng.random(corners.shape).astype(np.float32)
+    return raster, lens
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--samples-per-pixel", type=int, default=8)
+    parser.add_argument("--repeat", type=int, default=15, help="timed passes per kernel; the best counts")
+    args = parser.parse_args()
+
+    scene = load_scene(ROOT / "reference_scenes" / "showcase.toml").with_camera(resolution=(WIDTH_PX, HEIGHT_PX))
+    camera = camera_for(scene.with_camera(lens=LENS, f_number=None), "lens").native()
+    raster, lens = render_order_samples(samples_per_pixel=args.samples_per_pixel, seed=3)
+    n = len(raster)
+    out = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.float32)
+    ns_per_ray, ray_hash = {}, {}
+    for kernel in diagnostics.lens_trace_kernels():
+        diagnostics.set_lens_trace_kernel(camera, kernel)
+        best = float("inf")
+        for _ in range(args.repeat):
+            start = time.process_time()
+            diagnostics.generate_lens_rays_batched(camera, raster, lens, *out)
+            best = min(best, time.process_time() - start)
+        ns_per_ray[kernel] = best / n * 1e9
+        ray_hash[kernel] = hashlib.sha1(b"".join(a.tobytes() for a in out)).hexdigest()[:16]
+    print(json.dumps({
+        "benchmark": "lens-system camera rays alone, CPU ns per ray (pick, aim, trace, to world)",
+        "scene": "showcase",
+        "lens": LENS,
+        "rays": n,
+        "repeat": args.repeat,
+        "ns_per_ray_by_kernel": ns_per_ray,
+        "fraction_passed": float(np.mean(np.any(out[1] != 0.0, axis=1))),
+        "kernels_agree_bit_for_bit": len(set(ray_hash.values())) == 1,
+    }, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
