@@ -1,6 +1,6 @@
 """The render's own test for still quads (native quad_lanes.cpp: boxes' faces
 and rectangles, all parallelograms), which replaces Embree's for scenes of at
-most 16 of them.
+most 8 of them.
 
 Truth is the ray-plane intersection in extended precision (numpy's
 longdouble) from the very float32 rays and corners the kernel sees. Rays aimed
@@ -171,10 +171,10 @@ def test_a_quad_that_is_not_a_parallelogram_is_refused():
 def test_renders_match_embree_quads(monkeypatch, name):
     scene = load_scene(REFERENCE_SCENES / f"{name}.toml").with_camera(resolution=(120, 80))
     images = {}
-    for own in ("16", "0"):
+    for own in ("8", "0"):
         monkeypatch.setenv("LENSCOMPARE_MAX_OWN_QUADS", own)
         images[own] = render(scene, model="thin", spp=16, threads=2, progress=False).pixels
-    ours, embree = images["16"], images["0"]
+    ours, embree = images["8"], images["0"]
     assert np.isfinite(ours).all()
     assert abs(ours.mean() - embree.mean()) < 1e-5 * embree.mean()
     # A sample at a hair from an edge or a checker line may land on the other side: a few pixels

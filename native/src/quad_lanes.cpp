@@ -174,7 +174,7 @@ bool make_own_quad(const float* corners, OwnQuad* out) {
 }
 
 int max_own_quads() {
-    constexpr int kMaxOwnQuads = 16;
+    constexpr int kMaxOwnQuads = 8;  // Embree ahead at 13 (quad_lanes.h)
     const char* text = std::getenv("LENSCOMPARE_MAX_OWN_QUADS");
     if (!text || !*text) return kMaxOwnQuads;
     char* end = nullptr;

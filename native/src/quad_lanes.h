@@ -1,10 +1,10 @@
-// Still quads (boxes' faces, rectangles: parallelograms) the render
+// A few still quads (boxes' faces, rectangles: parallelograms) the render
 // intersects itself, a packet of rays at a time, as it does a few spheres
 // (sphere_lanes.h), instead of handing them to Embree. On showcase and
 // lit_showcase (one box and one rectangle: 7 quads) Embree then traces no
-// camera or shadow ray at all; robust traversal, which keeps rays from slipping
-// between quads that share an edge, cost a fifth of its time there
-// (bench/bench_peers.py, native_thin_not_robust).
+// camera or shadow ray at all, and its robust traversal, which keeps rays from
+// slipping between quads that share an edge, had cost a fifth of its time
+// there (bench/bench_peers.py, native_thin_not_robust).
 //
 // The test runs in double: the plane's distance t = (v0 - o) . n / (d . n),
 // then the hit's coordinates (u, v) along the two edges from dual vectors,
@@ -35,9 +35,11 @@ struct OwnQuad {
 // rounding) or is degenerate: Embree takes such quads.
 bool make_own_quad(const float* corners, OwnQuad* out);
 
-// The largest count of still quads the render intersects itself (16); more go
-// to Embree, all of them. LENSCOMPARE_MAX_OWN_QUADS overrides it (0: Embree
-// takes all), for tests and benchmarks that compare the two.
+// The largest count of still quads the render intersects itself (8): one test
+// per quad per ray grows with their count, and Embree's BVH was ahead from 13
+// (bench/bench_quads.py: Embree / own 1.24 on lit_showcase's 7 quads, 0.73 at
+// 13, 0.61 at 25), so past 8 Embree takes all of them. LENSCOMPARE_MAX_OWN_QUADS
+// overrides it (0: Embree takes all), for tests and benchmarks that compare the two.
 int max_own_quads();
 
 // Closest hits, as spheres_closest (sphere_lanes.h): where lane i (active[i]
