@@ -127,6 +127,9 @@ struct SpectralTables {
         return std::fabs(nm - line) <= line_half_width_nm ? line_radiance[size_t(material)] : 0.0f;
     }
     bool has_line(int material) const { return line_nm[size_t(material)] > 0.0f; }
+    bool any_line() const {
+        return std::any_of(line_nm.begin(), line_nm.end(), [](float nm) { return nm > 0.0f; });
+    }
 };
 
 // The four wavelengths of one camera sample, in the lanes of their HeroQuad
