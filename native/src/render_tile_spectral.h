@@ -235,9 +235,13 @@ class SpectralCameraSampleBatcher {
                     if (!rays[k] || (k > 0 && shares[k])) continue;
                     moved(&*rays[k], time_[i]);
                     const float s = rays[k]->weight / float(kHeroWavelengths);
+                    // Lane m holds wavelength (m - hero_lane) % 4 (written lane by
+                    // lane: stores to scattered lanes stall the vector load that reads them).
                     float scale[kHeroWavelengths];
-                    for (int j = 0; j < kHeroWavelengths; ++j)
-                        scale[w.lane(j)] = (j == k || (k == 0 && shares[j])) ? s : 0.0f;
+                    for (int m = 0; m < kHeroWavelengths; ++m) {
+                        const int j = (m - w.hero_lane) & (kHeroWavelengths - 1);
+                        scale[m] = (j == k || (k == 0 && shares[j])) ? s : 0.0f;
+                    }
                     packet_.add(*rays[k], time_[i], w, scale, k == last, slot_[i]);
                 }
             }
@@ -260,8 +264,10 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[i][k]) continue;
                 moved(&*rays[i][k], time_[i]);
-                float scale[kHeroWavelengths] = {};
-                scale[wavelengths_[i].lane(k * stride)] = rays[i][k]->weight / float(traced);
+                const int lane = wavelengths_[i].lane(k * stride);
+                const float s = rays[i][k]->weight / float(traced);
+                float scale[kHeroWavelengths];  // lane by lane, as flush_riding's
+                for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = m == lane ? s : 0.0f;
                 packet_.add(*rays[i][k], time_[i], wavelengths_[i], scale, k == last, slot_[i]);
             }
         }
