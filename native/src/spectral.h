@@ -33,19 +33,19 @@ struct SpectralTables {
     std::vector<float> edges_nm, cdf;
     // What a sample draws from: that density's inverse CDF at kInverseCells + 1
     // evenly spaced u, linear between. A wavelength is then one table row
-    // away, with no search: nm = nm_at_u[j] + t * nm_per_cell[j] for u in
-    // cell j at fraction t, and its density 1 / (nm_per_cell[j] *
-    // kInverseCells), exact for this piecewise-linear inverse CDF. The
+    // away, with no search: nm = nm_at_u[j] + t * (nm_at_u[j + 1] - nm_at_u[j])
+    // for u in cell j at fraction t, and its density 1 / ((nm_at_u[j + 1] -
+    // nm_at_u[j]) * kInverseCells), exact for this piecewise-linear inverse CDF. The
     // density it samples differs from the one above only within cells that
     // hold a segment edge (a fraction of a nm of continuum per cell; a line's
     // 1 nm band spans hundreds): still every wavelength, each with its exact density,
     // so the estimate stays unbiased. (A search per wavelength, even guided,
     // was a fifth of a spectral thin-lens render: perf, session 7.)
-    // 8192 cells (64 KB): within a cell the density is flat while the film's
+    // 8192 cells: within a cell the density is flat while the film's
     // response is not, so wide cells add noise. Showcase's spectral thin lens
     // at 64 spp, relative RMSE over 4 seeds: 512 cells 0.0217, 2048 0.0178,
     // 8192 0.0169, 32768 0.0168; 8192 renders as fast as 2048, 32768 1-2 %
-    // slower (session 8).
+    // slower (session 8, with the tables of that session).
     static constexpr int kInverseCells = 8192;
     // A sample's four wavelengths fall in cells j, j + Q, j + 2Q, j + 3Q
     // (mod kInverseCells, Q = kInverseCells / 4) at the same fraction of
@@ -53,10 +53,10 @@ struct SpectralTables {
     // for each lane what a wavelength there needs, as its value at the
     // cell's start and its change across the cell: the nm, the basis and
     // the film's response over the density. One cell index then gives all
-    // four wavelengths by one load and a multiply-add per value, 4 wide,
-    // where the per-nm tables took a dependent chain per wavelength (cell,
-    // then nm, then the nm's row: half of the spectral thin lens's own time,
-    // perf, session 9). Across a cell the basis and film are taken linear,
+    // four wavelengths by one row (256 bytes; 512 KB in all) and a
+    // multiply-add per value, 4 wide, where the per-nm tables took a
+    // dependent chain per wavelength (cell, then nm, then the nm's row: half
+    // of the spectral thin lens's own time, perf, session 9). Across a cell the basis and film are taken linear,
     // the chord between the per-nm tables' values at its ends: exact for the
     // cells within one nm, and for the rest (a cell spans 0.05 nm on
     // average) off by a fraction of their kink. Not so for the wide cells
