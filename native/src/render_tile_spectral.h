@@ -94,27 +94,27 @@ bool camera_disperses(const Camera& camera) {
 
 // Rays waiting for the scene, each with its wavelengths; a camera sample's
 // rays arrive together and in order, its value goes to the pixel after its last.
+// Every ray is shaded at all four of its sample's wavelengths, 4 wide (as
+// cheap as one); those it does not carry have a film weight of 0.
 class SpectralRayPacket {
   public:
-    SpectralRayPacket(const Scene& scene, TileAccumulator& sums, int n_wavelengths)
-        : scene_(scene), sums_(sums), n_wavelengths_(n_wavelengths) {}
+    SpectralRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
 
-    // Queues a ray: wavelengths w[first, first + n) of its sample, wavelength
-    // first + k's film value scaled by scale[k] (the ray's weight over the
-    // sample's wavelength count, 0 for a wavelength it does not carry);
-    // last: the sample's last ray.
-    void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, int first, const float* scale, bool last,
+    // Queues a ray: the lanes of w, lane m's film value scaled by scale[m]
+    // (the ray's weight over the sample's traced wavelength count, 0 for a
+    // wavelength it does not carry); last: the sample's last ray.
+    void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, const float* scale, bool last,
              size_t slot) {
         const int j = batch_.count;
         batch_.origin[j] = Vec3f(ray.origin);
         batch_.direction[j] = Vec3f(ray.direction);
         batch_.time[j] = time_u;
-        for (int k = 0; k < n_wavelengths_; ++k) {
-            nm_[j][k] = w.nm[first + k];
-            basis_[j][k] = w.basis[first + k];
-            film_over_pdf_[j][k] = w.film_over_pdf[first + k];
-            scale_[j][k] = scale[k];
-        }
+        for (int m = 0; m < kHeroWavelengths; ++m) nm_[j][m] = w.lane_nm[m];
+        for (int c = 0; c < 3; ++c)
+            for (int m = 0; m < kHeroWavelengths; ++m) {
+                basis_[j][c][m] = w.basis[c][m];
+                film_[j][c][m] = w.film_over_pdf[c][m] * scale[m];
+            }
         last_[j] = last;
         slot_[j] = slot;
         if (++batch_.count == kPacketSize) flush();
@@ -122,12 +122,16 @@ class SpectralRayPacket {
 
     void flush() {
         if (batch_.count == 0) return;
-        float radiance[kPacketSize][kHeroWavelengths];
-        scene_.spectral_radiance(batch_, nm_, basis_, n_wavelengths_, radiance);
+        alignas(16) float radiance[kPacketSize][kHeroWavelengths];
+        scene_.spectral_radiance(batch_, nm_, basis_, radiance);
         for (int j = 0; j < batch_.count; ++j) {
-            // CIE 1931 response over the density, wavelength by wavelength
-            for (int k = 0; k < n_wavelengths_; ++k)
-                pending_ += film_over_pdf_[j][k] * (radiance[j][k] * scale_[j][k]);
+            // CIE 1931 response over the density, wavelength by wavelength, in lane order
+            float sum[3][kHeroWavelengths];
+            for (int c = 0; c < 3; ++c)
+                for (int m = 0; m < kHeroWavelengths; ++m) sum[c][m] = film_[j][c][m] * radiance[j][m];
+            pending_ += Vec3f{(sum[0][0] + sum[0][1]) + (sum[0][2] + sum[0][3]),
+                              (sum[1][0] + sum[1][1]) + (sum[1][2] + sum[1][3]),
+                              (sum[2][0] + sum[2][1]) + (sum[2][2] + sum[2][3])};
             if (last_[j]) {
                 sums_.add(slot_[j], pending_, 1.0f);
                 pending_ = Vec3f{};
@@ -143,11 +147,10 @@ class SpectralRayPacket {
   private:
     const Scene& scene_;
     TileAccumulator& sums_;
-    int n_wavelengths_;
     RayBatch batch_;
-    float nm_[kPacketSize][kHeroWavelengths];
-    Vec3f basis_[kPacketSize][kHeroWavelengths], film_over_pdf_[kPacketSize][kHeroWavelengths];
-    float scale_[kPacketSize][kHeroWavelengths];
+    alignas(16) float nm_[kPacketSize][kHeroWavelengths];
+    alignas(16) float basis_[kPacketSize][3][kHeroWavelengths];
+    alignas(16) float film_[kPacketSize][3][kHeroWavelengths];  // film response over density x scale
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
@@ -212,7 +215,7 @@ class SpectralCameraSampleBatcher {
             moved(&*rays[i], time_[i]);
             const float s = rays[i]->weight / float(kHeroWavelengths);
             const float scale[kHeroWavelengths] = {s, s, s, s};
-            packet_.add(*rays[i], time_[i], wavelengths_[i], 0, scale, true, slot_[i]);
+            packet_.add(*rays[i], time_[i], wavelengths_[i], scale, true, slot_[i]);
         }
     }
 
@@ -221,9 +224,10 @@ class SpectralCameraSampleBatcher {
     void flush_riding() {
         if constexpr (HasSharedWavelengthRays<Camera>::value) {
             for (int i = 0; i < pending_; ++i) {
+                const HeroWavelengths& w = wavelengths_[i];
                 MaybeRay rays[kHeroWavelengths];
                 bool shares[kHeroWavelengths];
-                camera_.generate_rays_sharing(raster_px_[i], lens_[i], wavelengths_[i].nm, rays, shares);
+                camera_.generate_rays_sharing(raster_px_[i], lens_[i], w.nm, rays, shares);
                 int last = -1;
                 for (int k = 0; k < kHeroWavelengths; ++k)
                     if (rays[k] && (k == 0 || !shares[k])) last = k;
@@ -231,10 +235,14 @@ class SpectralCameraSampleBatcher {
                     if (!rays[k] || (k > 0 && shares[k])) continue;
                     moved(&*rays[k], time_[i]);
                     const float s = rays[k]->weight / float(kHeroWavelengths);
+                    // Lane m holds wavelength (m - hero_lane) % 4 (written lane by
+                    // lane: stores to scattered lanes stall the vector load that reads them).
                     float scale[kHeroWavelengths];
-                    for (int j = 0; j < kHeroWavelengths; ++j)
-                        scale[j] = (j == k || (k == 0 && shares[j])) ? s : 0.0f;
-                    packet_.add(*rays[k], time_[i], wavelengths_[i], 0, scale, k == last, slot_[i]);
+                    for (int m = 0; m < kHeroWavelengths; ++m) {
+                        const int j = (m - w.hero_lane) & (kHeroWavelengths - 1);
+                        scale[m] = (j == k || (k == 0 && shares[j])) ? s : 0.0f;
+                    }
+                    packet_.add(*rays[k], time_[i], w, scale, k == last, slot_[i]);
                 }
             }
         }
@@ -256,8 +264,11 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[i][k]) continue;
                 moved(&*rays[i][k], time_[i]);
-                const float scale = rays[i][k]->weight / float(traced);
-                packet_.add(*rays[i][k], time_[i], wavelengths_[i], k * stride, &scale, k == last, slot_[i]);
+                const int lane = wavelengths_[i].lane(k * stride);
+                const float s = rays[i][k]->weight / float(traced);
+                float scale[kHeroWavelengths];  // lane by lane, as flush_riding's
+                for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = m == lane ? s : 0.0f;
+                packet_.add(*rays[i][k], time_[i], wavelengths_[i], scale, k == last, slot_[i]);
             }
         }
     }
@@ -288,7 +299,7 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     const SpectralTables& spectra = *scene.spectral();
     const SpectralPath path = spectral_path(camera, spectra);
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
-    SpectralRayPacket packet(scene, sums, path == SpectralPath::RayPerWavelength ? 1 : kHeroWavelengths);
+    SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true);
     RenderStats stats;

@@ -12,6 +12,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -84,11 +85,11 @@ class Scene {
     // coherent rays faster than one at a time.
     void radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 
-    // Spectral renders (scene_spectral.cpp): radiance at each ray's
-    // wavelengths[i][0..n_wavelengths), the scene's colours taken to spectra
-    // by the basis at those wavelengths.
+    // Spectral renders (scene_spectral.cpp): radiance at each ray's four
+    // wavelengths, the scene's colours taken to spectra by the basis there
+    // (basis[i][channel][wavelength]).
     void spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
-                           const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
+                           const float (*basis)[3][kHeroWavelengths],
                            float (*radiance_out)[kHeroWavelengths]) const;
 
     // Set once, before rendering: the scene then renders spectrally.
@@ -126,7 +127,8 @@ class Scene {
         alignas(kPacketAlignment) RTCRayPacket packet;
         int start_sphere[kPacketSize];    // the own sphere the ray starts on, or -1
         int self_blocks[kPacketSize];     // that sphere blocks it (it starts inside toward a light outside)
-        bool lit(int i) const;            // traced and not blocked
+        // traced and not blocked (Embree's tfar of -inf)
+        bool lit(int i) const { return lanes.valid[i] && packet.tfar[i] != -std::numeric_limits<float>::infinity(); }
     };
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
     // The material index of hit i (not a miss).

@@ -6,52 +6,63 @@
 #include "scene.h"
 
 namespace lc {
+namespace {
 
-void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
-                              const Vec3f (*basis)[kHeroWavelengths], int n_wavelengths,
-                              float (*out)[kHeroWavelengths]) const {
+constexpr int kW = kHeroWavelengths;
+
+// The spectrum of colour (r, g, b) at one ray's four wavelengths: dot(c,
+// basis) for each, 4 wide (the operations of dot in vec.h, in its order).
+inline void spectrum(float r, float g, float b, const float (&basis)[3][kW], float (&out)[kW]) {
+    float s[kW];
+    for (int m = 0; m < kW; ++m) s[m] = r * basis[0][m] + g * basis[1][m] + b * basis[2][m];
+    for (int m = 0; m < kW; ++m) out[m] = s[m];
+}
+
+}  // namespace
+
+// Lane by lane without branches where it can (as shading_lanes.cpp): every
+// ray's four wavelengths are one 4-wide step, and a lane a light does not
+// reach adds that light times 0.
+void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kW],
+                              const float (*basis)[3][kW], float (*out)[kW]) const {
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);
-    float reflectance[kPacketSize][kHeroWavelengths];  // the diffuse hits' albedo spectra at the ray's wavelengths
 
+    // Each lane's radiance before any light (an emitter's colour, a diffuse
+    // emission, the background) as gather_lanes puts it in start.
     int material[kPacketSize];
-    float unused_rgb[3][kPacketSize];
-    gather_surfaces(rays, hits, material, unused_rgb);
+    float start[3][kPacketSize];
+    gather_surfaces(rays, hits, material, start);
+    for (int i = 0; i < rays.count; ++i) spectrum(start[0][i], start[1][i], start[2][i], basis[i], out[i]);
+    // A monochromatic emitter is its line alone.
+    if (spectra.any_line())
+        for (int i = 0; i < rays.count; ++i)
+            if (!hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
+                spectra.has_line(material[i]))
+                for (int k = 0; k < kW; ++k) out[i][k] = spectra.line_at(material[i], wavelengths_nm[i][k]);
+    if (lights_.empty()) return;
 
-    // A colour c is dot(c, basis) at each ray's wavelengths.
-    for (int i = 0; i < rays.count; ++i) {
-        if (hits.missed(i)) {
-            for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(background_, basis[i][k]);
-            continue;
-        }
-        const Material& m = materials_[size_t(material[i])];
-        if (m.kind == MaterialKind::Emissive) {
-            // A monochromatic emitter is its line alone; any other, its colour's spectrum.
-            const bool line = spectra.has_line(material[i]);
-            for (int k = 0; k < n_wavelengths; ++k)
-                out[i][k] = line ? spectra.line_at(material[i], wavelengths_nm[i][k]) : dot(m.color, basis[i][k]);
-            continue;
-        }
-        for (int k = 0; k < n_wavelengths; ++k) out[i][k] = dot(m.emission, basis[i][k]);
-    }
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
+    alignas(16) float reflectance[kPacketSize][kW];  // the diffuse hits' albedo spectra (0 elsewhere)
     for (int i = 0; i < rays.count; ++i) {
-        if (!hits.surface.diffuse[i]) continue;
-        const Vec3f albedo{hits.surface.albedo[0][i], hits.surface.albedo[1][i], hits.surface.albedo[2][i]};
-        for (int k = 0; k < n_wavelengths; ++k) reflectance[i][k] = dot(albedo, basis[i][k]);
+        const SurfaceLanes& s = hits.surface;
+        float r[kW];
+        spectrum(s.albedo[0][i], s.albedo[1][i], s.albedo[2][i], basis[i], r);
+        for (int k = 0; k < kW; ++k) reflectance[i][k] = s.diffuse[i] ? r[k] : 0.0f;
     }
 
     // Shadow rays, one packet per light
     for (const PointLight& light : lights_) {
         ShadowRays shadow;
         if (!trace_shadow_rays(light, hits, shadow)) continue;
-        for (int i = 0; i < rays.count; ++i)
-            if (shadow.lit(i))
-                // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
-                for (int k = 0; k < n_wavelengths; ++k)
-                    out[i][k] += reflectance[i][k] * dot(light.intensity, basis[i][k]) *
-                                 (shadow.lanes.cos_theta[i] * shadow.lanes.falloff[i]);
+        for (int i = 0; i < rays.count; ++i) {
+            // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
+            float emitted[kW];
+            spectrum(light.intensity.x, light.intensity.y, light.intensity.z, basis[i], emitted);
+            const float geometry = shadow.lit(i) ? shadow.lanes.cos_theta[i] * shadow.lanes.falloff[i] : 0.0f;
+            for (int k = 0; k < kW; ++k) out[i][k] += reflectance[i][k] * emitted[k] * geometry;
+        }
     }
 }
 

@@ -19,8 +19,6 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
-bool Scene::ShadowRays::lit(int i) const { return lanes.valid[i] && packet.tfar[i] != -kInf; }
-
 void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     RTCIntersectContext& context = hits.context;
     rtcInitIntersectContext(&context);

@@ -33,32 +33,50 @@ struct SpectralTables {
     std::vector<float> edges_nm, cdf;
     // What a sample draws from: that density's inverse CDF at kInverseCells + 1
     // evenly spaced u, linear between. A wavelength is then one table row
-    // away, with no search: nm = nm_at_u[j] + t * nm_per_cell[j] for u in
-    // cell j at fraction t, and its density 1 / (nm_per_cell[j] *
-    // kInverseCells), exact for this piecewise-linear inverse CDF. The
+    // away, with no search: nm = nm_at_u[j] + t * (nm_at_u[j + 1] - nm_at_u[j])
+    // for u in cell j at fraction t, and its density 1 / ((nm_at_u[j + 1] -
+    // nm_at_u[j]) * kInverseCells), exact for this piecewise-linear inverse CDF. The
     // density it samples differs from the one above only within cells that
     // hold a segment edge (a fraction of a nm of continuum per cell; a line's
     // 1 nm band spans hundreds): still every wavelength, each with its exact density,
     // so the estimate stays unbiased. (A search per wavelength, even guided,
     // was a fifth of a spectral thin-lens render: perf, session 7.)
-    // 8192 cells (64 KB): within a cell the density is flat while the film's
+    // 8192 cells: within a cell the density is flat while the film's
     // response is not, so wide cells add noise. Showcase's spectral thin lens
     // at 64 spp, relative RMSE over 4 seeds: 512 cells 0.0217, 2048 0.0178,
     // 8192 0.0169, 32768 0.0168; 8192 renders as fast as 2048, 32768 1-2 %
-    // slower (session 8).
+    // slower (session 8, with the tables of that session).
     static constexpr int kInverseCells = 8192;
-    struct InverseCell {
-        float nm, nm_per_cell;
+    // A sample's four wavelengths fall in cells j, j + Q, j + 2Q, j + 3Q
+    // (mod kInverseCells, Q = kInverseCells / 4) at the same fraction of
+    // each. HeroQuad q holds cells q, q + Q, q + 2Q, q + 3Q as lanes 0-3, and
+    // for each lane what a wavelength there needs, as its value at the
+    // cell's start and its change across the cell: the nm, the basis and
+    // the film's response over the density. One cell index then gives all
+    // four wavelengths by one row (256 bytes; 512 KB in all) and a
+    // multiply-add per value, 4 wide, where the per-nm tables took a
+    // dependent chain per wavelength (cell, then nm, then the nm's row: over
+    // 40 % of render_tile_spectral's samples on showcase's thin lens, perf, session 9). Across a cell the basis and film are taken linear,
+    // the chord between the per-nm tables' values at its ends: exact for the
+    // cells within one nm, and for the rest (a cell spans 0.05 nm on
+    // average) off by a fraction of their kink. Not so for the wide cells
+    // where the density is low (up to 55 nm at the ends of the range): the
+    // chord there read red 0.055 % high in the mean (showcase, 1024 spp), so
+    // a quad with a cell wider than kChordMaxNm reads the per-nm tables at
+    // its wavelengths instead (about 90 of the 2048 quads; the chord's mean
+    // film response then differs from the tables' by under 1e-6, numerically).
+    static constexpr int kQuads = kInverseCells / 4;
+    static constexpr float kChordMaxNm = 0.25f;
+    struct alignas(64) HeroQuad {
+        float nm[4], nm_step[4];
+        float basis[3][4], basis_step[3][4];
+        float film_over_pdf[3][4], film_over_pdf_step[3][4];
+        bool exact;  // a cell wider than kChordMaxNm: read the per-nm tables
     };
-    std::vector<InverseCell> inverse_cdf;  // kInverseCells + 1 rows, the last a sentinel
+    std::vector<HeroQuad> quads;
 
-    // Fills inverse_cdf from edges_nm and cdf, and per_nm from basis and film.
+    // Fills quads from edges_nm and cdf, the basis and the film.
     void build_sampling_tables() {
-        per_nm.clear();
-        for (size_t i = 0; i < basis.size(); ++i) {
-            const size_t next = std::min(i + 1, basis.size() - 1);
-            per_nm.push_back({basis[i], basis[next] - basis[i], film[i], film[next] - film[i]});
-        }
         std::vector<float> nm_at_u(size_t(kInverseCells) + 1);
         size_t i = 0;
         for (int j = 0; j <= kInverseCells; ++j) {
@@ -69,9 +87,37 @@ struct SpectralTables {
             nm_at_u[size_t(j)] = float(double(edges_nm[i]) + t * (double(edges_nm[i + 1]) - double(edges_nm[i])));
         }
         nm_at_u.front() = edges_nm.front(), nm_at_u.back() = edges_nm.back();
-        inverse_cdf.assign(size_t(kInverseCells) + 1, InverseCell{edges_nm.back(), 0.0f});
-        for (int j = 0; j < kInverseCells; ++j)
-            inverse_cdf[size_t(j)] = {nm_at_u[size_t(j)], nm_at_u[size_t(j) + 1] - nm_at_u[size_t(j)]};
+        quads.assign(size_t(kQuads), HeroQuad{});
+        for (int j = 0; j < kInverseCells; ++j) {
+            HeroQuad& quad = quads[size_t(j % kQuads)];
+            const int lane = j / kQuads;
+            const float start_nm = nm_at_u[size_t(j)], end_nm = nm_at_u[size_t(j) + 1];
+            const float width_nm = end_nm - start_nm;
+            // The density in the cell is 1 / (width * cells): the film is divided by it.
+            const float inverse_pdf = width_nm * float(kInverseCells);
+            const Vec3f basis_start = basis_at(start_nm), basis_end = basis_at(end_nm);
+            const Vec3f film_start = film_at(start_nm) * inverse_pdf, film_end = film_at(end_nm) * inverse_pdf;
+            quad.nm[lane] = start_nm, quad.nm_step[lane] = width_nm;
+            quad.exact = quad.exact || width_nm > kChordMaxNm;
+            const float b0[3] = {basis_start.x, basis_start.y, basis_start.z};
+            const float b1[3] = {basis_end.x, basis_end.y, basis_end.z};
+            const float f0[3] = {film_start.x, film_start.y, film_start.z};
+            const float f1[3] = {film_end.x, film_end.y, film_end.z};
+            for (int c = 0; c < 3; ++c) {
+                quad.basis[c][lane] = b0[c], quad.basis_step[c][lane] = b1[c] - b0[c];
+                quad.film_over_pdf[c][lane] = f0[c], quad.film_over_pdf_step[c][lane] = f1[c] - f0[c];
+            }
+        }
+    }
+
+    // The basis and the film's response at nm, linear between the per-nm rows.
+    Vec3f basis_at(float nm) const { return per_nm_at(basis, nm); }
+    Vec3f film_at(float nm) const { return per_nm_at(film, nm); }
+    static Vec3f per_nm_at(const std::vector<Vec3f>& table, float nm) {
+        const float x = std::clamp(nm - kMinNm, 0.0f, kMaxNm - kMinNm);
+        const int i = std::min(int(x), int(table.size()) - 2);
+        const float t = x - float(i);
+        return table[size_t(i)] + (table[size_t(i) + 1] - table[size_t(i)]) * t;
     }
     // Per material: its line (nm; 0: none) and the radiance per nm in the line's band.
     std::vector<float> line_nm, line_radiance;
@@ -83,57 +129,54 @@ struct SpectralTables {
     // density, so any count is unbiased.
     int traced_wavelengths = kHeroWavelengths;
 
-    // The basis and the film's response over the density at nm (inverse_pdf: 1 / the density
-    // there), by linear interpolation in the per-nm tables.
-    void at(float nm, float inverse_pdf, Vec3f* basis_out, Vec3f* film_over_pdf_out) const {
-        const float x = std::clamp(nm - kMinNm, 0.0f, kMaxNm - kMinNm);
-        const int i = std::min(int(x), int(per_nm.size()) - 2);
-        const float t = x - float(i);
-        const NmRow& row = per_nm[size_t(i)];
-        *basis_out = row.basis + row.basis_step * t;
-        *film_over_pdf_out = (row.film + row.film_step * t) * inverse_pdf;
-    }
-
-    // basis and film, with each row's step to the next: one row per look-up
-    // and a multiply-add per interpolation (built by build_sampling_tables).
-    struct NmRow {
-        Vec3f basis, basis_step, film, film_step;
-    };
-    std::vector<NmRow> per_nm;
-
     // Spectral radiance of a material's line at nm (0 outside its band, or with no line).
     float line_at(int material, float nm) const {
         const float line = line_nm[size_t(material)];
         return std::fabs(nm - line) <= line_half_width_nm ? line_radiance[size_t(material)] : 0.0f;
     }
     bool has_line(int material) const { return line_nm[size_t(material)] > 0.0f; }
+    bool any_line() const {
+        return std::any_of(line_nm.begin(), line_nm.end(), [](float nm) { return nm > 0.0f; });
+    }
 };
 
-// The four wavelengths of one camera sample, hero first, with what shading
-// and the film need of each.
-struct HeroWavelengths {
-    float nm[kHeroWavelengths];
-    Vec3f basis[kHeroWavelengths];          // the Mallett–Yuksel basis there
-    Vec3f film_over_pdf[kHeroWavelengths];  // the film's response over the density there
+// The four wavelengths of one camera sample, in the lanes of their HeroQuad
+// (not hero first: the hero is lane hero_lane, wavelength k of the rotation
+// lane (hero_lane + k) % 4), with what shading and the film need of each.
+struct alignas(16) HeroWavelengths {
+    float lane_nm[kHeroWavelengths];
+    float basis[3][kHeroWavelengths];          // the Mallett–Yuksel basis there, channel by channel
+    float film_over_pdf[3][kHeroWavelengths];  // the film's response over the density there
+    float nm[kHeroWavelengths];                // hero first: lane_nm rotated, for the cameras
+    int hero_lane;
+    int lane(int k) const { return (hero_lane + k) & (kHeroWavelengths - 1); }
 };
 
-// Fills *w in place (the caller's batch slot: no 112-byte copy per sample):
-// wavelength k from u + k / 4 (mod 1) through the inverse-CDF table, then the
-// basis and film response there.
+// Fills *w in place (the caller's batch slot): wavelength k from u + k / 4
+// (mod 1) through the inverse CDF, i.e. one HeroQuad at one fraction.
 inline void sample_hero_wavelengths(const SpectralTables& t, float u, HeroWavelengths* w) {
-    constexpr int cells = SpectralTables::kInverseCells;
-    static_assert(cells % kHeroWavelengths == 0, "u + k / 4 falls at the same place in its cell for every k");
-    const SpectralTables::InverseCell* table = t.inverse_cdf.data();
+    constexpr int cells = SpectralTables::kInverseCells, quads = SpectralTables::kQuads;
+    static_assert(quads * kHeroWavelengths == cells && (quads & (quads - 1)) == 0,
+                  "u + k / 4 falls at the same place in its cell for every k");
     const float x = u * float(cells);
     const int j = std::min(int(x), cells - 1);
     const float within = x - float(j);
-    float inverse_pdf[kHeroWavelengths];
-    for (int k = 0; k < kHeroWavelengths; ++k) {
-        const SpectralTables::InverseCell cell = table[(j + k * (cells / kHeroWavelengths)) % cells];
-        w->nm[k] = cell.nm + within * cell.nm_per_cell;
-        inverse_pdf[k] = cell.nm_per_cell * float(cells);
-    }
-    for (int k = 0; k < kHeroWavelengths; ++k) t.at(w->nm[k], inverse_pdf[k], &w->basis[k], &w->film_over_pdf[k]);
+    const SpectralTables::HeroQuad& q = t.quads[size_t(j & (quads - 1))];
+    for (int m = 0; m < kHeroWavelengths; ++m) w->lane_nm[m] = q.nm[m] + within * q.nm_step[m];
+    for (int c = 0; c < 3; ++c)
+        for (int m = 0; m < kHeroWavelengths; ++m) {
+            w->basis[c][m] = q.basis[c][m] + within * q.basis_step[c][m];
+            w->film_over_pdf[c][m] = q.film_over_pdf[c][m] + within * q.film_over_pdf_step[c][m];
+        }
+    if (__builtin_expect(q.exact, false))
+        for (int m = 0; m < kHeroWavelengths; ++m) {
+            const Vec3f basis = t.basis_at(w->lane_nm[m]);
+            const Vec3f film = t.film_at(w->lane_nm[m]) * (q.nm_step[m] * float(cells));
+            w->basis[0][m] = basis.x, w->basis[1][m] = basis.y, w->basis[2][m] = basis.z;
+            w->film_over_pdf[0][m] = film.x, w->film_over_pdf[1][m] = film.y, w->film_over_pdf[2][m] = film.z;
+        }
+    w->hero_lane = j / quads;
+    for (int k = 0; k < kHeroWavelengths; ++k) w->nm[k] = w->lane_nm[w->lane(k)];
 }
 
 }  // namespace lc
