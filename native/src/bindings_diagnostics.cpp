@@ -232,6 +232,26 @@ SphereKernel sphere_kernel_named(const std::string& name) {
     throw std::invalid_argument("kernel: no sphere kernel named " + name);
 }
 
+// Rays [first, first + kSphereLanes) of origin, direction and t_far as one
+// packet's lanes, as the own-primitive tests take them: past the last row the
+// last ray again, inactive.
+struct RayLanes {
+    float xyz[6][kSphereLanes], t_far[kSphereLanes];
+    int active[kSphereLanes];
+    const float* origin[3] = {xyz[0], xyz[1], xyz[2]};
+    const float* direction[3] = {xyz[3], xyz[4], xyz[5]};
+    RayLanes(const RayLanes&) = delete;
+    RayLanes(CArray<const float, -1, 3> o, CArray<const float, -1, 3> d, const float* t, size_t first) {
+        const size_t n = o.shape(0);
+        for (int i = 0; i < kSphereLanes; ++i) {
+            const size_t r = std::min(first + size_t(i), n - 1);
+            for (int a = 0; a < 3; ++a) xyz[a][i] = o(r, a), xyz[3 + a][i] = d(r, a);
+            t_far[i] = t[r];
+            active[i] = first + size_t(i) < n;
+        }
+    }
+};
+
 void bind_own_spheres(nb::module_& m) {
     m.def("shading_kernel", [] { return std::string(shading_kernel_name(shading_kernel())); },
           "The instruction set the render's shading lanes run with (shading_lanes.h): the CPU's best, or "
@@ -255,21 +275,15 @@ void bind_own_spheres(nb::module_& m) {
               if (direction.shape(0) != n || t_far.shape(0) != n || index.shape(0) != n || normal.shape(0) != n)
                   throw std::invalid_argument("origin, direction, t_far, index and normal need one row per ray");
               for (size_t first = 0; first < n; first += N) {
-                  float lanes[6][N], t[N], nrm[3][N];
-                  int active[N], idx[N];
-                  for (int i = 0; i < N; ++i) {
-                      const size_t r = std::min(first + size_t(i), n - 1);
-                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
-                      t[i] = t_far(r);
-                      active[i] = first + size_t(i) < n;
-                  }
-                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
-                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  RayLanes lanes(origin, direction, t_far.data(), first);
+                  float nrm[3][N];
+                  int idx[N];
                   float* const nn[3] = {nrm[0], nrm[1], nrm[2]};
-                  spheres_closest(k, spheres.data(), int(spheres.shape(0)), o, d, active, t, idx, nn);
+                  spheres_closest(k, spheres.data(), int(spheres.shape(0)), lanes.origin, lanes.direction,
+                                  lanes.active, lanes.t_far, idx, nn);
                   for (int i = 0; i < N && first + size_t(i) < n; ++i) {
                       const size_t r = first + size_t(i);
-                      t_far(r) = t[i], index(r) = idx[i];
+                      t_far(r) = lanes.t_far[i], index(r) = idx[i];
                       for (int a = 0; a < 3; ++a) normal(r, a) = idx[i] < 0 ? 0.0f : nrm[a][i];
                   }
               }
@@ -289,17 +303,14 @@ void bind_own_spheres(nb::module_& m) {
                   self_blocks.shape(0) != n || out.shape(0) != n)
                   throw std::invalid_argument("origin, direction, t_far, start_sphere, self_blocks and out need one row per ray");
               for (size_t first = 0; first < n; first += N) {
-                  float lanes[6][N], t[N];
-                  int active[N], start[N], self[N], blocked[N];
+                  RayLanes lanes(origin, direction, t_far.data(), first);
+                  int start[N], self[N], blocked[N];
                   for (int i = 0; i < N; ++i) {
                       const size_t r = std::min(first + size_t(i), n - 1);
-                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
-                      t[i] = t_far(r), start[i] = start_sphere(r), self[i] = self_blocks(r);
-                      active[i] = first + size_t(i) < n;
+                      start[i] = start_sphere(r), self[i] = self_blocks(r);
                   }
-                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
-                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
-                  spheres_occluded(k, spheres.data(), int(spheres.shape(0)), o, d, t, start, self, active, blocked);
+                  spheres_occluded(k, spheres.data(), int(spheres.shape(0)), lanes.origin, lanes.direction,
+                                   lanes.t_far, start, self, lanes.active, blocked);
                   for (int i = 0; i < N && first + size_t(i) < n; ++i) out(first + size_t(i)) = blocked[i] != 0;
               }
           },
@@ -328,19 +339,14 @@ void bind_own_quads(nb::module_& m) {
               if (direction.shape(0) != n || t_far.shape(0) != n || index.shape(0) != n)
                   throw std::invalid_argument("origin, direction, t_far and index need one row per ray");
               for (size_t first = 0; first < n; first += N) {
-                  float lanes[6][N], t[N], nrm[3][N];
-                  int active[N], idx[N];
-                  for (int i = 0; i < N; ++i) {
-                      const size_t r = std::min(first + size_t(i), n - 1);
-                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
-                      t[i] = t_far(r);
-                      active[i] = first + size_t(i) < n;
-                  }
-                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
-                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
+                  RayLanes lanes(origin, direction, t_far.data(), first);
+                  float nrm[3][N];
+                  int idx[N];
                   float* const nn[3] = {nrm[0], nrm[1], nrm[2]};
-                  quads_closest(k, quads.data(), int(quads.size()), o, d, active, t, idx, nn);
-                  for (int i = 0; i < N && first + size_t(i) < n; ++i) t_far(first + size_t(i)) = t[i], index(first + size_t(i)) = idx[i];
+                  quads_closest(k, quads.data(), int(quads.size()), lanes.origin, lanes.direction, lanes.active,
+                                lanes.t_far, idx, nn);
+                  for (int i = 0; i < N && first + size_t(i) < n; ++i)
+                      t_far(first + size_t(i)) = lanes.t_far[i], index(first + size_t(i)) = idx[i];
               }
           },
           "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "kernel"_a,
@@ -358,17 +364,10 @@ void bind_own_quads(nb::module_& m) {
               if (direction.shape(0) != n || t_far.shape(0) != n || out.shape(0) != n)
                   throw std::invalid_argument("origin, direction, t_far and out need one row per ray");
               for (size_t first = 0; first < n; first += N) {
-                  float lanes[6][N], t[N];
-                  int active[N], blocked[N];
-                  for (int i = 0; i < N; ++i) {
-                      const size_t r = std::min(first + size_t(i), n - 1);
-                      for (int a = 0; a < 3; ++a) lanes[a][i] = origin(r, a), lanes[3 + a][i] = direction(r, a);
-                      t[i] = t_far(r);
-                      active[i] = first + size_t(i) < n;
-                  }
-                  const float* o[3] = {lanes[0], lanes[1], lanes[2]};
-                  const float* d[3] = {lanes[3], lanes[4], lanes[5]};
-                  quads_occluded(k, quads.data(), int(quads.size()), o, d, t, active, blocked);
+                  RayLanes lanes(origin, direction, t_far.data(), first);
+                  int blocked[N];
+                  quads_occluded(k, quads.data(), int(quads.size()), lanes.origin, lanes.direction, lanes.t_far,
+                                 lanes.active, blocked);
                   for (int i = 0; i < N && first + size_t(i) < n; ++i) out(first + size_t(i)) = blocked[i] != 0;
               }
           },

@@ -50,6 +50,14 @@ constexpr int N = kSphereLanes;
     return any != 0;
 }
 
+// The two culls, the plane's sides first (it skips most shadow rays), then the bounding sphere.
+[[gnu::always_inline]] inline bool may_meet(const OwnQuad& q, const float* const origin[3],
+                                            const float* const direction[3], const float* t_far,
+                                            const float* inv_dd, const float* origin_size, const int* active) {
+    return may_cross_plane(q, origin, direction, t_far, active) &&
+           lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active);
+}
+
 [[gnu::always_inline]] inline void closest_body(const OwnQuad* quads, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
                                                 int* index, float* const normal[3]) {
@@ -58,8 +66,7 @@ constexpr int N = kSphereLanes;
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];
-        if (!may_cross_plane(q, origin, direction, t_far, active)) continue;
-        if (!lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!may_meet(q, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
         int inside[N];
         plane_hits(q, origin, direction, t, inside);
@@ -85,8 +92,7 @@ constexpr int N = kSphereLanes;
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];
-        if (!may_cross_plane(q, origin, direction, t_far, active)) continue;
-        if (!lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!may_meet(q, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
         int inside[N];
         plane_hits(q, origin, direction, t, inside);

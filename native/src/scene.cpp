@@ -351,8 +351,8 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {
     RTCRayHit rh = intersect(scene_, origin, direction);
     float t = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
-    if (!own_spheres_.empty()) {  // one lane of a packet of copies
-        float lanes[7][kSphereLanes], n[3][kSphereLanes], t_far[kSphereLanes];
+    if (!own_spheres_.empty() || !own_quads_.empty()) {  // one lane of a packet of copies
+        float lanes[6][kSphereLanes], n[3][kSphereLanes], t_far[kSphereLanes];
         int active[kSphereLanes] = {1}, index[kSphereLanes];
         for (int i = 0; i < kSphereLanes; ++i) {
             lanes[0][i] = origin.x, lanes[1][i] = origin.y, lanes[2][i] = origin.z;
@@ -364,19 +364,6 @@ float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) con
         float* const normal[3] = {n[0], n[1], n[2]};
         spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), o, d, active, t_far,
                         index, normal);
-        t = t_far[0];
-    }
-    if (!own_quads_.empty()) {  // the same, one lane of a packet of copies
-        float lanes[6][kSphereLanes], n[3][kSphereLanes], t_far[kSphereLanes];
-        int active[kSphereLanes] = {1}, index[kSphereLanes];
-        for (int i = 0; i < kSphereLanes; ++i) {
-            lanes[0][i] = origin.x, lanes[1][i] = origin.y, lanes[2][i] = origin.z;
-            lanes[3][i] = direction.x, lanes[4][i] = direction.y, lanes[5][i] = direction.z;
-            t_far[i] = t;
-        }
-        const float* o[3] = {lanes[0], lanes[1], lanes[2]};
-        const float* d[3] = {lanes[3], lanes[4], lanes[5]};
-        float* const normal[3] = {n[0], n[1], n[2]};
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), o, d, active, t_far, index, normal);
         t = t_far[0];
     }

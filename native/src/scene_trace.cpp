@@ -40,38 +40,30 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    // The own spheres first: their hits shorten the rays Embree then traces,
-    // and Embree replaces a hit only by a nearer one.
+    // The own spheres first, then the own quads: their hits shorten the rays
+    // Embree then traces, and each test (and Embree) replaces a hit only by a nearer one.
+    const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
+    const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
+    int index[kPacketSize];
+    float ng[3][kPacketSize];
+    float* const normal[3] = {ng[0], ng[1], ng[2]};
+    auto record_hits = [&](unsigned geometry) {
+        for (int i = 0; i < rays.count; ++i) {
+            if (index[i] < 0) continue;
+            packet.hit.geomID[i] = geometry, packet.hit.primID[i] = unsigned(index[i]);
+            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
+            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
+        }
+    };
     if (!own_spheres_.empty()) {
-        int index[kPacketSize];
-        float ng[3][kPacketSize];
-        const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
-        const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
-        float* const normal[3] = {ng[0], ng[1], ng[2]};
         spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction, valid,
                         packet.ray.tfar, index, normal);
-        for (int i = 0; i < rays.count; ++i) {
-            if (index[i] < 0) continue;
-            packet.hit.geomID[i] = own_spheres_id_, packet.hit.primID[i] = unsigned(index[i]);
-            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
-            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
-        }
+        record_hits(own_spheres_id_);
     }
-    // Then the own quads, nearer than any sphere hit
     if (!own_quads_.empty()) {
-        int index[kPacketSize];
-        float ng[3][kPacketSize];
-        const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
-        const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
-        float* const normal[3] = {ng[0], ng[1], ng[2]};
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
                       packet.ray.tfar, index, normal);
-        for (int i = 0; i < rays.count; ++i) {
-            if (index[i] < 0) continue;
-            packet.hit.geomID[i] = own_quads_id_, packet.hit.primID[i] = unsigned(index[i]);
-            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
-            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
-        }
+        record_hits(own_quads_id_);
     }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
