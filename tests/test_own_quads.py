@@ -180,3 +180,26 @@ def test_renders_match_embree_quads(monkeypatch, name):
     # A sample at a hair from an edge or a checker line may land on the other side: a few pixels
     differ = np.abs(ours - embree).max(axis=2) > 1e-3
     assert differ.mean() < 1e-3
+
+
+@pytest.mark.parametrize("objects", ["rectangle", "sphere", "both"])
+def test_the_depth_buffer_sees_own_quads_and_spheres_alone_or_together(objects):
+    """The depth buffer's one-ray query asks the own spheres and quads only when the scene has them (a call
+    with none would read a primitive that is not there)."""
+    from lenscompare.cameras import camera_for
+    from lenscompare.postfilter.depth import depth_buffer_m
+    from lenscompare.scene import parse_scene
+
+    parts = {
+        "rectangle": '[[objects]]\ntype = "rectangle"\ncorner = [-5.0, -5.0, 4.0]\nedge1 = [10.0, 0.0, 0.0]\n'
+                     'edge2 = [0.0, 10.0, 0.0]\nmaterial = "m"\n',
+        "sphere": '[[objects]]\ntype = "sphere"\ncenter = [0.0, 0.0, 3.0]\nradius = 0.5\nmaterial = "m"\n',
+    }
+    body = parts["rectangle"] + parts["sphere"] if objects == "both" else parts[objects]
+    scene = parse_scene('name = "depth"\n[camera]\nmodel = "pinhole"\nposition = [0.0, 0.0, 0.0]\n'
+                        'look_at = [0.0, 0.0, 1.0]\nfocal_length_mm = 50.0\nf_number = 2.8\nfocus_distance = 3.0\n'
+                        'film_mm = [36.0, 24.0]\nresolution = [36, 24]\n[materials.m]\ntype = "emissive"\n'
+                        'color = [1.0, 1.0, 1.0]\n' + body)
+    depth = depth_buffer_m(scene, camera_for(scene, "pinhole"), threads=1)
+    expected = 4.0 if objects == "rectangle" else 2.5  # the centre pixel: the wall, or the sphere's front
+    assert depth[12, 18] == pytest.approx(expected, rel=1e-3)

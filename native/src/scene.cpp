@@ -362,9 +362,12 @@ float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) con
         const float* o[3] = {lanes[0], lanes[1], lanes[2]};
         const float* d[3] = {lanes[3], lanes[4], lanes[5]};
         float* const normal[3] = {n[0], n[1], n[2]};
-        spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), o, d, active, t_far,
-                        index, normal);
-        quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), o, d, active, t_far, index, normal);
+        if (!own_spheres_.empty())
+            spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), o, d, active, t_far,
+                            index, normal);
+        if (!own_quads_.empty())
+            quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), o, d, active, t_far, index,
+                          normal);
         t = t_far[0];
     }
     if (motion_scene_) {
