@@ -203,3 +203,15 @@ def test_the_depth_buffer_sees_own_quads_and_spheres_alone_or_together(objects):
     depth = depth_buffer_m(scene, camera_for(scene, "pinhole"), threads=1)
     expected = 4.0 if objects == "rectangle" else 2.5  # the centre pixel: the wall, or the sphere's front
     assert depth[12, 18] == pytest.approx(expected, rel=1e-3)
+
+
+def test_no_quads_and_no_spheres_are_no_hits():
+    origin = np.zeros((3, 3), np.float32)
+    direction = np.tile(np.array([0.0, 0.0, 1.0], np.float32), (3, 1))
+    t, index = closest(np.zeros((0, 4, 3), np.float32), origin, direction)
+    assert np.all(index == -1) and np.all(np.isinf(t))
+    assert not occluded(np.zeros((0, 4, 3), np.float32), origin, direction, np.ones(3)).any()
+    t_far, index, normal = np.full(3, np.inf, np.float32), np.zeros(3, np.int32), np.zeros((3, 3), np.float32)
+    diagnostics.own_spheres_closest(np.zeros((0, 4), np.float32), origin, direction, t_far, index, normal,
+                                    KERNELS[-1])
+    assert np.all(index == -1) and np.all(np.isinf(t_far))

@@ -78,6 +78,7 @@ constexpr int N = kSphereLanes;
             index[i] = take ? k : index[i];
         }
     }
+    if (n == 0) return;  // no quad to take a normal from
     for (int i = 0; i < N; ++i) {
         const OwnQuad& q = quads[index[i] < 0 ? 0 : index[i]];
         for (int a = 0; a < 3; ++a) normal[a][i] = q.unit_normal[a];

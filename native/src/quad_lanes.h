@@ -45,8 +45,7 @@ int max_own_quads();
 // Closest hits, as spheres_closest (sphere_lanes.h): where lane i (active[i]
 // set) meets a quad at t in [0, t_far[i]), t_far[i] becomes the hit distance,
 // index[i] the quad and normal[.][i] its unit normal (either side); other lanes
-// keep t_far and get index -1. The same kernels as the spheres'. n > 0: with
-// no quads there is no normal to report (the caller skips the call).
+// keep t_far and get index -1. The same kernels as the spheres'.
 void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
                    const float* const direction[3], const int* active, float* t_far, int* index,
                    float* const normal[3]);

@@ -71,6 +71,7 @@ struct Roots {
             index[i] = take ? k : index[i];
         }
     }
+    if (n == 0) return;  // no sphere to take a normal from
     // Outward normals, (f + t d) / r, from the double hit distance
     for (int i = 0; i < N; ++i) {
         const int k = index[i] < 0 ? 0 : index[i];
