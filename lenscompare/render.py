@@ -48,7 +48,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            seed: int | None = None, threads: int | None = None, progress: bool | None = None,
            adaptive: bool | None = None, diffraction: bool | None = None,
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
-           traced_wavelengths: int | None = None, postfilter_per_pixel_spp: bool = False,
+           traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
+           postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
@@ -96,6 +97,11 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         sample's four hero wavelengths get a ray of their own
         (:func:`lenscompare.render_spectral.traced_wavelengths_for`; default the
         count that reaches a given noise soonest for the model).
+    sample_wavelengths : bool, optional
+        Spectral renders through a camera that does not disperse: draw hero
+        wavelengths as a dispersive camera does, instead of integrating the
+        film's response over the wavelengths exactly (the default, with no
+        colour noise; :mod:`lenscompare.render_spectral`). For comparing the two.
     postfilter_per_pixel_spp : bool, optional
         ``postfilter`` (not adaptive) only: fewer pinhole samples where a
         pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),
@@ -159,7 +165,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
-                                   traced_wavelengths=traced_wavelengths) if settings.spectral else None)
+                                   traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
+                     if settings.spectral else None)
 
     start = time.perf_counter()
     pinhole_counts = depth = refined_info = None

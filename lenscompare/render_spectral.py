@@ -33,11 +33,17 @@ _FOCAL_STEP_NM = 5.0
 
 
 def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
-                  traced_wavelengths: int | None = None) -> dict:
+                  traced_wavelengths: int | None = None, sample_wavelengths: bool = False) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
-    for the model). Returns what the image's metadata records about it.
+    for the model). ``sample_wavelengths``: draw hero wavelengths even when
+    the camera does not disperse; by default such a render integrates the
+    film's response over the wavelengths exactly instead (every ray then
+    carries the whole spectrum, and with direct light only each path's
+    spectrum is a fixed bilinear function of the file's RGB colours:
+    native/src/spectral.h), which is the sampled estimate's expectation
+    without its colour noise. Returns what the image's metadata records about it.
     """
     traced = traced_wavelengths_for(camera.model) if traced_wavelengths is None else traced_wavelengths
     if traced not in (1, 2, 4):
@@ -51,12 +57,17 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     edges_nm, probabilities = wavelength_distribution([v for v in line_nm if v > 0])
     f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
     native_scene.set_spectral(basis_table(), film_table(), f64(edges_nm), f64(probabilities), f64(line_nm),
-                              f64(radiance), LINE_WIDTH_NM, traced)
+                              f64(radiance), LINE_WIDTH_NM, traced, sample_wavelengths)
     disperses = _set_dispersion(native_camera, scene, camera)
+    sampled = disperses or sample_wavelengths
+    wavelengths = ("hero wavelengths (Wilkie et al. 2014)" if sampled
+                   else "integrated exactly (the camera does not disperse)")
     return {"wavelengths_nm": [float(wavelengths_nm()[0]), float(wavelengths_nm()[-1])],
-            "method": "hero wavelengths (Wilkie et al. 2014), Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
+            "method": f"{wavelengths}, Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
+            "wavelengths_sampled": sampled,
             "camera_disperses": disperses,
-            "secondaries": _secondaries(traced, camera.model) if disperses else "shared ray"}
+            "secondaries": (_secondaries(traced, camera.model) if disperses
+                            else "shared ray" if sampled else "none: integrated")}
 
 
 def traced_wavelengths_for(model: str) -> int:

@@ -246,7 +246,7 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
                                                      CArray<const double, -1> probabilities,
                                                      CArray<const double, -1> line_nm,
                                                      CArray<const double, -1> line_radiance, double line_width_nm,
-                                                     int traced_wavelengths) {
+                                                     int traced_wavelengths, bool sample_still) {
     const size_t n_nm = size_t(SpectralTables::kMaxNm - SpectralTables::kMinNm) + 1;
     if (basis.shape(0) != n_nm || film.shape(0) != n_nm)
         throw std::invalid_argument("spectral tables need one row per nm from 380 to 780");
@@ -274,6 +274,8 @@ std::shared_ptr<const SpectralTables> spectral_tables(CArray<const double, -1, 3
     }
     t->line_half_width_nm = float(0.5 * line_width_nm);
     t->traced_wavelengths = traced_wavelengths;
+    t->integrate_still = !sample_still;
+    t->build_wavelength_integrals();
     return t;
 }
 
@@ -330,14 +332,15 @@ NB_MODULE(_native, m) {
              [](Scene& self, CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
                 CArray<const double, -1> edges_nm, CArray<const double, -1> probabilities,
                 CArray<const double, -1> line_nm, CArray<const double, -1> line_radiance, double line_width_nm,
-                int traced_wavelengths) {
+                int traced_wavelengths, bool sample_still) {
                  if (line_nm.shape(0) != self.material_count()) throw std::invalid_argument("one line per material");
                  self.set_spectral(spectral_tables(basis, film, edges_nm, probabilities, line_nm, line_radiance,
-                                                   line_width_nm, traced_wavelengths));
+                                                   line_width_nm, traced_wavelengths, sample_still));
              },
              "basis"_a, "film"_a, "edges_nm"_a, "probabilities"_a, "line_nm"_a, "line_radiance"_a, "line_width_nm"_a,
-             "traced_wavelengths"_a = 4,
-             "Renders spectrally from now on (lenscompare/spectral.py's tables).");
+             "traced_wavelengths"_a = 4, "sample_still"_a = false,
+             "Renders spectrally from now on (lenscompare/spectral.py's tables). sample_still: draw wavelengths "
+             "even through a camera that does not disperse (else their integral is exact, spectral.h).");
 
     nb::class_<PinholeCamera>(m, "PinholeCamera", "Pinhole camera: every ray through the origin.")
         .def("__init__",

@@ -24,11 +24,13 @@ constexpr int kTileSize = 16;
 
 // Renders one tile into rgb: each pixel's samples pass the stages of
 // render_tile.h in sample order, then each pixel gets its mean.
+// integrate_wavelengths: a spectral render whose wavelengths are integrated,
+// not drawn (spectral_path's Integrated), so that it renders as RGB does.
 template <class Camera>
 RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
-                        float* rgb) {
+                        float* rgb, bool integrate_wavelengths = false) {
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
-    RayPacket packet(scene, sums);
+    RayPacket packet(scene, sums, integrate_wavelengths);
     CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     PixelSamples samples(s.spp, scene.motion().samples_time());
     RenderStats stats;
@@ -58,12 +60,14 @@ template <class Camera>
 RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
                         int row_end, float* rgb) {
     std::atomic<uint64_t> rays_passed{0}, samples_drawn{0};
+    const bool integrated = scene.spectral() && spectral_path(camera, *scene.spectral()) == SpectralPath::Integrated;
+    const bool sampled = scene.spectral() && !integrated;
     tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
         tbb::parallel_for(rows_cols, [&](const Tile& tile) {
-            const RenderStats tile_stats = scene.spectral() ? render_tile_spectral(scene, camera, s, tile, rgb)
-                                                            : render_tile(scene, camera, s, tile, rgb);
+            const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
+                                                   : render_tile(scene, camera, s, tile, rgb, integrated);
             rays_passed += tile_stats.rays_passed;
             samples_drawn += tile_stats.samples;
         });

@@ -130,7 +130,10 @@ class TileAccumulator {
 // its rays one at a time, camera rays and shadow rays alike.
 class RayPacket {
   public:
-    RayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
+    // integrate_wavelengths: a spectral render through a camera that does not
+    // disperse, shaded by Scene::spectral_integrated_radiance.
+    RayPacket(const Scene& scene, TileAccumulator& sums, bool integrate_wavelengths = false)
+        : scene_(scene), sums_(sums), integrate_wavelengths_(integrate_wavelengths) {}
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {
@@ -146,7 +149,8 @@ class RayPacket {
     void flush() {
         if (batch_.count == 0) return;
         Vec3f radiance[kPacketSize];
-        scene_.radiance(batch_, radiance);
+        if (integrate_wavelengths_) scene_.spectral_integrated_radiance(batch_, radiance);
+        else scene_.radiance(batch_, radiance);
         sums_.add(batch_.count, slot_, radiance, weight_);
         rays_shaded_ += uint64_t(batch_.count);
         batch_.count = 0;
@@ -157,6 +161,7 @@ class RayPacket {
   private:
     const Scene& scene_;
     TileAccumulator& sums_;
+    bool integrate_wavelengths_;
     RayBatch batch_;
     float weight_[kPacketSize];
     size_t slot_[kPacketSize];

@@ -1,5 +1,9 @@
-// The render loop's stages for a spectral render ([render] spectral = true):
-// each camera sample draws four hero wavelengths (spectral.h), the scene
+// The render loop's stages for a spectral render ([render] spectral = true)
+// whose wavelengths are drawn: through a camera that disperses, or any camera
+// when asked to (SpectralTables::integrate_still false). Through a camera
+// that does not disperse the wavelengths are integrated exactly instead and
+// the render is render_tile's (render.h, Scene::spectral_integrated_radiance).
+// Each camera sample draws four hero wavelengths (spectral.h), the scene
 // returns radiance at them and the film weights each by its CIE 1931 response
 // over its density. A sample's value is
 //     (1 / 4) sum_k L(λ_k) film(λ_k) / p(λ_k)
@@ -159,14 +163,15 @@ class SpectralRayPacket {
 
 // How a render's camera samples become rays (see the top of this file).
 enum class SpectralPath {
-    OneRay,           // the camera does not disperse: one ray carries all four wavelengths
+    Integrated,       // the camera does not disperse: no wavelengths drawn, their integral exact (render.h)
+    OneRay,           // the camera does not disperse but wavelengths are drawn: one ray carries all four
     RidingOnHero,     // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
     RayPerWavelength  // a ray per traced wavelength
 };
 
 template <class Camera>
 SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) {
-    if (!camera_disperses(camera)) return SpectralPath::OneRay;
+    if (!camera_disperses(camera)) return spectra.integrate_still ? SpectralPath::Integrated : SpectralPath::OneRay;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
         if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
     return SpectralPath::RayPerWavelength;
@@ -198,6 +203,7 @@ class SpectralCameraSampleBatcher {
     void flush() {
         if (pending_ == 0) return;
         switch (path_) {
+            case SpectralPath::Integrated:  // render.h renders these without drawing wavelengths
             case SpectralPath::OneRay: flush_shared(); break;
             case SpectralPath::RidingOnHero: flush_riding(); break;
             case SpectralPath::RayPerWavelength: flush_dispersed(); break;

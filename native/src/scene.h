@@ -92,6 +92,11 @@ class Scene {
                            const float (*basis)[3][kHeroWavelengths],
                            float (*radiance_out)[kHeroWavelengths]) const;
 
+    // Spectral renders through a camera that does not disperse: the film's
+    // reading of each ray's spectrum integrated over the wavelengths, exactly
+    // (spectral.h, integrate_still), as linear sRGB.
+    void spectral_integrated_radiance(const RayBatch& rays, Vec3f* radiance_out) const;
+
     // Set once, before rendering: the scene then renders spectrally.
     void set_spectral(std::shared_ptr<const SpectralTables> tables) { spectral_ = std::move(tables); }
     const SpectralTables* spectral() const { return spectral_.get(); }

@@ -5,6 +5,8 @@
 // are the RGB path's (scene_trace.cpp); only the colours differ.
 #include "scene.h"
 
+#include <cstring>
+
 namespace lc {
 namespace {
 
@@ -64,6 +66,47 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
             for (int k = 0; k < kW; ++k) out[i][k] += reflectance[i][k] * emitted[k] * geometry;
         }
     }
+}
+
+// Through a camera that does not disperse: the wavelengths' integral,
+// exact (spectral.h, integrate_still), as RGB-like sums. Each colour of the
+// file reaches the film through film_of_basis, a lit reflectance through
+// its light's film_of_light: the RGB path's stages with those maps between.
+void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const {
+    const SpectralTables& spectra = *spectral_;
+    CameraHits hits;
+    trace_camera_rays(rays, hits);
+
+    float start[3][kPacketSize], rgb[3][kPacketSize];
+    int material[kPacketSize];
+    gather_surfaces(rays, hits, material, start);
+    map_colour_lanes(shading_kernel_, spectra.film_of_basis, start, rgb);
+    // A monochromatic emitter is its line alone.
+    if (spectra.any_line())
+        for (int i = 0; i < rays.count; ++i)
+            if (!hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
+                spectra.has_line(material[i])) {
+                const Vec3f line = spectra.line_film[size_t(material[i])];
+                rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
+            }
+    if (!lights_.empty()) {
+        surface_lanes(shading_kernel_, hits.packet, hits.surface);
+        SurfaceLanes& surface = hits.surface;
+        float albedo[3][kPacketSize];  // the albedo as a basis colour; surface.albedo gets each light's map of it
+        std::memcpy(albedo, surface.albedo, sizeof albedo);
+        const float white[3] = {1.0f, 1.0f, 1.0f};
+        for (const PointLight& light : lights_) {
+            ShadowRays shadow;
+            if (!trace_shadow_rays(light, hits, shadow)) continue;
+            // The film's reading of this light off each albedo, then added as a white light's.
+            const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
+            float film_of_light[3][3];
+            spectra.film_of_light(intensity, film_of_light);
+            map_colour_lanes(shading_kernel_, film_of_light, albedo, surface.albedo);
+            add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
+        }
+    }
+    for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
 }
 
 }  // namespace lc

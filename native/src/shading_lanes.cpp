@@ -180,6 +180,15 @@ struct Columns {
     }
 }
 
+// out[k] = m[k][0] in[0] + m[k][1] in[1] + m[k][2] in[2] on every lane.
+[[gnu::always_inline]] inline void map_colour_body(const float (&m)[3][3], const float (&__restrict in)[3][kPacketSize],
+                                                   float (&__restrict out)[3][kPacketSize]) {
+    for (int k = 0; k < 3; ++k) {
+        const float a = m[k][0], b = m[k][1], c = m[k][2];
+        for (int i = 0; i < N; ++i) out[k][i] = a * in[0][i] + b * in[1][i] + c * in[2][i];
+    }
+}
+
 // The bodies compiled once per instruction set (the target attribute), as sphere_lanes.cpp does.
 // (__restrict here too: the bodies' own are lost when they are inlined.)
 #define LC_SHADING_KERNELS(SUFFIX, TARGET)                                                                     \
@@ -199,6 +208,10 @@ struct Columns {
                                    const ShadowLanes& __restrict shadow, const float* __restrict shadow_tfar, \
                                    float (&__restrict rgb)[3][kPacketSize]) {                                \
         add_light_body(intensity, s, shadow, shadow_tfar, rgb);                                              \
+    }                                                                                                        \
+    TARGET void map_colour_##SUFFIX(const float (&m)[3][3], const float (&__restrict in)[3][kPacketSize],     \
+                                    float (&__restrict out)[3][kPacketSize]) {                               \
+        map_colour_body(m, in, out);                                                                         \
     }
 LC_SHADING_KERNELS(default, )
 LC_SHADING_KERNELS(avx2, [[gnu::target("avx2")]])
@@ -276,6 +289,15 @@ void add_light_lanes(ShadingKernel kernel, const float intensity[3], const Surfa
         case ShadingKernel::Avx512: return add_light_avx512(intensity, s, shadow, shadow_tfar, rgb);
         case ShadingKernel::Avx2: return add_light_avx2(intensity, s, shadow, shadow_tfar, rgb);
         default: return add_light_default(intensity, s, shadow, shadow_tfar, rgb);
+    }
+}
+
+void map_colour_lanes(ShadingKernel kernel, const float (&m)[3][3], const float (&in)[3][kPacketSize],
+                      float (&out)[3][kPacketSize]) {
+    switch (kernel) {
+        case ShadingKernel::Avx512: return map_colour_avx512(m, in, out);
+        case ShadingKernel::Avx2: return map_colour_avx2(m, in, out);
+        default: return map_colour_default(m, in, out);
     }
 }
 

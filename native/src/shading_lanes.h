@@ -80,4 +80,9 @@ bool shadow_lanes(ShadingKernel kernel, const float light_m[3], bool inverse_squ
 void add_light_lanes(ShadingKernel kernel, const float intensity[3], const SurfaceLanes& s,
                      const ShadowLanes& shadow, const float* shadow_tfar, float (&rgb)[3][kPacketSize]);
 
+// out = m in, lane by lane (a colour through a 3 x 3 map: spectral.h's
+// integrals for a spectral render through a camera that does not disperse).
+void map_colour_lanes(ShadingKernel kernel, const float (&m)[3][3], const float (&in)[3][kPacketSize],
+                      float (&out)[3][kPacketSize]);
+
 }  // namespace lc

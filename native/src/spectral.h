@@ -122,6 +122,74 @@ struct SpectralTables {
     // Per material: its line (nm; 0: none) and the radiance per nm in the line's band.
     std::vector<float> line_nm, line_radiance;
     float line_half_width_nm = 0.5f;
+
+    // A camera that does not disperse sends every wavelength along one ray,
+    // so nothing on a path depends on the wavelength but the colours, and
+    // with direct light only a path's spectrum is an emission E(λ) or a
+    // reflectance times a light, R(λ) I(λ), each colour a sum over the basis.
+    // The film's reading is then a fixed linear map of the RGB colours,
+    //     ∫ film_k E = sum_c film_of_basis[k][c] e_c,
+    //     ∫ film_k R I = sum_c sum_c' film_of_products[k][c][c'] r_c i_c',
+    // taken here once, exactly for the per-nm tables (each integrand is a
+    // cubic between rows: Simpson's rule per nm), so such a render draws no
+    // wavelengths at all: no colour noise, one RGB-like sum per ray. It is
+    // the sampled estimator's expectation (render_tile_spectral.h), which
+    // integrate_still = false (render(sample_wavelengths=True)) renders instead.
+    bool integrate_still = true;
+    float film_of_basis[3][3] = {};
+    float film_of_products[3][3][3] = {};
+    std::vector<Vec3f> line_film;  // per material: the film's reading of its line (0: none)
+
+    // Fills film_of_basis, film_of_products and line_film (after the lines are set).
+    void build_wavelength_integrals() {
+        double basis_sum[3][3] = {}, product_sum[3][3][3] = {};
+        for (size_t i = 0; i + 1 < basis.size(); ++i) {
+            // Simpson's rule over [i, i + 1] nm: ends weigh 1/6, the middle 4/6.
+            const double weight[3] = {1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
+            for (int q = 0; q < 3; ++q) {
+                const double t = 0.5 * q;
+                const Vec3f b = basis[i] + (basis[i + 1] - basis[i]) * float(t);
+                const Vec3f f = film[i] + (film[i + 1] - film[i]) * float(t);
+                const double bc[3] = {b.x, b.y, b.z}, fk[3] = {f.x, f.y, f.z};
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 3; ++c) {
+                        basis_sum[k][c] += weight[q] * fk[k] * bc[c];
+                        for (int d = 0; d < 3; ++d) product_sum[k][c][d] += weight[q] * fk[k] * bc[c] * bc[d];
+                    }
+            }
+        }
+        for (int k = 0; k < 3; ++k)
+            for (int c = 0; c < 3; ++c) {
+                film_of_basis[k][c] = float(basis_sum[k][c]);
+                for (int d = 0; d < 3; ++d) film_of_products[k][c][d] = float(product_sum[k][c][d]);
+            }
+        line_film.assign(line_nm.size(), Vec3f{});
+        for (size_t m = 0; m < line_nm.size(); ++m)
+            if (line_nm[m] > 0.0f) line_film[m] = film_over_band(line_nm[m] - line_half_width_nm,
+                                                                 line_nm[m] + line_half_width_nm) * line_radiance[m];
+    }
+
+    // ∫ film dλ over [from_nm, to_nm]: the trapezoid rule between the rows
+    // and the band's ends, exact for the linear interpolation per_nm_at reads.
+    Vec3f film_over_band(float from_nm, float to_nm) const {
+        from_nm = std::clamp(from_nm, kMinNm, kMaxNm), to_nm = std::clamp(to_nm, kMinNm, kMaxNm);
+        Vec3f sum{};
+        for (float a = from_nm; a < to_nm;) {
+            const float b = std::min(to_nm, std::floor(a) + 1.0f);
+            sum += (film_at(a) + film_at(b)) * (0.5f * (b - a));
+            a = b;
+        }
+        return sum;
+    }
+
+    // Film reading of a light of RGB intensity i off a reflectance of basis
+    // colour r: sum_c film_of_light[k][c] r_c (film_of_products contracted with i).
+    void film_of_light(const float intensity[3], float (&out)[3][3]) const {
+        for (int k = 0; k < 3; ++k)
+            for (int c = 0; c < 3; ++c)
+                out[k][c] = film_of_products[k][c][0] * intensity[0] + film_of_products[k][c][1] * intensity[1] +
+                            film_of_products[k][c][2] * intensity[2];
+    }
     // A dispersive camera traces this many of a sample's four wavelengths, a
     // ray each, evenly spaced through the rotation (1: the hero alone, as
     // pbrt-v4's TerminateSecondary; 2: the hero and the wavelength half the
