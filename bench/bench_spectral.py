@@ -2,7 +2,9 @@
 
 Prints one JSON object (issue 15's goals):
 - samples/s of the thin lens on showcase.toml, spectral over RGB (goal >= 0.8);
-  once as the file has it (no lens: the four hero wavelengths share one ray)
+  once as the file has it (no lens, so nothing disperses: the wavelengths
+  are integrated exactly, none drawn; and, as "thin_spectral_sampled", with
+  four hero wavelengths drawn and sharing one ray, render(sample_wavelengths=True))
   and once derived from a Double Gauss with Abbe numbers (dispersive: the
   plane of focus per wavelength);
 - samples/s of the lens system (that Double Gauss), spectral over RGB
@@ -11,7 +13,8 @@ Prints one JSON object (issue 15's goals):
   with 1 and 4 traced wavelengths per sample;
 - time to 1 % relative RMSE on showcase through that lens system, spectral
   over RGB (goal <= 2), for 1, 2 and 4 traced wavelengths; and the same for
-  the thin lens derived from it;
+  the thin lens derived from it, and for the thin lens of the file
+  (integrated and drawn wavelengths);
 - whether each goal is met, for the default.
 
 Relative RMSE: the RMS difference of two renders with different seeds,
@@ -96,15 +99,17 @@ def main():
     showcase = load_scene(SCENE).with_camera(resolution=tuple(args.resolution))
     lens_scene = showcase.with_camera(lens=str(DISPERSIVE_LENS), focal_length_mm=None)
 
-    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0):
+    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0, sampled=False):
         return lambda **kw: render(scene, model=model, spectral=spectral, traced_wavelengths=traced,
-                                   threads=args.threads, progress=False, **{"spp": spp, "seed": seed, **kw})
+                                   sample_wavelengths=sampled, threads=args.threads, progress=False,
+                                   **{"spp": spp, "seed": seed, **kw})
 
     counts = (1, 2, 4)
     default = traced_wavelengths_for("lens")
     sps = _best_samples_per_second({
         "thin_rgb": runner(showcase, "thin", False),
         "thin_spectral": runner(showcase, "thin", True),
+        "thin_spectral_sampled": runner(showcase, "thin", True, sampled=True),
         "thin_dispersive_rgb": runner(lens_scene, "thin", False),
         "thin_dispersive_spectral": runner(lens_scene, "thin", True),
         "lens_rgb": runner(lens_scene, "lens", False),
@@ -116,6 +121,11 @@ def main():
            for n in counts},
         "thin_rgb": _time_to_one_percent(runner(lens_scene, "thin", False), args.noise_spp, args.cpu_time),
         "thin_spectral": _time_to_one_percent(runner(lens_scene, "thin", True), args.noise_spp, args.cpu_time),
+        "showcase_thin_rgb": _time_to_one_percent(runner(showcase, "thin", False), args.noise_spp, args.cpu_time),
+        "showcase_thin_spectral": _time_to_one_percent(runner(showcase, "thin", True), args.noise_spp,
+                                                       args.cpu_time),
+        "showcase_thin_spectral_sampled": _time_to_one_percent(runner(showcase, "thin", True, sampled=True),
+                                                               args.noise_spp, args.cpu_time),
     }
     rgb_time = noise["rgb"]["seconds_to_1_percent"]
     lens_over_rgb = {n: sps[f"lens_spectral_{n}"] / sps["lens_rgb"] for n in counts}
@@ -131,6 +141,11 @@ def main():
         "timing": "cpu" if args.cpu_time else "wall",
         "samples_per_second": sps,
         "thin_spectral_over_rgb": thin_over_rgb,
+        "thin_spectral_sampled_over_rgb": sps["thin_spectral_sampled"] / sps["thin_rgb"],
+        "showcase_thin_spectral_over_rgb_time_to_1_percent": {
+            kind: noise[f"showcase_thin_spectral{suffix}"]["seconds_to_1_percent"]
+            / noise["showcase_thin_rgb"]["seconds_to_1_percent"]
+            for kind, suffix in (("integrated", ""), ("sampled", "_sampled"))},
         "thin_dispersive_spectral_over_rgb": sps["thin_dispersive_spectral"] / sps["thin_dispersive_rgb"],
         "goal_thin_spectral_over_rgb": 0.8,
         "lens_traced_wavelengths": default,
