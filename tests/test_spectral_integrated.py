@@ -20,15 +20,14 @@ from lenscompare.spectral import LINE_WIDTH_NM, basis_table, film_table, line_ra
 
 from test_spectral import SCENES
 
-# A wall filling the view, lit from the camera by one light without falloff
-# (the contract's default): every pixel is albedo x light x its cosine.
-LIT_WALL = MINIMAL_SCENE.split("[materials.glow]")[0].replace('model = "thin"', 'model = "pinhole"') + """
+def _wall_scene(tmp_path, material: str, lights: str = ""):
+    """A pinhole facing a wall of the given material that fills the view, on black."""
+    text = MINIMAL_SCENE.split("[materials.glow]")[0].replace('model = "thin"', 'model = "pinhole"') + f"""
 [background]
 color = [0.0, 0.0, 0.0]
 
 [materials.wall]
-type = "diffuse"
-color = ALBEDO
+{material}
 
 [[objects]]
 type = "rectangle"
@@ -36,25 +35,10 @@ corner = [-50.0, -50.0, 2.0]
 edge1 = [100.0, 0.0, 0.0]
 edge2 = [0.0, 100.0, 0.0]
 material = "wall"
-
-[[lights]]
-type = "point"
-position = [0.0, 0.0, 0.0]
-color = LIGHT
-"""
-
-EMISSIVE_WALL = """
-[materials.wall]
-type = "emissive"
-color = COLOR
-
-[[objects]]
-type = "rectangle"
-corner = [-50.0, -50.0, 2.0]
-edge1 = [100.0, 0.0, 0.0]
-edge2 = [0.0, 100.0, 0.0]
-material = "wall"
-"""
+{lights}"""
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    return load_scene(path)
 
 
 def _fine(table: np.ndarray, per_nm: int = 20) -> np.ndarray:
@@ -71,12 +55,6 @@ def _film_reading(spectrum_nm: np.ndarray, spectrum: np.ndarray) -> np.ndarray:
 
 def _spectrum(rgb, fine_basis: np.ndarray) -> np.ndarray:
     return fine_basis @ np.asarray(rgb, dtype=float)
-
-
-def _scene(tmp_path, text: str):
-    path = tmp_path / "s.toml"
-    path.write_text(text)
-    return load_scene(path)
 
 
 def test_a_white_flat_field_reads_one_in_every_pixel_with_no_colour_noise():
@@ -96,7 +74,10 @@ def test_a_lit_reflectance_reads_the_product_of_its_spectra_not_of_its_rgb(tmp_p
     sees more. The integral of film x R(λ) x I(λ) computed here with numpy
     is what every pixel must read."""
     albedo, light = (0.9, 0.05, 0.05), (0.05, 0.9, 0.05)
-    scene = _scene(tmp_path, LIT_WALL.replace("ALBEDO", str(list(albedo))).replace("LIGHT", str(list(light))))
+    # Lit from the camera by one light without falloff (the contract's default):
+    # every pixel is albedo x light x its cosine.
+    scene = _wall_scene(tmp_path, f'type = "diffuse"\ncolor = {list(albedo)}',
+                        f'[[lights]]\ntype = "point"\nposition = [0.0, 0.0, 0.0]\ncolor = {list(light)}')
     spectral = render(scene, spp=2, spectral=True, progress=False).pixels.reshape(-1, 3)
     rgb = render(scene, spp=2, progress=False).pixels.reshape(-1, 3)
     fine_nm, basis = _fine(basis_table())
@@ -110,8 +91,7 @@ def test_a_lit_reflectance_reads_the_product_of_its_spectra_not_of_its_rgb(tmp_p
 
 def test_a_monochromatic_emitter_reads_its_line_through_the_film(tmp_path):
     nm = 486.13
-    wall = LIT_WALL.split("[materials.wall]")[0] + EMISSIVE_WALL.replace("COLOR", "[0.2, 0.5, 1.0]")
-    scene = _scene(tmp_path, wall.replace("[0.2, 0.5, 1.0]", f"[0.2, 0.5, 1.0]\nwavelength_nm = {nm}"))
+    scene = _wall_scene(tmp_path, f'type = "emissive"\ncolor = [0.2, 0.5, 1.0]\nwavelength_nm = {nm}')
     pixels = render(scene, spp=2, spectral=True, progress=False).pixels.reshape(-1, 3)
     band_nm = np.linspace(nm - 0.5 * LINE_WIDTH_NM, nm + 0.5 * LINE_WIDTH_NM, 2001)
     film = np.stack([np.interp(band_nm, wavelengths_nm(), film_table()[:, c]) for c in range(3)], axis=1)
