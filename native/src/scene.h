@@ -98,7 +98,7 @@ class Scene {
     void spectral_integrated_radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 
     // Set once, before rendering: the scene then renders spectrally.
-    void set_spectral(std::shared_ptr<const SpectralTables> tables) { spectral_ = std::move(tables); }
+    void set_spectral(std::shared_ptr<const SpectralTables> tables);
     const SpectralTables* spectral() const { return spectral_.get(); }
     size_t material_count() const { return materials_.size(); }
 
@@ -144,6 +144,11 @@ class Scene {
     void gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material, float (&rgb)[3][kPacketSize]) const;
     // Shadow rays from the diffuse hits (surface_lanes done) toward light, traced; false when none was needed.
     bool trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const;
+    // Whether lane i of hits shows a monochromatic emitter (spectral renders: its line alone).
+    bool shows_line(const CameraHits& hits, const int* material, int i) const {
+        return !hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
+               spectral_->has_line(material[i]);
+    }
     void intersect_movers(const RayBatch& rays, RTCIntersectContext& context, RTCRayHitPacket& hits,
                           bool* hit_mover) const;
     void occlude_by_movers(const int* shadow_valid, RTCIntersectContext& context, RTCRayPacket& shadow) const;
@@ -170,6 +175,11 @@ class Scene {
     std::vector<PointLight> lights_;
     Vec3f background_;
     std::shared_ptr<const SpectralTables> spectral_;
+    // Per light, the film's reading of it off a basis colour (SpectralTables::film_of_light).
+    struct FilmMap {
+        float of_basis[3][3];
+    };
+    std::vector<FilmMap> film_of_lights_;
 };
 
 // Checker: parity of floor(p/size + 0.001) summed over the axes; even -> the

@@ -40,8 +40,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     // A monochromatic emitter is its line alone.
     if (spectra.any_line())
         for (int i = 0; i < rays.count; ++i)
-            if (!hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
-                spectra.has_line(material[i]))
+            if (shows_line(hits, material, i))
                 for (int k = 0; k < kW; ++k) out[i][k] = spectra.line_at(material[i], wavelengths_nm[i][k]);
     if (lights_.empty()) return;
 
@@ -84,8 +83,7 @@ void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const
     // A monochromatic emitter is its line alone.
     if (spectra.any_line())
         for (int i = 0; i < rays.count; ++i)
-            if (!hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
-                spectra.has_line(material[i])) {
+            if (shows_line(hits, material, i)) {
                 const Vec3f line = spectra.line_film[size_t(material[i])];
                 rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
             }
@@ -95,18 +93,22 @@ void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const
         float albedo[3][kPacketSize];  // the albedo as a basis colour; surface.albedo gets each light's map of it
         std::memcpy(albedo, surface.albedo, sizeof albedo);
         const float white[3] = {1.0f, 1.0f, 1.0f};
-        for (const PointLight& light : lights_) {
+        for (size_t l = 0; l < lights_.size(); ++l) {
             ShadowRays shadow;
-            if (!trace_shadow_rays(light, hits, shadow)) continue;
+            if (!trace_shadow_rays(lights_[l], hits, shadow)) continue;
             // The film's reading of this light off each albedo, then added as a white light's.
-            const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
-            float film_of_light[3][3];
-            spectra.film_of_light(intensity, film_of_light);
-            map_colour_lanes(shading_kernel_, film_of_light, albedo, surface.albedo);
+            map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
             add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
         }
     }
     for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+}
+
+void Scene::set_spectral(std::shared_ptr<const SpectralTables> tables) {
+    spectral_ = std::move(tables);
+    film_of_lights_.assign(lights_.size(), FilmMap{});
+    for (size_t l = 0; l < lights_.size(); ++l)
+        spectral_->film_of_light(lights_[l].intensity, film_of_lights_[l].of_basis);
 }
 
 }  // namespace lc

@@ -184,11 +184,11 @@ struct SpectralTables {
 
     // Film reading of a light of RGB intensity i off a reflectance of basis
     // colour r: sum_c film_of_light[k][c] r_c (film_of_products contracted with i).
-    void film_of_light(const float intensity[3], float (&out)[3][3]) const {
+    void film_of_light(const Vec3f& intensity, float (&out)[3][3]) const {
         for (int k = 0; k < 3; ++k)
             for (int c = 0; c < 3; ++c)
-                out[k][c] = film_of_products[k][c][0] * intensity[0] + film_of_products[k][c][1] * intensity[1] +
-                            film_of_products[k][c][2] * intensity[2];
+                out[k][c] = film_of_products[k][c][0] * intensity.x + film_of_products[k][c][1] * intensity.y +
+                            film_of_products[k][c][2] * intensity.z;
     }
     // A dispersive camera traces this many of a sample's four wavelengths, a
     // ray each, evenly spaced through the rotation (1: the hero alone, as
