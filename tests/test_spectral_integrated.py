@@ -115,3 +115,10 @@ def test_the_integral_is_the_expectation_of_drawn_wavelengths(model):
     spectral_noise = np.sqrt(np.mean((integrated - other_seed) ** 2))
     rgb_noise = np.sqrt(np.mean((rgb[0] - rgb[1]) ** 2))
     assert spectral_noise < 1.05 * rgb_noise, (spectral_noise, rgb_noise)
+
+
+def test_integrated_renders_do_not_depend_on_the_thread_count_and_hold_no_nan():
+    scene = load_scene(SCENES / "showcase.toml").with_camera(resolution=(64, 48))
+    one, two = (render(scene, spp=4, spectral=True, threads=t, progress=False).pixels for t in (1, 2))
+    assert np.array_equal(one, two)
+    assert np.all(np.isfinite(one))
