@@ -1,5 +1,6 @@
 // The float test that the own primitives (sphere_lanes.h, quad_lanes.h) run
-// first, to skip a primitive no lane of a packet comes near: the squared
+// first, to skip a primitive no lane of a packet comes near (and the
+// packet in double for their exact tests): the squared
 // distance of each lane's line from a bounding sphere's centre against its
 // radius, with a margin of some hundred float steps of the coordinates (the
 // exact test in double decides). Written once as always_inline bodies so that
@@ -42,5 +43,16 @@ template <int N>
         origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
     }
 }
+
+// A packet's float origins and directions in double, converted once for
+// all the primitives the exact tests (in double) take it through.
+template <int N>
+struct DoubleLanes {
+    double o[3][N], d[3][N];
+    [[gnu::always_inline]] DoubleLanes(const float* const origin[3], const float* const direction[3]) {
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < N; ++i) o[a][i] = origin[a][i], d[a][i] = direction[a][i];
+    }
+};
 
 }  // namespace lc::lanes

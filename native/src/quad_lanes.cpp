@@ -9,15 +9,15 @@ namespace lc {
 namespace {
 
 constexpr int N = kSphereLanes;
+using lanes::DoubleLanes;
 
 // Lane i's distance to quad q's plane and whether the hit lies on the quad
 // (within its margins), in double; t is NaN or infinite for a ray in the plane.
-[[gnu::always_inline]] inline void plane_hits(const OwnQuad& q, const float* const origin[3],
-                                              const float* const direction[3], double* t_out, int* inside) {
+[[gnu::always_inline]] inline void plane_hits(const OwnQuad& q, const DoubleLanes<N>& ray, double* t_out,
+                                              int* inside) {
     for (int i = 0; i < N; ++i) {
-        const double dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
-        const double fx = q.v0[0] - double(origin[0][i]), fy = q.v0[1] - double(origin[1][i]),
-                     fz = q.v0[2] - double(origin[2][i]);
+        const double dx = ray.d[0][i], dy = ray.d[1][i], dz = ray.d[2][i];
+        const double fx = q.v0[0] - ray.o[0][i], fy = q.v0[1] - ray.o[1][i], fz = q.v0[2] - ray.o[2][i];
         const double t = (fx * q.n[0] + fy * q.n[1] + fz * q.n[2]) / (dx * q.n[0] + dy * q.n[1] + dz * q.n[2]);
         // The hit relative to v0: o + t d - v0
         const double rx = t * dx - fx, ry = t * dy - fy, rz = t * dz - fz;
@@ -34,16 +34,13 @@ constexpr int N = kSphereLanes;
 // its ends are not both strictly on one side. Shadow rays mostly start and
 // end on one side of a quad's plane (a floor's faces, a wall behind the
 // lights): then the quad is skipped before plane_hits' division.
-[[gnu::always_inline]] inline bool may_cross_plane(const OwnQuad& q, const float* const origin[3],
-                                                   const float* const direction[3], const float* t_far,
+[[gnu::always_inline]] inline bool may_cross_plane(const OwnQuad& q, const DoubleLanes<N>& ray, const float* t_far,
                                                    const int* active) {
     int any = 0;
     for (int i = 0; i < N; ++i) {
-        const double fx = double(origin[0][i]) - q.v0[0], fy = double(origin[1][i]) - q.v0[1],
-                     fz = double(origin[2][i]) - q.v0[2];
+        const double fx = ray.o[0][i] - q.v0[0], fy = ray.o[1][i] - q.v0[1], fz = ray.o[2][i] - q.v0[2];
         const double start = fx * q.n[0] + fy * q.n[1] + fz * q.n[2];
-        const double along = double(direction[0][i]) * q.n[0] + double(direction[1][i]) * q.n[1] +
-                             double(direction[2][i]) * q.n[2];
+        const double along = ray.d[0][i] * q.n[0] + ray.d[1][i] * q.n[1] + ray.d[2][i] * q.n[2];
         const double end = start + double(t_far[i]) * along;
         any |= (active[i] != 0) & !(start * end > 0.0);
     }
@@ -51,10 +48,10 @@ constexpr int N = kSphereLanes;
 }
 
 // The two culls, the plane's sides first (it skips most shadow rays), then the bounding sphere.
-[[gnu::always_inline]] inline bool may_meet(const OwnQuad& q, const float* const origin[3],
+[[gnu::always_inline]] inline bool may_meet(const OwnQuad& q, const DoubleLanes<N>& ray, const float* const origin[3],
                                             const float* const direction[3], const float* t_far,
                                             const float* inv_dd, const float* origin_size, const int* active) {
-    return may_cross_plane(q, origin, direction, t_far, active) &&
+    return may_cross_plane(q, ray, t_far, active) &&
            lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active);
 }
 
@@ -63,13 +60,14 @@ constexpr int N = kSphereLanes;
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    const DoubleLanes<N> ray(origin, direction);
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];
-        if (!may_meet(q, origin, direction, t_far, inv_dd, origin_size, active)) continue;
+        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
         int inside[N];
-        plane_hits(q, origin, direction, t, inside);
+        plane_hits(q, ray, t, inside);
         for (int i = 0; i < N; ++i) {
             const float hit_f = float(t[i]);
             // Strictly nearer: of two quads at one distance (a shared edge) the first keeps the hit
@@ -90,13 +88,14 @@ constexpr int N = kSphereLanes;
                                                  const int* active, int* blocked) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    const DoubleLanes<N> ray(origin, direction);
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];
-        if (!may_meet(q, origin, direction, t_far, inv_dd, origin_size, active)) continue;
+        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
         int inside[N];
-        plane_hits(q, origin, direction, t, inside);
+        plane_hits(q, ray, t, inside);
         for (int i = 0; i < N; ++i) met[i] |= (inside[i] != 0) & (t[i] <= double(t_far[i]));
     }
     int any = 0;

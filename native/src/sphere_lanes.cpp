@@ -21,13 +21,12 @@ struct Roots {
     double lo[N], hi[N];
 };
 
-[[gnu::always_inline]] inline void roots(const float* c, const float* const origin[3],
-                                         const float* const direction[3], Roots& out) {
+[[gnu::always_inline]] inline void roots(const float* c, const lanes::DoubleLanes<N>& ray, Roots& out) {
     const double cx = c[0], cy = c[1], cz = c[2], r = c[3], r2 = r * r;
     for (int i = 0; i < N; ++i) {
-        const double dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
+        const double dx = ray.d[0][i], dy = ray.d[1][i], dz = ray.d[2][i];
         // f = o - centre: exact in double for floats of any likely scale
-        const double fx = double(origin[0][i]) - cx, fy = double(origin[1][i]) - cy, fz = double(origin[2][i]) - cz;
+        const double fx = ray.o[0][i] - cx, fy = ray.o[1][i] - cy, fz = ray.o[2][i] - cz;
         const double a = dx * dx + dy * dy + dz * dz;
         const double b = fx * dx + fy * dy + fz * dz;  // half the quadratic's b
         const double s = b / a;
@@ -53,13 +52,14 @@ struct Roots {
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    const lanes::DoubleLanes<N> ray(origin, direction);
     double t_best[N] = {};
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
         Roots t;
-        roots(c, origin, direction, t);
+        roots(c, ray, t);
         for (int i = 0; i < N; ++i) {
             // The nearer root in front of the origin, else the farther (a ray from inside)
             const double hit = t.lo[i] >= 0.0 ? t.lo[i] : t.hi[i];
@@ -79,7 +79,7 @@ struct Roots {
         const double t = index[i] < 0 ? 0.0 : t_best[i];
         const double inv_r = 1.0 / double(c[3]);
         for (int a = 0; a < 3; ++a)
-            normal[a][i] = float((double(origin[a][i]) - double(c[a]) + t * double(direction[a][i])) * inv_r);
+            normal[a][i] = float((ray.o[a][i] - double(c[a]) + t * ray.d[a][i]) * inv_r);
     }
 }
 
@@ -89,12 +89,13 @@ struct Roots {
                                                  int* blocked) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
+    const lanes::DoubleLanes<N> ray(origin, direction);
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
         Roots t;
-        roots(c, origin, direction, t);
+        roots(c, ray, t);
         for (int i = 0; i < N; ++i) {
             const double far = t_far[i];
             // A root on the segment: the surface crosses it
