@@ -143,10 +143,9 @@ struct SpectralTables {
     // Fills film_of_basis, film_of_products and line_film (after the lines are set).
     void build_wavelength_integrals() {
         double basis_sum[3][3] = {}, product_sum[3][3][3] = {};
+        const double weight[3] = {1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};  // Simpson's rule per nm: ends 1/6, middle 4/6
         for (size_t i = 0; i + 1 < basis.size(); ++i) {
-            // Simpson's rule over [i, i + 1] nm: ends weigh 1/6, the middle 4/6.
-            const double weight[3] = {1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
-            for (int q = 0; q < 3; ++q) {
+            for (int q = 0; q < 3; ++q) {  // [i, i + 1] nm at its start, middle and end
                 const double t = 0.5 * q;
                 const Vec3f b = basis[i] + (basis[i + 1] - basis[i]) * float(t);
                 const Vec3f f = film[i] + (film[i + 1] - film[i]) * float(t);
@@ -190,6 +189,7 @@ struct SpectralTables {
                 out[k][c] = film_of_products[k][c][0] * intensity.x + film_of_products[k][c][1] * intensity.y +
                             film_of_products[k][c][2] * intensity.z;
     }
+
     // A dispersive camera traces this many of a sample's four wavelengths, a
     // ray each, evenly spaced through the rotation (1: the hero alone, as
     // pbrt-v4's TerminateSecondary; 2: the hero and the wavelength half the
