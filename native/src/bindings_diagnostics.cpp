@@ -177,6 +177,20 @@ void bind_trace_kernels(nb::module_& m) {
               throw std::invalid_argument("trace_kernel: no kernel named " + name);
           },
           "camera"_a, "kernel"_a, "Makes camera run the named batch lens-trace kernel.");
+
+    m.def("lens_trace_precision",
+          [](const LensSystemCamera& camera) {
+              return std::string(camera.trace_precision == LensTracePrecision::Single ? "single" : "double");
+          },
+          "camera"_a, "The precision of camera's batch lens trace: \"single\" (the render's) or \"double\".");
+
+    m.def("set_lens_trace_precision",
+          [](LensSystemCamera& camera, const std::string& precision) {
+              if (precision != "single" && precision != "double")
+                  throw std::invalid_argument("trace_precision: \"single\" or \"double\", not " + precision);
+              camera.trace_precision = precision == "single" ? LensTracePrecision::Single : LensTracePrecision::Double;
+          },
+          "camera"_a, "precision"_a, "Makes camera's batch lens trace run in \"single\" or \"double\" precision.");
 }
 
 void bind_raw_throughput(nb::module_& m) {

@@ -45,6 +45,7 @@ struct LensSystemCamera {
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
     LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits; diagnostics may pick another
+    LensTracePrecision trace_precision = LensTracePrecision::Single;
     // Spectral renders of a lens with dispersion: the elements with their
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
     std::vector<std::vector<LensElement>> elements_by_nm;
@@ -150,9 +151,9 @@ struct LensSystemCamera {
             if (disperses()) {
                 int32_t row[kLensBatch];
                 for (int i = 0; i < kLensBatch; ++i) row[i] = i < n ? glass_row(nm[i][k]) : 0;
-                trace_from_film_batch(elements, LaneGlass{&dispersion, row}, &batch, trace_kernel);
+                trace_from_film_batch(elements, LaneGlass{&dispersion, row}, &batch, trace_kernel, trace_precision);
             } else {
-                trace_from_film_batch(elements, &batch, trace_kernel);
+                trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
             }
             WorldRayBatch world;
             lens_to_world_batch(to_world, batch, cos_theta, area_mm2, &world);
@@ -205,7 +206,7 @@ struct LensSystemCamera {
         sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
         double cos_theta[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
-        trace_from_film_batch(elements, &batch, trace_kernel);
+        trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
         WorldRayBatch world;
         lens_to_world_batch(lens_to_world(), batch, cos_theta, area_mm2, &world);
         for (int i = 0; i < n; ++i) {

@@ -78,6 +78,10 @@ inline bool direct_near_root(double curvature_per_mm) {
 // Roots this little behind the origin still count: a ray leaving one surface
 // where the next touches it (cemented, zero thickness) starts on both.
 constexpr double kBehindToleranceMm = 1e-9;
+// The single-precision trace's (lens_trace_lanes.h): its hit points are off
+// their surface by a few float steps of the lens-frame coordinates (~1e-5 mm
+// at 100 mm), so a cemented neighbour can lie that far behind.
+constexpr double kBehindToleranceSingleMm = 1e-3;
 
 // The cosine of the angle of incidence (-n . d, n the normal of
 // surface_normal) and its square, as intersect_surface finds them.
@@ -377,7 +381,26 @@ void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, Lens
 void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
 void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
 
+
+// The render's trace (LensSystemCamera::trace_precision): the same template
+// over float lanes (lens_trace_single_*.cpp), every kernel the same bits as
+// the portable one. In float, hit points sit a few float steps of the
+// lens-frame coordinates off their surface (1e-5 mm at 100 mm), so the rays
+// leave the lens within about 1e-5 mm and 2e-6 rad of the double trace's: a
+// thousandth of a pixel's footprint on the film and in the scene, for about
+// half the cost (bench/bench_lens_rays_cpu.py). The double trace stays the
+// reference of the analysis (lens info, pupils, focus) and of the tests that
+// hold it to the Python trace within 1e-9 mm.
+void trace_from_film_batch_single_portable(const std::vector<LensElement>& elements, LaneGlass glass,
+                                           LensRayBatch* b);
+void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements, LensRayBatch* b);
+void trace_from_film_batch_single_avx512(const std::vector<LensElement>& elements, LensRayBatch* b);
+void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
+void trace_from_film_batch_single_avx512(const std::vector<LensElement>& elements, LaneGlass glass,
+                                         LensRayBatch* b);
+
 enum class LensTraceKernel { Portable, Avx2, Avx512 };
+enum class LensTracePrecision { Double, Single };
 constexpr LensTraceKernel kLensTraceKernels[] = {LensTraceKernel::Portable, LensTraceKernel::Avx2,
                                                  LensTraceKernel::Avx512};
 
@@ -386,7 +409,16 @@ LensTraceKernel best_lens_trace_kernel();  // the fastest this CPU runs
 const char* lens_trace_kernel_name(LensTraceKernel kernel);
 
 inline void trace_from_film_batch(const std::vector<LensElement>& elements, LensRayBatch* b,
-                                  LensTraceKernel kernel) {
+                                  LensTraceKernel kernel, LensTracePrecision precision = LensTracePrecision::Double) {
+    if (precision == LensTracePrecision::Single) {
+        switch (kernel) {
+            case LensTraceKernel::Avx512: trace_from_film_batch_single_avx512(elements, b); return;
+            case LensTraceKernel::Avx2: trace_from_film_batch_single_avx2(elements, b); return;
+            case LensTraceKernel::Portable:
+                trace_from_film_batch_single_portable(elements, LaneGlass{nullptr, nullptr}, b);
+                return;
+        }
+    }
     switch (kernel) {
         case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, b); return;
         case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, b); return;
@@ -400,7 +432,14 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
 // indices of row glass.row[i] of glass.dispersion (the scalar trace through
 // that row's elements, bit for bit).
 inline void trace_from_film_batch(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b,
-                                  LensTraceKernel kernel) {
+                                  LensTraceKernel kernel, LensTracePrecision precision = LensTracePrecision::Double) {
+    if (precision == LensTracePrecision::Single) {
+        switch (kernel) {
+            case LensTraceKernel::Avx512: trace_from_film_batch_single_avx512(elements, glass, b); return;
+            case LensTraceKernel::Avx2: trace_from_film_batch_single_avx2(elements, glass, b); return;
+            case LensTraceKernel::Portable: trace_from_film_batch_single_portable(elements, glass, b); return;
+        }
+    }
     switch (kernel) {
         case LensTraceKernel::Avx512: trace_from_film_batch_avx512(elements, glass, b); return;
         case LensTraceKernel::Avx2: trace_from_film_batch_avx2(elements, glass, b); return;

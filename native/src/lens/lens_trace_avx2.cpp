@@ -33,6 +33,7 @@ struct M8 {
 
 struct D8 {
     static constexpr int kLanes = 8;
+    using Scalar = double;
     __m256d lo, hi;
 
     D8() = default;

@@ -33,6 +33,7 @@ struct M16 {
 
 struct D16 {
     static constexpr int kLanes = 16;
+    using Scalar = double;
     __m512d lo, hi;
 
     D16() = default;

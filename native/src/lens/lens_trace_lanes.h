@@ -28,12 +28,15 @@ struct SurfaceScalars {
     double four_c, radius_mm, semi2_mm2, eta, eta2;
     bool refracts, direct_near_root;
 
-    static SurfaceScalars of(const LensElement& e) {
+    // single: for the single-precision trace, which always divides (its
+    // divider is cheap, and the direct root's cancellation would cost
+    // eps_float |R|, microns).
+    static SurfaceScalars of(const LensElement& e, bool single = false) {
         SurfaceScalars f;
         f.four_c = 4.0 * e.curvature_per_mm;
         f.radius_mm = e.curvature_per_mm != 0.0 ? 1.0 / e.curvature_per_mm : 0.0;
         f.semi2_mm2 = e.semi_aperture_mm * e.semi_aperture_mm;
-        f.direct_near_root = lc::direct_near_root(e.curvature_per_mm);
+        f.direct_near_root = !single && lc::direct_near_root(e.curvature_per_mm);
         f.refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
         f.eta = f.refracts ? e.n_film_side / e.n_scene_side : 1.0;
         f.eta2 = f.eta * f.eta;
@@ -76,7 +79,8 @@ template <class D, class M, bool kDispersed>
 __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
                                                         size_t surface, LaneGlass glass, int first,
                                                         LaneGroup<D, M>* l) {
-    const D zero(0.0), one(1.0), inf(INFINITY), behind(-kBehindToleranceMm);
+    constexpr bool kSingle = sizeof(typename D::Scalar) == sizeof(float);
+    const D zero(0.0), one(1.0), inf(INFINITY), behind(kSingle ? -kBehindToleranceSingleMm : -kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
     D t, cos_i, cos2_i;
     M ok;
@@ -157,7 +161,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
     }
     for (size_t s = count; s-- > 0;) {
-        const SurfaceScalars scalars = SurfaceScalars::of(elements[s]);
+        const SurfaceScalars scalars = SurfaceScalars::of(elements[s], sizeof(typename D::Scalar) == sizeof(float));
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
             cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
