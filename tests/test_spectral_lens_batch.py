@@ -1,6 +1,7 @@
 """The lens system's spectral trace in lockstep: a batch of samples, each lane
 through the glass at its own wavelength, gives the scalar per-wavelength
-trace's rays to the last bit, on every batch kernel this CPU runs."""
+trace's rays, on every batch kernel this CPU runs: to the last bit in double
+precision, to float rounding in single (the render's)."""
 
 from __future__ import annotations
 
@@ -14,9 +15,12 @@ from lenscompare.cameras import camera_for
 from lenscompare.render_spectral import lens_indices
 from lenscompare.scene import load_scene
 
+from lens_batch_check import assert_batch_matches_scalar
+
 LENSES = Path(__file__).parent / "data" / "lenses"
 SCENES = Path(__file__).parent.parent / "reference_scenes"
 KERNELS = diagnostics.lens_trace_kernels()
+PRECISIONS = ["double", "single"]  # the reference's and the render's (lens_batch_check)
 N_SAMPLES = 8003  # not a whole number of batches: the last one has idle lanes
 
 
@@ -48,42 +52,42 @@ def _rays(camera, raster, lens, nm, *, batched: bool):
     return out
 
 
-def _assert_batch_matches_scalar(camera, seed: int):
+def _assert_batch_matches_scalar(camera, seed: int, precision: str):
     raster, lens, nm = _samples(seed)
     scalar = _rays(camera, raster, lens, nm, batched=False)
     passed = scalar[2] > 0
     assert np.isfinite(scalar[0]).all() and passed.mean() > 0.2
-    for kernel in KERNELS:
-        diagnostics.set_lens_trace_kernel(camera, kernel)
-        batched = _rays(camera, raster, lens, nm, batched=True)
-        for a, b in zip(scalar, batched):
-            assert a.tobytes() == b.tobytes(), kernel
+    assert_batch_matches_scalar(camera, lambda: _rays(camera, raster, lens, nm, batched=True), scalar,
+                                kernels=KERNELS, precision=precision)
     return scalar
 
 
 @pytest.mark.parametrize("lens", ["dgauss_abbe.dat", "biconvex_bk7.abbe.dat"])
-def test_lockstep_spectral_trace_gives_the_scalar_trace_bit_for_bit(tmp_path, lens):
+@pytest.mark.parametrize("precision", PRECISIONS)
+def test_lockstep_spectral_trace_gives_the_scalar_trace(tmp_path, lens, precision):
     camera, prescription = _lens_camera(tmp_path, LENSES / lens)
     camera.set_dispersion(*lens_indices(prescription))
-    origin, direction, _ = _assert_batch_matches_scalar(camera, seed=5)
+    origin, direction, _ = _assert_batch_matches_scalar(camera, seed=5, precision=precision)
     # The wavelengths really take different paths: a sample's four rays leave in different directions.
     by_sample = direction.reshape(-1, 4, 3)
     alive = (np.abs(by_sample).sum(axis=2) > 0).all(axis=1)
     assert np.abs(by_sample[alive, 0] - by_sample[alive, 2]).max() > 1e-5
 
 
-def test_lockstep_trace_with_total_internal_reflection_per_wavelength(tmp_path):
+@pytest.mark.parametrize("precision", PRECISIONS)
+def test_lockstep_trace_with_total_internal_reflection_per_wavelength(tmp_path, precision):
     # The TIR prism of test_spectral with an Abbe number: some lanes die at some wavelengths only.
     lens = tmp_path / "tir.dat"
     lens.write_text("10 8 1.9 19 20\ninf 0 1 19\n")
     camera, prescription = _lens_camera(tmp_path, lens)
     camera.set_dispersion(*lens_indices(prescription))
-    _, _, weight = _assert_batch_matches_scalar(camera, seed=7)
+    _, _, weight = _assert_batch_matches_scalar(camera, seed=7, precision=precision)
     per_sample = (weight.reshape(-1, 4) > 0).sum(axis=1)
     assert ((per_sample > 0) & (per_sample < 4)).any()
 
 
-def test_a_surface_that_refracts_at_some_wavelengths_only(tmp_path):
+@pytest.mark.parametrize("precision", PRECISIONS)
+def test_a_surface_that_refracts_at_some_wavelengths_only(tmp_path, precision):
     """Two cemented glasses whose indices are equal at some nm: there the
     surface does not bend the ray (the scalar trace skips it), elsewhere it
     does, lane by lane within one batch."""
@@ -95,4 +99,4 @@ def test_a_surface_that_refracts_at_some_wavelengths_only(tmp_path):
     n_film[equal_rows, cemented] = n_scene[equal_rows, cemented]
     n_scene[equal_rows, cemented + 1] = n_scene[equal_rows, cemented]
     camera.set_dispersion(np.ascontiguousarray(n_scene), np.ascontiguousarray(n_film))
-    _assert_batch_matches_scalar(camera, seed=9)
+    _assert_batch_matches_scalar(camera, seed=9, precision=precision)

@@ -76,7 +76,7 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
 // Not inlined into the trace loop: GCC left it out of line before it had a
 // dispersed variant, and the RGB trace is fastest that way (measured).
 template <class D, class M, bool kDispersed>
-__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
+inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f,
                                                         size_t surface, LaneGlass glass, int first,
                                                         LaneGroup<D, M>* l) {
     constexpr bool kSingle = sizeof(typename D::Scalar) == sizeof(float);
@@ -145,6 +145,13 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, co
     l->alive = ok;
 }
 
+template <class D, class M, bool kDispersed>
+__attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
+                                                        size_t surface, LaneGlass glass, int first,
+                                                        LaneGroup<D, M>* l) {
+    cross_toward_scene_lanes_body<D, M, kDispersed>(e, f, surface, glass, first, l);
+}
+
 // trace_from_film_batch_portable's work for the whole batch, in groups of
 // D::kLanes lanes side by side so that their latencies overlap.
 template <class D, class M, bool kDispersed>
@@ -164,7 +171,10 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         const SurfaceScalars scalars = SurfaceScalars::of(elements[s], sizeof(typename D::Scalar) == sizeof(float));
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
-            cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
+            if constexpr (kGroups == 1)
+                cross_toward_scene_lanes_body<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
+            else
+                cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
             any_alive |= any(lanes[g].alive);
         }
         if (!any_alive) break;
