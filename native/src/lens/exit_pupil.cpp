@@ -135,10 +135,13 @@ double boundary_distance(const PupilGeometry& g, double film_x, double cx, doubl
 void finish_sampling_tables(PupilPolygon* poly) {
     const auto& unit = unit_directions();
     for (int k = 0; k < kPupilAngles; ++k) {
-        poly->vertex_x_mm[size_t(k)] = poly->radius_mm[size_t(k)] * unit[size_t(k)].x;
-        poly->vertex_y_mm[size_t(k)] = poly->radius_mm[size_t(k)] * unit[size_t(k)].y;
-        const double step = poly->cdf[size_t(k)] - (k == 0 ? 0.0 : poly->cdf[size_t(k - 1)]);
-        poly->inverse_cdf_step[size_t(k)] = 1.0 / std::max(step, 1e-300);
+        const size_t a = size_t(k), b = size_t((k + 1) % kPupilAngles);
+        FanTriangle& t = poly->fan[a];
+        t.cdf_lo = k == 0 ? 0.0 : poly->cdf[a - 1];
+        t.cdf_hi = poly->cdf[a];
+        t.inverse_cdf_step = 1.0 / std::max(t.cdf_hi - t.cdf_lo, 1e-300);
+        t.a_x_mm = poly->radius_mm[a] * unit[a].x, t.a_y_mm = poly->radius_mm[a] * unit[a].y;
+        t.b_x_mm = poly->radius_mm[b] * unit[b].x, t.b_y_mm = poly->radius_mm[b] * unit[b].y;
     }
     int k = 0;
     for (int j = 0; j < kPupilGuideCells; ++j) {
