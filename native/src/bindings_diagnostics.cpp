@@ -21,6 +21,7 @@
 #include "bindings_arrays.h"
 #include "cameras/lens_system.h"
 #include "cameras/pinhole.h"
+#include "cameras/thin_lens.h"
 #include "diagnostics/lens_passes.h"
 #include "diagnostics/raw_throughput.h"
 #include "motion.h"
@@ -391,7 +392,31 @@ void bind_own_quads(nb::module_& m) {
 
 }  // namespace
 
+// The render loop's batch of rays for a camera that makes them side by side
+// (pinhole, thin lens): tests hold it to generate_ray, bit for bit.
+template <class Camera>
+void generate_rays_batched(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+                           CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+    const Point2f* raster = points(raster_px);
+    const Point2f* u = points(lens);
+    for (size_t first = 0; first < raster_px.shape(0); first += kCameraBatch) {
+        const int n = int(std::min<size_t>(kCameraBatch, raster_px.shape(0) - first));
+        MaybeRay rays[kCameraBatch];
+        camera.generate_rays(raster + first, u + first, n, rays);
+        for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
+    }
+}
+
+void bind_batched_cameras(nb::module_& m) {
+    const char* doc = "The render loop's batch of camera rays (kCameraBatch at a time; the same bits as generate_rays).";
+    m.def("generate_rays_batched", &generate_rays_batched<PinholeCamera>, "camera"_a, "raster_px"_a, "lens"_a,
+          "origin"_a, "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(), doc);
+    m.def("generate_rays_batched", &generate_rays_batched<ThinLensCamera>, "camera"_a, "raster_px"_a, "lens"_a,
+          "origin"_a, "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(), doc);
+}
+
 void bind_diagnostics(nb::module_& m) {
+    bind_batched_cameras(m);
     bind_own_spheres(m);
     bind_own_quads(m);
     bind_motion_culling(m);

@@ -16,6 +16,16 @@ struct CameraRay {
 // A camera's generate_ray returns std::nullopt for a vignetted sample.
 using MaybeRay = std::optional<CameraRay>;
 
+// *ray = that ray, written in place: assigning a CameraRay temporary made GCC
+// copy it through the stack in overlapping halves, a store-forwarding stall
+// per ray (a third of the pinhole's render_tile under perf).
+inline void set_ray(MaybeRay* ray, double ox, double oy, double oz, double dx, double dy, double dz, float weight) {
+    CameraRay& r = ray->emplace();
+    r.origin.x = ox, r.origin.y = oy, r.origin.z = oz;
+    r.direction.x = dx, r.direction.y = dy, r.direction.z = dz;
+    r.weight = weight;
+}
+
 // The render loop hands samples to a camera this many at a time, gathered
 // across the pixels of a tile: the lens system's SIMD trace keeps several
 // registers of rays in flight to hide the latency of its square roots.

@@ -157,11 +157,14 @@ struct LensSystemCamera {
             }
             WorldRayBatch world;
             lens_to_world_batch(to_world, batch, cos_theta, area_mm2, &world);
-            for (int i = 0; i < n; ++i)
-                out[i][k] = batch.alive[i] ? MaybeRay(CameraRay{{world.ox[i], world.oy[i], world.oz[i]},
-                                                                {world.dx[i], world.dy[i], world.dz[i]},
-                                                                float(world.weight[i])})
-                                           : std::nullopt;
+            for (int i = 0; i < n; ++i) {
+                if (!batch.alive[i]) {
+                    out[i][k] = std::nullopt;
+                    continue;
+                }
+                set_ray(&out[i][k], world.ox[i], world.oy[i], world.oz[i], world.dx[i], world.dy[i], world.dz[i],
+                        float(world.weight[i]));
+            }
         }
     }
 
@@ -214,9 +217,8 @@ struct LensSystemCamera {
                 out[i] = std::nullopt;
                 continue;
             }
-            out[i] = CameraRay{{world.ox[i], world.oy[i], world.oz[i]},
-                               {world.dx[i], world.dy[i], world.dz[i]},
-                               float(world.weight[i])};
+            set_ray(&out[i], world.ox[i], world.oy[i], world.oz[i], world.dx[i], world.dy[i], world.dz[i],
+                    float(world.weight[i]));
         }
     }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cameras/camera_ray.h"
+#include "cameras/thin_lens_lanes.h"
 
 namespace lc {
 
@@ -14,6 +15,24 @@ struct PinholeCamera {
     MaybeRay generate_ray(Point2f raster_px, Point2f /*lens_sample*/) const {
         Vec3d dir_camera = normalize(film.direction(raster_px));
         return CameraRay{world_from_camera.origin, world_from_camera.world_from_camera_vector(dir_camera), 1.0f};
+    }
+
+    // A batch of n <= kCameraBatch samples (render_tile.h), side by side: the
+    // thin lens's lanes with every lens point at the centre, which is
+    // generate_ray operation for operation (x - 0 and 1 - 0 are exact), so
+    // the same bits. One at a time, the ray's three divisions and square
+    // root left the core waiting (12 % of a pinhole render under perf).
+    void generate_rays(const Point2f* raster_px, const Point2f* /*lens_sample*/, int n, MaybeRay* out) const {
+        double screen_x[kCameraBatch], screen_y[kCameraBatch], centre[kCameraBatch] = {};
+        screen_points_lanes(n, film, raster_px, screen_x, screen_y);
+        double origin[3][kCameraBatch], direction[3][kCameraBatch];
+        double* const origin_rows[3] = {origin[0], origin[1], origin[2]};
+        double* const direction_rows[3] = {direction[0], direction[1], direction[2]};
+        thin_lens_rays_lanes(n, screen_x, screen_y, centre, centre, 0.0, world_from_camera, origin_rows,
+                             direction_rows);
+        const Vec3d& o = world_from_camera.origin;
+        for (int i = 0; i < n; ++i)
+            set_ray(&out[i], o.x, o.y, o.z, direction[0][i], direction[1][i], direction[2][i], 1.0f);
     }
 };
 

@@ -40,9 +40,8 @@ struct ThinLensCamera {
         double screen_x[kCameraBatch], screen_y[kCameraBatch], lens_x[kCameraBatch], lens_y[kCameraBatch];
         const bool concentric_circle = aperture.blades == 0 && disk_mapping == DiskMapping::Concentric;
         if (concentric_circle) concentric_disk_lanes(n, lens_sample, lens_x, lens_y);
+        screen_points_lanes(n, film, raster_px, screen_x, screen_y);
         for (int i = 0; i < n; ++i) {
-            const Vec3d screen = film.direction(raster_px[i]);
-            screen_x[i] = screen.x, screen_y[i] = screen.y;
             if (!concentric_circle) aperture.sample(lens_sample[i], disk_mapping, &lens_x[i], &lens_y[i]);
             lens_x[i] *= lens_radius_m, lens_y[i] *= lens_radius_m;
         }
@@ -52,8 +51,8 @@ struct ThinLensCamera {
         thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m, world_from_camera,
                              origin_rows, direction_rows);
         for (int i = 0; i < n; ++i)
-            out[i] = CameraRay{{origin[0][i], origin[1][i], origin[2][i]},
-                               {direction[0][i], direction[1][i], direction[2][i]}, 1.0f};
+            set_ray(&out[i], origin[0][i], origin[1][i], origin[2][i], direction[0][i], direction[1][i],
+                    direction[2][i], 1.0f);
     }
 
     // The ray at wavelength nm: a thin lens of focal length f(λ) keeps the

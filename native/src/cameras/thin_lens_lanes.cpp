@@ -32,6 +32,20 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void thin_lens_rays
     }
 }
 
+__attribute__((target_clones("default", "avx2", "avx512f"))) void screen_points_lanes(int n, const FilmToScreen& film,
+                                                                                    const Point2f* raster_px,
+                                                                                    double* screen_x,
+                                                                                    double* screen_y) {
+    const double width_px = film.width_px, height_px = film.height_px;
+    const double half_width = film.screen_half_width, half_height = film.screen_half_height;
+#pragma GCC ivdep
+    for (int i = 0; i < n; ++i) {
+        // film.direction, operation for operation
+        screen_x[i] = (2.0 * double(raster_px[i].x) / width_px - 1.0) * half_width;
+        screen_y[i] = (1.0 - 2.0 * double(raster_px[i].y) / height_px) * half_height;
+    }
+}
+
 __attribute__((target_clones("default", "avx2", "avx512f"))) void concentric_disk_lanes(int n,
                                                                                       const Point2f* lens_sample,
                                                                                       double* disk_x, double* disk_y) {

@@ -4,6 +4,7 @@
 // waiting on their latency; side by side in SIMD lanes those overlap.
 #pragma once
 
+#include "cameras/camera_ray.h"
 #include "samplers.h"
 #include "vec.h"
 
@@ -16,6 +17,11 @@ namespace lc {
 void thin_lens_rays_lanes(int n, const double* screen_x, const double* screen_y, const double* lens_x_m,
                           const double* lens_y_m, double inverse_focus_per_m, const Frame& world_from_camera,
                           double* const origin_m[3], double* const direction[3]);
+
+// Raster points to screen points (z = 1), lane by lane: film.direction's x
+// and y for each, with its operations (two divisions each, in SIMD here).
+void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_px, double* screen_x,
+                         double* screen_y);
 
 // Lens samples to points of the unit disk by the concentric map, lane by
 // lane: concentric_disk (samplers.h) for each, so the same bits as map_to_disk.
