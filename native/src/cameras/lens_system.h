@@ -186,18 +186,8 @@ struct LensSystemCamera {
         }
         for (int i = 0; i < kLensBatch; ++i)
             aim.film_r_mm[i] = std::sqrt(aim.film_x_mm[i] * aim.film_x_mm[i] + aim.film_y_mm[i] * aim.film_y_mm[i]);
-        for (int i = 0; i < kLensBatch; ++i) {
-            const int j = i < n ? i : 0;
-            PupilPick pick;
-            batch->alive[i] = i < n && pupil->pick(aim.film_r_mm[i], lens_sample[j].y, &pick);
-            if (!batch->alive[i]) pick = PupilPick{0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-            aim.u_radial[i] = double(lens_sample[j].x);
-            aim.centre_x_mm[i] = pick.centre_x_mm;
-            aim.a_x_mm[i] = pick.a_x_mm, aim.a_y_mm[i] = pick.a_y_mm;
-            aim.b_x_mm[i] = pick.b_x_mm, aim.b_y_mm[i] = pick.b_y_mm;
-            aim.across[i] = pick.across;
-            area_mm2[i] = pick.area_mm2;
-        }
+        for (int i = 0; i < kLensBatch; ++i) aim.u_radial[i] = double(lens_sample[i < n ? i : 0].x);
+        pupil->pick_batch(aim.film_r_mm, lens_sample, n, &aim, area_mm2, batch->alive);
         aim_batch(aim, aim_planes(), batch, trace_kernel);
     }
 

@@ -82,6 +82,39 @@ class ExitPupil {
         return true;
     }
 
+    // pick for the lanes of a batch at once, into aim's pick columns and
+    // area_mm2; lanes from n on and those outside the image circle come back
+    // not alive, with zeros. The same picks as pick, in two passes so that
+    // the lanes' table loads (the guide, then the triangle) do not wait on one
+    // another: one lane at a time, each pick's two loads from L2 in a row left
+    // the core waiting.
+    void pick_batch(const double* film_r_mm, const Point2f* lens_sample, int n, LensAimBatch* aim,
+                    double* area_mm2, bool* alive) const {
+        const PupilPolygon* polygon[kLensBatch];
+        double u[kLensBatch];
+        int k[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) {
+            polygon[i] = &segments_[size_t(segment_index(film_r_mm[i]))];
+            u[i] = double(lens_sample[i < n ? i : 0].y);
+            alive[i] = i < n && !polygon[i]->empty;
+            k[i] = polygon[i]->guide[size_t(std::min(int(u[i] * kPupilGuideCells), kPupilGuideCells - 1))];
+        }
+        for (int i = 0; i < kLensBatch; ++i) {
+            const PupilPolygon& poly = *polygon[i];
+            int j = k[i];
+            j += int((j < kPupilAngles - 1) & (poly.fan[size_t(j)].cdf_hi <= u[i]));
+            while (j < kPupilAngles - 1 && poly.fan[size_t(j)].cdf_hi <= u[i]) ++j;
+            const FanTriangle& t = poly.fan[size_t(j)];
+            const double across = std::clamp((u[i] - t.cdf_lo) * t.inverse_cdf_step, 0.0, 1.0);
+            const bool a = alive[i];
+            aim->centre_x_mm[i] = a ? poly.centre_x_mm : 0.0;
+            aim->a_x_mm[i] = a ? t.a_x_mm : 0.0, aim->a_y_mm[i] = a ? t.a_y_mm : 0.0;
+            aim->b_x_mm[i] = a ? t.b_x_mm : 0.0, aim->b_y_mm[i] = a ? t.b_y_mm : 0.0;
+            aim->across[i] = a ? across : 0.0;
+            area_mm2[i] = a ? poly.area_mm2 : 0.0;
+        }
+    }
+
     // Which of the kPupilSegments rings a film radius falls in.
     int segment_index(double film_radius_mm) const {
         const int i = int(film_radius_mm * segments_per_mm_);
