@@ -67,6 +67,8 @@ inline D8 copysign(D8 magnitude, D8 sign) {
     return {_mm256_or_pd(_mm256_andnot_pd(bit, magnitude.lo), _mm256_and_pd(bit, sign.lo)),
             _mm256_or_pd(_mm256_andnot_pd(bit, magnitude.hi), _mm256_and_pd(bit, sign.hi))};
 }
+// a * b + c, rounded twice as the scalar trace does
+inline D8 mul_add(D8 a, D8 b, D8 c) { return a * b + c; }
 // a > b ? a : b, as the C++ ternary
 inline D8 max(D8 a, D8 b) { return {_mm256_max_pd(a.lo, b.lo), _mm256_max_pd(a.hi, b.hi)}; }
 

@@ -67,6 +67,8 @@ inline D16 copysign(D16 magnitude, D16 sign) {
     return {_mm512_or_pd(_mm512_andnot_pd(bit, magnitude.lo), _mm512_and_pd(bit, sign.lo)),
             _mm512_or_pd(_mm512_andnot_pd(bit, magnitude.hi), _mm512_and_pd(bit, sign.hi))};
 }
+// a * b + c, rounded twice as the scalar trace does
+inline D16 mul_add(D16 a, D16 b, D16 c) { return a * b + c; }
 // a > b ? a : b, as the C++ ternary
 inline D16 max(D16 a, D16 b) { return {_mm512_max_pd(a.lo, b.lo), _mm512_max_pd(a.hi, b.hi)}; }
 

@@ -6,7 +6,8 @@ namespace lc {
 bool lens_trace_kernel_available(LensTraceKernel kernel) {
     switch (kernel) {
         case LensTraceKernel::Portable: return true;
-        case LensTraceKernel::Avx2: return __builtin_cpu_supports("avx2");
+        // The single-precision kernel fuses multiply-adds (lens_trace_lanes.h)
+        case LensTraceKernel::Avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
         case LensTraceKernel::Avx512:
             return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
     }

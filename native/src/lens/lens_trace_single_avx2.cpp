@@ -10,7 +10,7 @@
 #include "lens/lens_trace.h"  // before the target pragma: its inline functions stay portable
 
 #pragma GCC push_options
-#pragma GCC target("avx2")
+#pragma GCC target("avx2,fma")
 
 namespace lc::avx2_single {
 
@@ -89,6 +89,8 @@ inline F32 operator*(F32 a, F32 b) { LC_EACH(_mm256_mul_ps(a.r[k], b.r[k])); }
 inline F32 operator/(F32 a, F32 b) { LC_EACH(_mm256_div_ps(a.r[k], b.r[k])); }
 inline F32 operator-(F32 a) { LC_EACH(_mm256_xor_ps(a.r[k], _mm256_set1_ps(-0.0f))); }
 inline F32 sqrt(F32 a) { LC_EACH(_mm256_sqrt_ps(a.r[k])); }
+// a * b + c, rounded once
+inline F32 mul_add(F32 a, F32 b, F32 c) { LC_EACH(_mm256_fmadd_ps(a.r[k], b.r[k], c.r[k])); }
 // |magnitude| with the sign of sign
 inline F32 copysign(F32 magnitude, F32 sign) {
     const __m256 bit = _mm256_set1_ps(-0.0f);

@@ -76,6 +76,10 @@ inline F32 copysign(F32 magnitude, F32 sign) {
     return {_mm512_or_ps(_mm512_andnot_ps(bit, magnitude.lo), _mm512_and_ps(bit, sign.lo)),
             _mm512_or_ps(_mm512_andnot_ps(bit, magnitude.hi), _mm512_and_ps(bit, sign.hi))};
 }
+// a * b + c, rounded once
+inline F32 mul_add(F32 a, F32 b, F32 c) {
+    return {_mm512_fmadd_ps(a.lo, b.lo, c.lo), _mm512_fmadd_ps(a.hi, b.hi, c.hi)};
+}
 // a > b ? a : b, as the C++ ternary
 inline F32 max(F32 a, F32 b) { return {_mm512_max_ps(a.lo, b.lo), _mm512_max_ps(a.hi, b.hi)}; }
 

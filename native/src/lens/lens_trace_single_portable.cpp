@@ -40,6 +40,8 @@ inline F1 operator*(F1 a, F1 b) { return F1::of(a.v * b.v); }
 inline F1 operator/(F1 a, F1 b) { return F1::of(a.v / b.v); }
 inline F1 operator-(F1 a) { return F1::of(-a.v); }
 inline F1 sqrt(F1 a) { return F1::of(std::sqrt(a.v)); }
+// a * b + c, rounded once: the SIMD kernels' fused multiply-add, bit for bit
+inline F1 mul_add(F1 a, F1 b, F1 c) { return F1::of(std::fma(a.v, b.v, c.v)); }
 inline F1 copysign(F1 magnitude, F1 sign) { return F1::of(std::copysign(magnitude.v, sign.v)); }
 // a > b ? a : b, as the SIMD max instruction
 inline F1 max(F1 a, F1 b) { return F1::of(a.v > b.v ? a.v : b.v); }
