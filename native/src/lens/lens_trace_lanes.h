@@ -79,12 +79,9 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
 // kDispersed: each lane refracts with its own row of glass.dispersion
 // (gathered per surface); otherwise every lane with e's indices, and glass,
 // surface and first go unused.
-// Not inlined into the trace loop: GCC left it out of line before it had a
-// dispersed variant, and the RGB trace is fastest that way (measured).
 template <class D, class M, bool kDispersed>
-inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f,
-                                                        size_t surface, LaneGlass glass, int first,
-                                                        LaneGroup<D, M>* l) {
+inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f, size_t surface,
+                                          LaneGlass glass, int first, LaneGroup<D, M>* l) {
     constexpr bool kSingle = sizeof(typename D::Scalar) == sizeof(float);
     const D zero(0.0), one(1.0), inf(INFINITY), behind(kSingle ? -kBehindToleranceSingleMm : -kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
@@ -152,6 +149,10 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
     l->alive = ok;
 }
 
+// Out of line where a batch is several groups of lanes (the double kernels):
+// GCC left it so before it had a dispersed variant, and the RGB trace is
+// fastest that way (measured). The single-precision kernels' one group takes
+// the body inline.
 template <class D, class M, bool kDispersed>
 __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
                                                         size_t surface, LaneGlass glass, int first,
