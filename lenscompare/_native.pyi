@@ -288,7 +288,19 @@ class _Diagnostics(types.ModuleType):
         direction: numpy.ndarray,  # float64 (n, 3), written
         weight: numpy.ndarray,  # float32 (n,), written
     ) -> None:
-        """generate_rays through the render loop's lockstep batch trace (same bits as generate_rays)."""
+        """generate_rays through the render loop's lockstep batch trace (in double precision the same bits as
+        generate_rays; in single, the render's, the same rays to float rounding)."""
+
+    @staticmethod
+    def generate_rays_batched(
+        camera: PinholeCamera | ThinLensCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+        origin: numpy.ndarray,  # float64 (n, 3), written
+        direction: numpy.ndarray,  # float64 (n, 3), written
+        weight: numpy.ndarray,  # float32 (n,), written
+    ) -> None:
+        """The render loop's batch of camera rays (kCameraBatch at a time; the same bits as generate_rays)."""
 
     @staticmethod
     def generate_lens_rays_at(
@@ -318,6 +330,14 @@ class _Diagnostics(types.ModuleType):
     @staticmethod
     def set_lens_trace_kernel(camera: LensSystemCamera, kernel: str) -> None:
         """Makes camera run the named batch lens-trace kernel."""
+
+    @staticmethod
+    def lens_trace_precision(camera: LensSystemCamera) -> str:
+        """The precision of camera's batch lens trace: "single" (the render's) or "double"."""
+
+    @staticmethod
+    def set_lens_trace_precision(camera: LensSystemCamera, precision: str) -> None:
+        """Makes camera's batch lens trace run in "single" or "double" precision."""
 
     @staticmethod
     def shading_kernel() -> str:

@@ -9,7 +9,10 @@ differently (fused multiply-adds), which moves hit points by an ulp: measured
 on lit_showcase, 120 x 80, 8 spp, about half the pixels differ, by at most
 1.1e-6 absolute and 8e-8 of the image's sum (0.3 % in the worst pixel, a
 sample that crossed a checker or shadow edge). The native code around Embree
-does not depend on the CPU: it uses no fused multiply-add (CMakeLists.txt).
+does not depend on the CPU: it uses no fused multiply-add (CMakeLists.txt)
+except the single-precision lens trace, which fuses on every kernel (the
+portable one through std::fma), so its kernels agree to the bit too
+(lens_batch_check.py).
 """
 
 import json

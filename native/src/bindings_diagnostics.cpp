@@ -113,7 +113,8 @@ void bind_lens(nb::module_& m) {
           },
           "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
           nb::call_guard<nb::gil_scoped_release>(),
-          "generate_rays through the render loop's lockstep batch trace (same bits as generate_rays).");
+          "generate_rays through the render loop's lockstep batch trace (in double precision the same bits as "
+          "generate_rays; in single, the render's, the same rays to float rounding).");
 
     m.def("generate_lens_rays_at",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
