@@ -69,16 +69,8 @@ class ExitPupil {
         const PupilPolygon& poly = segments_[size_t(segment_index(film_radius_mm))];
         if (poly.empty) return false;
         const double u = double(u_y);
-        // The first k with cdf[k] > u (std::upper_bound's answer), from the guide
-        int k = poly.guide[size_t(std::min(int(u * kPupilGuideCells), kPupilGuideCells - 1))];
-        // The first step past the guide without a branch (whether a cell's
-        // CDF step lies below u is a coin toss the predictor loses: a third
-        // of sample_batch's time under perf); further steps are rare.
-        k += int((k < kPupilAngles - 1) & (poly.fan[size_t(k)].cdf_hi <= u));
-        while (k < kPupilAngles - 1 && poly.fan[size_t(k)].cdf_hi <= u) ++k;
-        const FanTriangle& t = poly.fan[size_t(k)];
-        const double across = std::clamp((u - t.cdf_lo) * t.inverse_cdf_step, 0.0, 1.0);
-        *out = PupilPick{poly.centre_x_mm, t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across, poly.area_mm2};
+        const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u, guide_start(poly, u)))];
+        *out = PupilPick{poly.centre_x_mm, t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across(t, u), poly.area_mm2};
         return true;
     }
 
@@ -92,25 +84,21 @@ class ExitPupil {
                     double* area_mm2, bool* alive) const {
         const PupilPolygon* polygon[kLensBatch];
         double u[kLensBatch];
-        int k[kLensBatch];
+        int start[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) {
             polygon[i] = &segments_[size_t(segment_index(film_r_mm[i]))];
             u[i] = double(lens_sample[i < n ? i : 0].y);
             alive[i] = i < n && !polygon[i]->empty;
-            k[i] = polygon[i]->guide[size_t(std::min(int(u[i] * kPupilGuideCells), kPupilGuideCells - 1))];
+            start[i] = guide_start(*polygon[i], u[i]);
         }
         for (int i = 0; i < kLensBatch; ++i) {
             const PupilPolygon& poly = *polygon[i];
-            int j = k[i];
-            j += int((j < kPupilAngles - 1) & (poly.fan[size_t(j)].cdf_hi <= u[i]));
-            while (j < kPupilAngles - 1 && poly.fan[size_t(j)].cdf_hi <= u[i]) ++j;
-            const FanTriangle& t = poly.fan[size_t(j)];
-            const double across = std::clamp((u[i] - t.cdf_lo) * t.inverse_cdf_step, 0.0, 1.0);
+            const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u[i], start[i]))];
             const bool a = alive[i];
             aim->centre_x_mm[i] = a ? poly.centre_x_mm : 0.0;
             aim->a_x_mm[i] = a ? t.a_x_mm : 0.0, aim->a_y_mm[i] = a ? t.a_y_mm : 0.0;
             aim->b_x_mm[i] = a ? t.b_x_mm : 0.0, aim->b_y_mm[i] = a ? t.b_y_mm : 0.0;
-            aim->across[i] = a ? across : 0.0;
+            aim->across[i] = a ? across(t, u[i]) : 0.0;
             area_mm2[i] = a ? poly.area_mm2 : 0.0;
         }
     }
@@ -125,6 +113,25 @@ class ExitPupil {
     const PupilPolygon& segment(int i) const { return segments_[size_t(i)]; }
 
   private:
+    // Where the search for the fan triangle u falls in starts: the guide's
+    // first triangle whose CDF exceeds u's cell.
+    static int guide_start(const PupilPolygon& poly, double u) {
+        return poly.guide[size_t(std::min(int(u * kPupilGuideCells), kPupilGuideCells - 1))];
+    }
+    // The first k from start on with cdf[k] > u (std::upper_bound's answer).
+    // The first step without a branch (whether a cell's CDF step lies below u
+    // is a coin toss the predictor loses); further steps are rare.
+    static int triangle_past(const PupilPolygon& poly, double u, int start) {
+        int k = start;
+        k += int((k < kPupilAngles - 1) & (poly.fan[size_t(k)].cdf_hi <= u));
+        while (k < kPupilAngles - 1 && poly.fan[size_t(k)].cdf_hi <= u) ++k;
+        return k;
+    }
+    // Where across triangle t u falls: 0 at its vertex a, 1 at b.
+    static double across(const FanTriangle& t, double u) {
+        return std::clamp((u - t.cdf_lo) * t.inverse_cdf_step, 0.0, 1.0);
+    }
+
     // The rings' common set-up: the plane at the rear vertex and the radius lookup.
     ExitPupil(const std::vector<LensElement>& elements, double max_film_radius_mm);
 
