@@ -45,6 +45,8 @@ struct LensSystemCamera {
     std::shared_ptr<const ExitPupil> pupil;
     double inverse_centre_irradiance = 1.0;  // set by calibrate()
     LensTraceKernel trace_kernel = best_lens_trace_kernel();  // all give the same bits; diagnostics may pick another
+    // The batch trace (every render's) in single precision; the one-ray
+    // generate_ray and generate_rays_at stay in double, the reference.
     LensTracePrecision trace_precision = LensTracePrecision::Single;
     // Spectral renders of a lens with dispersion: the elements with their
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.

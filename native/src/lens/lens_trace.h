@@ -381,14 +381,14 @@ void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, Lens
 void trace_from_film_batch_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
 void trace_from_film_batch_avx512(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b);
 
-
 // The render's trace (LensSystemCamera::trace_precision): the same template
 // over float lanes (lens_trace_single_*.cpp), every kernel the same bits as
 // the portable one. In float, hit points sit a few float steps of the
 // lens-frame coordinates off their surface (1e-5 mm at 100 mm), so the rays
-// leave the lens within about 1e-5 mm and 2e-6 rad of the double trace's: a
-// thousandth of a pixel's footprint on the film and in the scene, for about
-// half the cost (bench/bench_lens_rays_cpu.py). The double trace stays the
+// leave the lens within 2.6e-5 mm and 8e-6 in direction of the double
+// trace's (7.6e-5 near a critical angle; bench/check_lens_trace_single.py): a
+// thousandth of a pixel's footprint, for 0.59-0.65 of the lens camera's time
+// per ray (bench/bench_lens_rays_cpu.py). The double trace stays the
 // reference of the analysis (lens info, pupils, focus) and of the tests that
 // hold it to the Python trace within 1e-9 mm.
 void trace_from_film_batch_single_portable(const std::vector<LensElement>& elements, LaneGlass glass,

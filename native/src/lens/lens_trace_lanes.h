@@ -63,8 +63,7 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
                        const LaneGroup<D, M>& l, D* nx, D* ny, D* nz) {
     const D zero(0.0), one(1.0), c(e.curvature_per_mm), v(e.vertex_z_mm);
     // Normal (0,0,1) - c (p - vertex)
-    const D mx = D(-e.curvature_per_mm) * px, my = D(-e.curvature_per_mm) * py;
-    const D mz = mul_add(D(-e.curvature_per_mm), pz - v, one);
+    const D mx = -c * px, my = -c * py, mz = mul_add(-c, pz - v, one);
     const D sin2_t = eta2 * max(one - cos2_i, zero);
     const M transmits = sin2_t < one;
     const D cos_t = sqrt(select(transmits, one - sin2_t, zero));
