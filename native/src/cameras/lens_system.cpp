@@ -8,14 +8,25 @@ void calibrate_centre_irradiance(LensSystemCamera* camera) {
     // Midpoint rule: 128 steps from the pupil centre outward (u.x) times 1024
     // steps round it (u.y: 16 across each of the 64 fan triangles).
     constexpr int kRadial = 128, kAround = 1024;
-    Point2f centre{float(camera->width_px) * 0.5f, float(camera->height_px) * 0.5f};
+    // A batch at a time through the double trace: generate_ray's rays, bit for
+    // bit, several times faster than one at a time.
+    const LensTracePrecision render_precision = camera->trace_precision;
+    camera->trace_precision = LensTracePrecision::Double;
+    Point2f raster[kCameraBatch], u[kCameraBatch];
+    for (Point2f& p : raster) p = {float(camera->width_px) * 0.5f, float(camera->height_px) * 0.5f};
+    MaybeRay rays[kCameraBatch];
     double sum = 0.0;
+    int pending = 0;
     for (int j = 0; j < kAround; ++j)
         for (int i = 0; i < kRadial; ++i) {
-            Point2f u{(i + 0.5f) / kRadial, (j + 0.5f) / kAround};
-            MaybeRay ray = camera->generate_ray(centre, u);
-            if (ray) sum += ray->weight;
+            u[pending++] = {(i + 0.5f) / kRadial, (j + 0.5f) / kAround};
+            if (pending < kCameraBatch && !(j == kAround - 1 && i == kRadial - 1)) continue;
+            camera->generate_rays(raster, u, pending, rays);
+            for (int k = 0; k < pending; ++k)
+                if (rays[k]) sum += rays[k]->weight;
+            pending = 0;
         }
+    camera->trace_precision = render_precision;
     double irradiance = sum / (double(kRadial) * kAround);
     camera->inverse_centre_irradiance = irradiance > 0.0 ? 1.0 / irradiance : 0.0;
 }
