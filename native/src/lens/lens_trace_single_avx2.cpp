@@ -1,8 +1,9 @@
 // The batch lens trace in single precision on AVX2 (lens_trace.h,
-// LensTracePrecision): the template of lens_trace_lanes.h over thirty-two
-// float lanes as four registers of eight, every operation issued for the four
-// back to back so that four dependency chains overlap. The batch stays in
-// double: lanes are rounded to float on the way in and widened on the way out.
+// LensTracePrecision): the template of lens_trace_lanes.h over sixteen float
+// lanes as two registers of eight, every operation issued for both back to
+// back so that two dependency chains overlap, the batch in two groups (four
+// registers spilled: AVX2 has sixteen). The batch stays in double: lanes are
+// rounded to float on the way in and widened on the way out.
 #include <immintrin.h>
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 // The batch lens trace in single precision on AVX-512: the render loop's
 // trace (lens_trace.h, LensTracePrecision). The template of
-// lens_trace_lanes.h over thirty-two float lanes as two registers of sixteen:
-// four times the lanes of the double kernel per instruction, and float square
-// roots and divisions cost the divider a fraction of double ones. The batch
-// stays in double: lanes are rounded to float on the way in and widened on
-// the way out.
+// lens_trace_lanes.h over thirty-two float lanes as two registers of sixteen,
+// the whole batch in one group: twice the lanes of the double kernel per
+// instruction, and float square roots and divisions cost the divider a
+// fraction of double ones. The batch stays in double: lanes are rounded to
+// float on the way in and widened on the way out.
 #include <immintrin.h>
 
 #include <cstdint>
