@@ -17,11 +17,11 @@ namespace lc::avx2_single {
 
 constexpr int kRegisters = 2;
 
-struct M32 {
+struct M16 {
     __m256 r[kRegisters];  // all bits set where true
 
-    static M32 load(const bool* p) {
-        M32 m;
+    static M16 load(const bool* p) {
+        M16 m;
         for (int k = 0; k < kRegisters; ++k) {
             const bool* q = p + 8 * k;
             m.r[k] = _mm256_castsi256_ps(_mm256_set_epi32(-int32_t(q[7]), -int32_t(q[6]), -int32_t(q[5]),
@@ -38,27 +38,27 @@ struct M32 {
     }
 };
 
-struct F32 {
+struct F16 {
     static constexpr int kLanes = 8 * kRegisters;
     using Scalar = float;
     __m256 r[kRegisters];
 
-    F32() = default;
-    explicit F32(double x) {
+    F16() = default;
+    explicit F16(double x) {
         for (__m256& v : r) v = _mm256_set1_ps(float(x));
     }
     // Eight doubles rounded to float (round to nearest, as float(x)).
     static __m256 narrow(__m256d a, __m256d b) {
         return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm256_cvtpd_ps(a)), _mm256_cvtpd_ps(b), 1);
     }
-    static F32 load(const double* p) {
-        F32 f;
+    static F16 load(const double* p) {
+        F16 f;
         for (int k = 0; k < kRegisters; ++k) f.r[k] = narrow(_mm256_loadu_pd(p + 8 * k), _mm256_loadu_pd(p + 8 * k + 4));
         return f;
     }
     // float(base[index[i]]) in lane i
-    static F32 gather(const double* base, const int32_t* index) {
-        F32 f;
+    static F16 gather(const double* base, const int32_t* index) {
+        F16 f;
         for (int k = 0; k < kRegisters; ++k) {
             const int32_t* i = index + 8 * k;
             f.r[k] = narrow(_mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(i)), 8),
@@ -77,58 +77,58 @@ struct F32 {
 // Each operation once per register, spelt out: a loop or a lambda here kept
 // GCC from holding the registers in registers (seven times slower).
 #define LC_EACH(expression_of_k)                                                                  \
-    F32 f;                                                                                        \
+    F16 f;                                                                                        \
     {                                                                                             \
         { constexpr int k = 0; f.r[k] = expression_of_k; }                                        \
         { constexpr int k = 1; f.r[k] = expression_of_k; }                                        \
     }                                                                                             \
     return f
 
-inline F32 operator+(F32 a, F32 b) { LC_EACH(_mm256_add_ps(a.r[k], b.r[k])); }
-inline F32 operator-(F32 a, F32 b) { LC_EACH(_mm256_sub_ps(a.r[k], b.r[k])); }
-inline F32 operator*(F32 a, F32 b) { LC_EACH(_mm256_mul_ps(a.r[k], b.r[k])); }
-inline F32 operator/(F32 a, F32 b) { LC_EACH(_mm256_div_ps(a.r[k], b.r[k])); }
-inline F32 operator-(F32 a) { LC_EACH(_mm256_xor_ps(a.r[k], _mm256_set1_ps(-0.0f))); }
-inline F32 sqrt(F32 a) { LC_EACH(_mm256_sqrt_ps(a.r[k])); }
+inline F16 operator+(F16 a, F16 b) { LC_EACH(_mm256_add_ps(a.r[k], b.r[k])); }
+inline F16 operator-(F16 a, F16 b) { LC_EACH(_mm256_sub_ps(a.r[k], b.r[k])); }
+inline F16 operator*(F16 a, F16 b) { LC_EACH(_mm256_mul_ps(a.r[k], b.r[k])); }
+inline F16 operator/(F16 a, F16 b) { LC_EACH(_mm256_div_ps(a.r[k], b.r[k])); }
+inline F16 operator-(F16 a) { LC_EACH(_mm256_xor_ps(a.r[k], _mm256_set1_ps(-0.0f))); }
+inline F16 sqrt(F16 a) { LC_EACH(_mm256_sqrt_ps(a.r[k])); }
 // a * b + c, rounded once
-inline F32 mul_add(F32 a, F32 b, F32 c) { LC_EACH(_mm256_fmadd_ps(a.r[k], b.r[k], c.r[k])); }
+inline F16 mul_add(F16 a, F16 b, F16 c) { LC_EACH(_mm256_fmadd_ps(a.r[k], b.r[k], c.r[k])); }
 // |magnitude| with the sign of sign
-inline F32 copysign(F32 magnitude, F32 sign) {
+inline F16 copysign(F16 magnitude, F16 sign) {
     const __m256 bit = _mm256_set1_ps(-0.0f);
     LC_EACH(_mm256_or_ps(_mm256_andnot_ps(bit, magnitude.r[k]), _mm256_and_ps(bit, sign.r[k])));
 }
 // a > b ? a : b, as the C++ ternary
-inline F32 max(F32 a, F32 b) { LC_EACH(_mm256_max_ps(a.r[k], b.r[k])); }
+inline F16 max(F16 a, F16 b) { LC_EACH(_mm256_max_ps(a.r[k], b.r[k])); }
 
 template <int kPredicate>
-inline M32 compare(F32 a, F32 b) {
-    M32 m;
+inline M16 compare(F16 a, F16 b) {
+    M16 m;
     for (int k = 0; k < kRegisters; ++k) m.r[k] = _mm256_cmp_ps(a.r[k], b.r[k], kPredicate);
     return m;
 }
-inline M32 operator<(F32 a, F32 b) { return compare<_CMP_LT_OQ>(a, b); }
-inline M32 operator>(F32 a, F32 b) { return compare<_CMP_GT_OQ>(a, b); }
-inline M32 operator>=(F32 a, F32 b) { return compare<_CMP_GE_OQ>(a, b); }
-inline M32 operator!=(F32 a, F32 b) { return compare<_CMP_NEQ_UQ>(a, b); }
-inline M32 not_greater(F32 a, F32 b) { return compare<_CMP_NGT_UQ>(a, b); }
+inline M16 operator<(F16 a, F16 b) { return compare<_CMP_LT_OQ>(a, b); }
+inline M16 operator>(F16 a, F16 b) { return compare<_CMP_GT_OQ>(a, b); }
+inline M16 operator>=(F16 a, F16 b) { return compare<_CMP_GE_OQ>(a, b); }
+inline M16 operator!=(F16 a, F16 b) { return compare<_CMP_NEQ_UQ>(a, b); }
+inline M16 not_greater(F16 a, F16 b) { return compare<_CMP_NGT_UQ>(a, b); }
 
-inline M32 operator&(M32 a, M32 b) {
-    M32 m;
+inline M16 operator&(M16 a, M16 b) {
+    M16 m;
     for (int k = 0; k < kRegisters; ++k) m.r[k] = _mm256_and_ps(a.r[k], b.r[k]);
     return m;
 }
-inline M32 operator|(M32 a, M32 b) {
-    M32 m;
+inline M16 operator|(M16 a, M16 b) {
+    M16 m;
     for (int k = 0; k < kRegisters; ++k) m.r[k] = _mm256_or_ps(a.r[k], b.r[k]);
     return m;
 }
-inline bool any(M32 m) {
+inline bool any(M16 m) {
     __m256 all = m.r[0];
     for (int k = 1; k < kRegisters; ++k) all = _mm256_or_ps(all, m.r[k]);
     return _mm256_movemask_ps(all) != 0;
 }
 // m ? a : b
-inline F32 select(M32 m, F32 a, F32 b) { LC_EACH(_mm256_blendv_ps(b.r[k], a.r[k], m.r[k])); }
+inline F16 select(M16 m, F16 a, F16 b) { LC_EACH(_mm256_blendv_ps(b.r[k], a.r[k], m.r[k])); }
 
 #undef LC_EACH
 
@@ -139,12 +139,12 @@ inline F32 select(M32 m, F32 a, F32 b) { LC_EACH(_mm256_blendv_ps(b.r[k], a.r[k]
 namespace lc {
 
 void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements, LensRayBatch* b) {
-    trace_from_film_lanes<avx2_single::F32, avx2_single::M32, false>(elements.data(), elements.size(),
+    trace_from_film_lanes<avx2_single::F16, avx2_single::M16, false>(elements.data(), elements.size(),
                                                                      LaneGlass{nullptr, nullptr}, b);
 }
 
 void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b) {
-    trace_from_film_lanes<avx2_single::F32, avx2_single::M32, true>(elements.data(), elements.size(), glass, b);
+    trace_from_film_lanes<avx2_single::F16, avx2_single::M16, true>(elements.data(), elements.size(), glass, b);
 }
 
 }  // namespace lc
