@@ -225,7 +225,7 @@ class SpectralCameraSampleBatcher {
   private:
     // One ray per sample, carrying all four wavelengths.
     void flush_shared() {
-        MaybeRay rays[kCameraBatch];
+        MaybeRay* rays = shared_rays_;
         camera_rays(camera_, raster_px_, lens_, pending_, rays);
         for (int i = 0; i < pending_; ++i) {
             if (!rays[i]) continue;  // vignetted: contributes nothing
@@ -272,7 +272,7 @@ class SpectralCameraSampleBatcher {
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
-        MaybeRay rays[kCameraBatch][kHeroWavelengths];
+        MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
         wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
             int last = -1;
@@ -294,6 +294,10 @@ class SpectralCameraSampleBatcher {
         if (moves_camera_) ray->origin += motion_.camera_velocity_m_per_s * motion_.time_s(time_u);
     }
 
+    // Members, not locals of the flushes: a local array of these was zeroed
+    // at every flush (8 KB for the dispersed batch; see RayPacket::radiance_).
+    MaybeRay shared_rays_[kCameraBatch];
+    MaybeRay dispersed_rays_[kCameraBatch][kHeroWavelengths];
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;
