@@ -81,6 +81,21 @@ void bind_samplers(nb::module_& m) {
           "Maps unit-square points u to the aperture (circle of radius 1, or the N-gon of its area) into out.");
 }
 
+// The render loop's batch of rays for a camera that makes them side by side
+// (pinhole, thin lens, lens system): tests hold it to generate_ray.
+template <class Camera>
+void generate_rays_batched(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+                           CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
+    const Point2f* raster = points(raster_px);
+    const Point2f* u = points(lens);
+    for (size_t first = 0; first < raster_px.shape(0); first += kCameraBatch) {
+        const int n = int(std::min<size_t>(kCameraBatch, raster_px.shape(0) - first));
+        MaybeRay rays[kCameraBatch];
+        camera.generate_rays(raster + first, u + first, n, rays);
+        for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
+    }
+}
+
 void bind_lens(nb::module_& m) {
     m.def("count_lens_passes",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
@@ -99,18 +114,7 @@ void bind_lens(nb::module_& m) {
           "camera"_a, "n"_a, "threads"_a, nb::call_guard<nb::gil_scoped_release>(),
           "(seconds, samples, traced, passed) for n random samples through the lens alone, no scene.");
 
-    m.def("generate_lens_rays_batched",
-          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
-             CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
-              const Point2f* raster = points(raster_px);
-              const Point2f* u = points(lens);
-              for (size_t first = 0; first < raster_px.shape(0); first += kLensBatch) {
-                  int n = int(std::min<size_t>(kLensBatch, raster_px.shape(0) - first));
-                  MaybeRay rays[kLensBatch];
-                  camera.generate_rays(raster + first, u + first, n, rays);
-                  for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
-              }
-          },
+    m.def("generate_lens_rays_batched", &generate_rays_batched<LensSystemCamera>,
           "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
           nb::call_guard<nb::gil_scoped_release>(),
           "generate_rays through the render loop's lockstep batch trace (in double precision the same bits as "
@@ -391,23 +395,6 @@ void bind_own_quads(nb::module_& m) {
           "out[i]: whether segment i (t in [0, t_far]) crosses a parallelogram, as the render's shadow rays see it.");
 }
 
-}  // namespace
-
-// The render loop's batch of rays for a camera that makes them side by side
-// (pinhole, thin lens): tests hold it to generate_ray, bit for bit.
-template <class Camera>
-void generate_rays_batched(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
-                           CArray<double, -1, 3> origin, CArray<double, -1, 3> direction, CArray<float, -1> weight) {
-    const Point2f* raster = points(raster_px);
-    const Point2f* u = points(lens);
-    for (size_t first = 0; first < raster_px.shape(0); first += kCameraBatch) {
-        const int n = int(std::min<size_t>(kCameraBatch, raster_px.shape(0) - first));
-        MaybeRay rays[kCameraBatch];
-        camera.generate_rays(raster + first, u + first, n, rays);
-        for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
-    }
-}
-
 void bind_batched_cameras(nb::module_& m) {
     const char* doc = "The render loop's batch of camera rays (kCameraBatch at a time; the same bits as generate_rays).";
     m.def("generate_rays_batched", &generate_rays_batched<PinholeCamera>, "camera"_a, "raster_px"_a, "lens"_a,
@@ -415,6 +402,8 @@ void bind_batched_cameras(nb::module_& m) {
     m.def("generate_rays_batched", &generate_rays_batched<ThinLensCamera>, "camera"_a, "raster_px"_a, "lens"_a,
           "origin"_a, "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(), doc);
 }
+
+}  // namespace
 
 void bind_diagnostics(nb::module_& m) {
     bind_batched_cameras(m);
