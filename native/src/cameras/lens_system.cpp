@@ -12,19 +12,17 @@ void calibrate_centre_irradiance(LensSystemCamera* camera) {
     // bit, several times faster than one at a time.
     const LensTracePrecision render_precision = camera->trace_precision;
     camera->trace_precision = LensTracePrecision::Double;
+    static_assert(kRadial % kCameraBatch == 0, "whole batches, each within one step round");
     Point2f raster[kCameraBatch], u[kCameraBatch];
     for (Point2f& p : raster) p = {float(camera->width_px) * 0.5f, float(camera->height_px) * 0.5f};
     MaybeRay rays[kCameraBatch];
     double sum = 0.0;
-    int pending = 0;
     for (int j = 0; j < kAround; ++j)
-        for (int i = 0; i < kRadial; ++i) {
-            u[pending++] = {(i + 0.5f) / kRadial, (j + 0.5f) / kAround};
-            if (pending < kCameraBatch && !(j == kAround - 1 && i == kRadial - 1)) continue;
-            camera->generate_rays(raster, u, pending, rays);
-            for (int k = 0; k < pending; ++k)
-                if (rays[k]) sum += rays[k]->weight;
-            pending = 0;
+        for (int first = 0; first < kRadial; first += kCameraBatch) {
+            for (int k = 0; k < kCameraBatch; ++k) u[k] = {(first + k + 0.5f) / kRadial, (j + 0.5f) / kAround};
+            camera->generate_rays(raster, u, kCameraBatch, rays);
+            for (const MaybeRay& ray : rays)
+                if (ray) sum += ray->weight;
         }
     camera->trace_precision = render_precision;
     double irradiance = sum / (double(kRadial) * kAround);
