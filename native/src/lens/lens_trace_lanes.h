@@ -49,6 +49,10 @@ struct SurfaceScalars {
     }
 };
 
+// Whether lanes of type D are the single-precision trace's.
+template <class D>
+constexpr bool kSingleLanes = sizeof(typename D::Scalar) == sizeof(float);
+
 template <class D, class M>
 struct LaneGroup {
     D ox, oy, oz, dx, dy, dz;
@@ -81,8 +85,8 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
 template <class D, class M, bool kDispersed>
 inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f, size_t surface,
                                           LaneGlass glass, int first, LaneGroup<D, M>* l) {
-    constexpr bool kSingle = sizeof(typename D::Scalar) == sizeof(float);
-    const D zero(0.0), one(1.0), inf(INFINITY), behind(kSingle ? -kBehindToleranceSingleMm : -kBehindToleranceMm);
+    const D zero(0.0), one(1.0), inf(INFINITY);
+    const D behind(kSingleLanes<D> ? -kBehindToleranceSingleMm : -kBehindToleranceMm);
     const D c(e.curvature_per_mm), v(e.vertex_z_mm);
     D t, cos_i, cos2_i;
     M ok;
@@ -175,7 +179,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
     }
     for (size_t s = count; s-- > 0;) {
-        const SurfaceScalars scalars = SurfaceScalars::of(elements[s], sizeof(typename D::Scalar) == sizeof(float));
+        const SurfaceScalars scalars = SurfaceScalars::of(elements[s], kSingleLanes<D>);
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
             if constexpr (kGroups == 1)
