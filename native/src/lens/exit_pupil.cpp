@@ -59,9 +59,9 @@ struct PupilGeometry {
 };
 
 // g.passes for n plane points (film point film_x[i], plane point (px[i],
-// py[i])) into out[i] (1: passes), through the double batch trace a batch at a time: the same answers
-// bit for bit, several times faster than one ray at a time (building the
-// pupil was a fifth of a default lens render's wall time).
+// py[i])) into out[i] (1: passes), through the double batch trace a batch at
+// a time: the same answers bit for bit, several times faster than one ray at
+// a time (building the pupil was a fifth of a default lens render's wall time).
 void passes_batch(const PupilGeometry& g, size_t n, const double* film_x, const double* px, const double* py,
                   char* out) {
     const LensTraceKernel kernel = best_lens_trace_kernel();
