@@ -30,6 +30,57 @@ def test_jittered_lens_is_shuffled_against_film():
     assert not np.array_equal(film_cell, lens_cell)
 
 
+_MASK64 = (1 << 64) - 1
+
+
+def _mix64(z):
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _MASK64
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _MASK64
+    return z ^ (z >> 31)
+
+
+class _Pcg32:
+    """PCG32 (O'Neill 2014, XSH RR) one step at a time, seeded as rng.h seeds it."""
+
+    def __init__(self, seed, stream, dimension):
+        self.state = 0
+        self.inc = ((_mix64(stream ^ ((dimension * 0x9E3779B97F4A7C15) & _MASK64)) << 1) | 1) & _MASK64
+        self.next_u32()
+        self.state = (self.state + _mix64((seed + 0x632BE59BD9B4E019) & _MASK64)) & _MASK64
+        self.next_u32()
+
+    def next_u32(self):
+        old = self.state
+        self.state = (old * 6364136223846793005 + self.inc) & _MASK64
+        xorshifted = (((old >> 18) ^ old) >> 27) & 0xFFFFFFFF
+        rot = old >> 59
+        return ((xorshifted >> rot) | (xorshifted << ((32 - rot) & 31))) & 0xFFFFFFFF
+
+
+@pytest.mark.parametrize("spp, nx, ny", [(64, 8, 8), (12, 4, 3), (7, 7, 1), (2, 2, 1)])
+def test_jittered_draws_pcg32_one_step_at_a_time(spp, nx, ny):
+    """The render draws its random numbers four PCG states at a time
+    (Pcg32::fill_u32, a leap of four steps per state); the numbers must be
+    PCG32's own sequence, in order: film and lens strata, then the shuffle."""
+    seed, pixel = 7, 123
+    film, lens = pixel_samples(_native.SAMPLER_JITTERED, spp, seed=seed, pixel=pixel)
+    expected = {}
+    for name, stream in (("film", 0), ("lens", 1)):
+        rng = _Pcg32(seed, pixel, stream)
+        points = np.zeros((spp, 2), np.float32)
+        for iy in range(ny):
+            for ix in range(nx):
+                u, v = (np.float32(rng.next_u32() >> 8) * np.float32(2.0**-24) for _ in range(2))
+                points[iy * nx + ix] = (np.float32(ix) + u) / np.float32(nx), (np.float32(iy) + v) / np.float32(ny)
+        expected[name] = points
+    shuffle = _Pcg32(seed, pixel, 2)
+    for i in range(spp - 1, 0, -1):
+        j = (shuffle.next_u32() * (i + 1)) >> 32
+        expected["lens"][[i, j]] = expected["lens"][[j, i]]
+    np.testing.assert_array_equal(film, expected["film"])
+    np.testing.assert_array_equal(lens, expected["lens"])
+
+
 def test_random_is_uniform_and_seeded():
     film, lens = pixel_samples(_native.SAMPLER_RANDOM, 20000, seed=5)
     for points in (film, lens):

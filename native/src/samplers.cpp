@@ -18,6 +18,12 @@ constexpr uint64_t kShuffleStream = 2;
 constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
 constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 
+// A thread's scratch for fill_jittered's and shuffle's random numbers.
+std::vector<uint32_t>& jittered_bits() {
+    thread_local std::vector<uint32_t> bits;
+    return bits;
+}
+
 void fill_random(Pcg32& rng, int spp, Point2f* out) {
     for (int i = 0; i < spp; ++i) out[i] = {rng.next_float(), rng.next_float()};
 }
@@ -25,19 +31,34 @@ void fill_random(Pcg32& rng, int spp, Point2f* out) {
 void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
     int nx, ny;
     jittered_strata(spp, &nx, &ny);
-    for (int iy = 0; iy < ny; ++iy)
+    // The random numbers first (Pcg32::fill_u32 breaks their chain of
+    // multiplications), then the arithmetic, which GCC runs in SIMD lanes:
+    // the same numbers in the same order as next_float per stratum.
+    std::vector<uint32_t>& bits = jittered_bits();
+    bits.resize(size_t(2 * spp));
+    rng.fill_u32(bits.data(), 2 * spp);
+    for (int iy = 0; iy < ny; ++iy) {
+        const uint32_t* row_bits = bits.data() + size_t(2 * iy) * size_t(nx);
+        Point2f* row = out + size_t(iy) * size_t(nx);
         for (int ix = 0; ix < nx; ++ix) {
             // (ix + u) / nx stays below 1 because u <= 1 - 2^-24.
-            float x = (float(ix) + rng.next_float()) / float(nx);
-            float y = (float(iy) + rng.next_float()) / float(ny);
-            out[iy * nx + ix] = {below_one(x), below_one(y)};
+            const float x = (float(ix) + Pcg32::to_float(row_bits[2 * ix])) / float(nx);
+            const float y = (float(iy) + Pcg32::to_float(row_bits[2 * ix + 1])) / float(ny);
+            row[ix] = {below_one(x), below_one(y)};
         }
+    }
 }
 
 // Random permutation so that film stratum i is not always paired with lens
 // stratum i (which would correlate the two 2-D dimensions).
+// The random numbers first, as fill_jittered's; next_below's bound per swap.
 void shuffle(Pcg32& rng, int n, Point2f* points) {
-    for (int i = n - 1; i > 0; --i) std::swap(points[i], points[rng.next_below(uint32_t(i + 1))]);
+    if (n < 2) return;
+    std::vector<uint32_t>& bits = jittered_bits();
+    bits.resize(size_t(n - 1));
+    rng.fill_u32(bits.data(), n - 1);
+    for (int i = n - 1; i > 0; --i)
+        std::swap(points[i], points[Pcg32::below(bits[size_t(n - 1 - i)], uint32_t(i + 1))]);
 }
 
 // The multiplier coprime to n nearest n / golden ratio: i -> a * i mod n is
