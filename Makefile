@@ -26,7 +26,7 @@ LLVM_LIBRARY := /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
 
 bench: install
 	@dpkg -s libllvm19 >/dev/null 2>&1 || (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null)
-	DRJIT_LIBLLVM_PATH=$(LLVM_LIBRARY) $(PY) bench/bench_peers.py --one-light --time-to-rmse
+	DRJIT_LIBLLVM_PATH=$(LLVM_LIBRARY) $(PY) bench/bench_peers.py --one-light --empty --time-to-rmse
 	$(PY) bench/bench_quads.py
 	$(PY) bench/bench_native.py
 	$(PY) bench/bench_lens.py

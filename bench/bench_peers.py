@@ -31,6 +31,14 @@ edge. Two more rows measure what each costs, with the work matched:
 - scene ``<name>_one_light`` (``--one-light``): the scene with its first light
   only, so that both renderers trace one shadow ray per diffuse hit.
 
+With ``--empty``, each scene is timed again with its objects removed (camera,
+lights and background kept; thin lens and pinhole only): every ray misses,
+so what is left per sample is the work around the rays (sampling, camera
+rays, batching, shading set-up, accumulation). ``decomposition`` then splits
+each renderer's nanoseconds per sample and thread into that pipeline cost
+(the empty scene's) and the scene's own (intersection and shading: the
+full scene's less the empty one's).
+
 With ``--time-to-rmse``, ``bench_povray.py`` also runs (uniform sampling
 only: POV-Ray fixed ``blur_samples`` against the native thin lens's sobol
 sweep) and its ``time_to_target`` goes into the JSON.
@@ -129,6 +137,24 @@ def time_to_rmse(threads):
             "povray_converges_to_reference": result["povray_converges_to_reference"]}
 
 
+def decomposition(scenes, threads):
+    """Nanoseconds per sample and thread, each renderer's: the pipeline's (the
+    scene without objects) and the scene's own (the full scene's less that)."""
+    out = {}
+    for name, entry in scenes.items():
+        empty = scenes.get(f"{name}_empty")
+        if empty is None:
+            continue
+        out[name] = {}
+        for key, full_sps in entry["samples_per_second"].items():
+            if key not in empty["samples_per_second"]:
+                continue
+            full_ns = threads / full_sps * 1e9
+            pipeline_ns = threads / empty["samples_per_second"][key] * 1e9
+            out[name][key] = {"total_ns": full_ns, "pipeline_ns": pipeline_ns, "scene_ns": full_ns - pipeline_ns}
+    return out
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--spp", type=int, default=64)
@@ -140,6 +166,8 @@ def main() -> int:
     parser.add_argument("--no-povray", action="store_true")
     parser.add_argument("--one-light", action="store_true",
                         help="also each scene with its first light only (one shadow ray per hit, as Mitsuba)")
+    parser.add_argument("--empty", action="store_true",
+                        help="also each scene without its objects: the pipeline's cost per sample apart from the scene's")
     parser.add_argument("--time-to-rmse", action="store_true", help="also run bench_povray.py (uniform sampling)")
     args = parser.parse_args()
 
@@ -174,24 +202,30 @@ def main() -> int:
     samples = args.resolution[0] * args.resolution[1] * args.spp
     with tempfile.TemporaryDirectory(prefix="bench-peers-") as folder:
         runs = [(name, load_scene(SCENES[name])) for name in args.scenes.split(",")]
+        full_runs = list(runs)
         if args.one_light:
-            runs += [(f"{name}_one_light", dataclasses.replace(scene, lights=scene.lights[:1])) for name, scene in runs]
+            runs += [(f"{name}_one_light", dataclasses.replace(scene, lights=scene.lights[:1]))
+                     for name, scene in full_runs]
+        if args.empty:
+            runs += [(f"{name}_empty", dataclasses.replace(scene, objects=())) for name, scene in full_runs]
         for name, scene in runs:
+            empty = name.endswith("_empty")
             scene = scene.with_camera(resolution=tuple(args.resolution))
             lens_scene = scene.with_camera(lens=LENS, f_number=None)
             timers = {
                 "native_thin": native_timer(scene, "thin", args.spp, args.threads),
-                "native_thin_not_robust": native_timer(scene, "thin", args.spp, args.threads, robust=False),
                 "native_pinhole": native_timer(scene, "pinhole", args.spp, args.threads),
-                "native_lens": native_timer(lens_scene, "lens", args.spp, args.threads),
             }
+            if not empty:
+                timers["native_thin_not_robust"] = native_timer(scene, "thin", args.spp, args.threads, robust=False)
+                timers["native_lens"] = native_timer(lens_scene, "lens", args.spp, args.threads)
             for variant, error in variants.items():
                 if error is None:
                     for model in ("thin", "pinhole"):
                         log(f"{name}: loading Mitsuba {variant} {model} (and a warm-up render)")
                         timers[f"mitsuba_{variant}_{model}"] = MitsubaRender(mi, variant, scene, model, args.spp,
                                                                              folder).seconds
-            if not args.no_povray:
+            if not args.no_povray and not empty:
                 timers["povray_thin"] = povray_timer(scene, args.spp, args.threads)
             best = {key: float("inf") for key in timers}
             for round_ in range(args.repeat):
@@ -206,29 +240,33 @@ def main() -> int:
                     if f"mitsuba_{variant}_{model}" in sps:
                         ratios[f"native_{model}_over_mitsuba_{variant}"] = (
                             sps[f"native_{model}"] / sps[f"mitsuba_{variant}_{model}"])
-            if "mitsuba_llvm_ad_rgb_thin" in sps:
+            if "mitsuba_llvm_ad_rgb_thin" in sps and "native_thin_not_robust" in sps:
                 ratios["native_thin_not_robust_over_mitsuba_llvm_ad_rgb"] = (
                     sps["native_thin_not_robust"] / sps["mitsuba_llvm_ad_rgb_thin"])
-            ratios["native_thin_not_robust_over_native_thin"] = sps["native_thin_not_robust"] / sps["native_thin"]
-            ratios["native_lens_over_native_pinhole"] = sps["native_lens"] / sps["native_pinhole"]
+            if not empty:
+                ratios["native_thin_not_robust_over_native_thin"] = sps["native_thin_not_robust"] / sps["native_thin"]
+                ratios["native_lens_over_native_pinhole"] = sps["native_lens"] / sps["native_pinhole"]
             ratios["native_thin_over_native_pinhole"] = sps["native_thin"] / sps["native_pinhole"]
             if "povray_thin" in sps:
                 ratios["native_thin_over_povray_thin"] = sps["native_thin"] / sps["povray_thin"]
-            base = name.removesuffix("_one_light")
+            base = name.removesuffix("_one_light").removesuffix("_empty")
+            note = " (first light only)" if name.endswith("_one_light") else " (no objects)" if empty else ""
             results["scenes"][name] = {
-                "source": str(SCENES[base].relative_to(ROOT)) + (" (first light only)" if base != name else ""),
+                "source": str(SCENES[base].relative_to(ROOT)) + note,
                 "best_seconds": best,
                 "samples_per_second": sps,
                 "ratios": ratios,
             }
 
+    if args.empty:
+        results["decomposition"] = decomposition(results["scenes"], args.threads)
     if args.time_to_rmse:
         results["povray_time_to_2_percent_uniform"] = time_to_rmse(args.threads)
 
     goals = {}
     for name, entry in results["scenes"].items():
-        if name.endswith("_one_light"):
-            continue  # matched work, not the goal's scenes
+        if name.endswith(("_one_light", "_empty")):
+            continue  # matched work or no scene: not the goal's scenes
         for model in ("thin", "pinhole"):
             ratio = entry["ratios"].get(f"native_{model}_over_mitsuba_llvm_ad_rgb")
             if ratio is not None:
