@@ -42,7 +42,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
         for (int i = 0; i < rays.count; ++i)
             if (shows_line(hits, material, i))
                 for (int k = 0; k < kW; ++k) out[i][k] = spectra.line_at(material[i], wavelengths_nm[i][k]);
-    if (lights_.empty()) return;
+    if (lights_.empty() || !any_diffuse(hits.surface)) return;
 
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
     alignas(16) float reflectance[kPacketSize][kW];  // the diffuse hits' albedo spectra (0 elsewhere)
@@ -87,7 +87,7 @@ void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const
                 const Vec3f line = spectra.line_film[size_t(material[i])];
                 rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
             }
-    if (!lights_.empty()) {
+    if (!lights_.empty() && any_diffuse(hits.surface)) {
         surface_lanes(shading_kernel_, hits.packet, hits.surface);
         SurfaceLanes& surface = hits.surface;
         float albedo[3][kPacketSize];  // the albedo as a basis colour; surface.albedo gets each light's map of it

@@ -62,6 +62,14 @@ void gather_lanes(ShadingKernel kernel, const MaterialColumns& table, const int*
 // distances and geometric normals).
 void surface_lanes(ShadingKernel kernel, const RTCRayHitPacket& camera, SurfaceLanes& s);
 
+// Whether any lane gathered a diffuse hit: a packet of misses and emitters
+// (sky, lamps) is final after gather_lanes, with no surface or light to find.
+inline bool any_diffuse(const SurfaceLanes& s) {
+    int any = 0;
+    for (int i = 0; i < kPacketSize; ++i) any |= s.diffuse[i];
+    return any != 0;
+}
+
 // One packet of shadow rays from the diffuse lanes toward a point light.
 struct ShadowLanes {
     alignas(kPacketAlignment) int valid[kPacketSize];  // -1: traced (a diffuse hit facing the light)
