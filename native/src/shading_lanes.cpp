@@ -54,6 +54,25 @@ struct Columns {
 
 [[gnu::always_inline]] inline void gather_body(const Columns& t, const int* __restrict material,
                                                SurfaceLanes& __restrict s, float (&__restrict rgb)[3][kPacketSize]) {
+    // A packet is one pixel's samples at 16 spp and more, so mostly of one
+    // material: then each value is loaded once and broadcast.
+    int mixed = 0;
+    for (int i = 0; i < N; ++i) mixed |= material[i] ^ material[0];
+    if (mixed == 0) {
+        const int k = material[0];
+        const int diffuse = t.diffuse[k];
+        const float size_m = t.checker_size_m[k];
+        const float start[3] = {t.start[0][k], t.start[1][k], t.start[2][k]};
+        const float color[3] = {t.color[0][k], t.color[1][k], t.color[2][k]};
+        const float checker[3] = {t.checker_color[0][k], t.checker_color[1][k], t.checker_color[2][k]};
+        for (int i = 0; i < N; ++i) {
+            s.diffuse[i] = diffuse, s.checker_size_m[i] = size_m;
+            rgb[0][i] = start[0], rgb[1][i] = start[1], rgb[2][i] = start[2];
+            s.color[0][i] = color[0], s.color[1][i] = color[1], s.color[2][i] = color[2];
+            s.checker_color[0][i] = checker[0], s.checker_color[1][i] = checker[1], s.checker_color[2][i] = checker[2];
+        }
+        return;
+    }
     // Loaded into vector registers lane by lane (GCC 12 emulates the
     // gathers), then stored whole: the kernels after it read them without
     // waiting for sixteen narrow stores to land.
