@@ -137,8 +137,7 @@ class RayPacket {
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {
-        batch_.origin[batch_.count] = Vec3f(ray.origin);
-        batch_.direction[batch_.count] = Vec3f(ray.direction);
+        batch_.set(batch_.count, ray);
         batch_.time[batch_.count] = time_u;
         weight_[batch_.count] = ray.weight;
         slot_[batch_.count++] = slot;

@@ -121,8 +121,7 @@ class SpectralRayPacket {
     void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, const float* scale, bool last,
              size_t slot) {
         const int j = batch_.count;
-        batch_.origin[j] = Vec3f(ray.origin);
-        batch_.direction[j] = Vec3f(ray.direction);
+        batch_.set(j, ray);
         batch_.time[j] = time_u;
         for (int m = 0; m < kHeroWavelengths; ++m) nm_[j][m] = w.lane_nm[m];
         for (int c = 0; c < 3; ++c)

@@ -22,6 +22,7 @@
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
+#include "cameras/camera_ray.h"
 #include "vec.h"
 
 namespace lc {
@@ -36,11 +37,20 @@ struct Material {
     float checker_size_m; // 0: no checker
 };
 
+// In columns (x, y, z rows of lanes), as Embree's packets and the own
+// primitives' tests take them: the packet is filled by copying rows.
 struct RayBatch {
     int count = 0;  // rays in use, <= kPacketSize
-    Vec3f origin[kPacketSize];
-    Vec3f direction[kPacketSize];
+    float origin[3][kPacketSize] = {};
+    float direction[3][kPacketSize] = {};
     float time[kPacketSize] = {};  // where in the shutter, [0, 1) (Embree's ray time); 0 for a static scene
+
+    // Ray j = a camera ray, rounded to float.
+    void set(int j, const CameraRay& ray) {
+        origin[0][j] = float(ray.origin.x), origin[1][j] = float(ray.origin.y), origin[2][j] = float(ray.origin.z);
+        direction[0][j] = float(ray.direction.x), direction[1][j] = float(ray.direction.y),
+        direction[2][j] = float(ray.direction.z);
+    }
 };
 
 struct PointLight {

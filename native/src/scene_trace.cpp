@@ -25,20 +25,32 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(kPacketAlignment) int valid[kPacketSize];
     RTCRayHitPacket& packet = hits.packet;
+    // Whole rows copied, then idle lanes (past count: only a tile's last
+    // packet has them) given a harmless ray.
     for (int i = 0; i < kPacketSize; ++i) {
-        bool used = i < rays.count;
-        valid[i] = used ? -1 : 0;
-        Vec3f o = used ? rays.origin[i] : Vec3f{}, d = used ? rays.direction[i] : Vec3f{0, 0, 1};
-        packet.ray.org_x[i] = o.x, packet.ray.org_y[i] = o.y, packet.ray.org_z[i] = o.z;
-        packet.ray.dir_x[i] = d.x, packet.ray.dir_y[i] = d.y, packet.ray.dir_z[i] = d.z;
+        packet.ray.org_x[i] = rays.origin[0][i], packet.ray.org_y[i] = rays.origin[1][i];
+        packet.ray.org_z[i] = rays.origin[2][i];
+        packet.ray.dir_x[i] = rays.direction[0][i], packet.ray.dir_y[i] = rays.direction[1][i];
+        packet.ray.dir_z[i] = rays.direction[2][i];
+        packet.ray.time[i] = rays.time[i];
+    }
+    for (int i = rays.count; i < kPacketSize; ++i) {
+        packet.ray.org_x[i] = packet.ray.org_y[i] = packet.ray.org_z[i] = 0.0f;
+        packet.ray.dir_x[i] = packet.ray.dir_y[i] = 0.0f, packet.ray.dir_z[i] = 1.0f;
+        packet.ray.time[i] = 0.0f;
+    }
+    for (int i = 0; i < kPacketSize; ++i) {
+        valid[i] = i < rays.count ? -1 : 0;
         packet.ray.tnear[i] = 0.0f;
         packet.ray.tfar[i] = kInf;
-        packet.ray.time[i] = used ? rays.time[i] : 0.0f;
         packet.ray.mask[i] = 0xFFFFFFFFu;
         packet.ray.id[i] = unsigned(i);
         packet.ray.flags[i] = 0;
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.primID[i] = 0;
+        packet.hit.Ng_x[i] = packet.hit.Ng_y[i] = packet.hit.Ng_z[i] = 0.0f;
+        packet.hit.u[i] = packet.hit.v[i] = 0.0f;
     }
     // The own spheres first, then the own quads: their hits shorten the rays
     // Embree then traces, and each test (and Embree) replaces a hit only by a nearer one.
@@ -47,12 +59,17 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     int index[kPacketSize];
     float ng[3][kPacketSize];
     float* const normal[3] = {ng[0], ng[1], ng[2]};
+    // Selects on every lane (an idle one has index -1), so that the loop runs lanes side by side.
     auto record_hits = [&](unsigned geometry) {
-        for (int i = 0; i < rays.count; ++i) {
-            if (index[i] < 0) continue;
-            packet.hit.geomID[i] = geometry, packet.hit.primID[i] = unsigned(index[i]);
-            packet.hit.Ng_x[i] = ng[0][i], packet.hit.Ng_y[i] = ng[1][i], packet.hit.Ng_z[i] = ng[2][i];
-            packet.hit.u[i] = packet.hit.v[i] = 0.0f;
+        for (int i = 0; i < kPacketSize; ++i) {
+            const bool hit = index[i] >= 0;
+            packet.hit.geomID[i] = hit ? geometry : packet.hit.geomID[i];
+            packet.hit.primID[i] = hit ? unsigned(index[i]) : packet.hit.primID[i];
+            packet.hit.Ng_x[i] = hit ? ng[0][i] : packet.hit.Ng_x[i];
+            packet.hit.Ng_y[i] = hit ? ng[1][i] : packet.hit.Ng_y[i];
+            packet.hit.Ng_z[i] = hit ? ng[2][i] : packet.hit.Ng_z[i];
+            packet.hit.u[i] = hit ? 0.0f : packet.hit.u[i];
+            packet.hit.v[i] = hit ? 0.0f : packet.hit.v[i];
         }
     };
     if (!own_spheres_.empty()) {
