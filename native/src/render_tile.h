@@ -144,6 +144,21 @@ class RayPacket {
         if (batch_.count == kPacketSize) flush();
     }
 
+    // Queues rays [0, n) of a camera batch (those alive), ray i at shutter
+    // time time_u[i] for the pixel at slot[i]: as add, without a CameraRay between.
+    void add_batch(const CameraRayBatch& rays, int n, const float* time_u, const size_t* slot) {
+        for (int i = 0; i < n; ++i) {
+            if (!rays.alive[i]) continue;  // vignetted: contributes nothing
+            const int j = batch_.count;
+            for (int a = 0; a < 3; ++a)
+                batch_.origin[a][j] = float(rays.origin[a][i]), batch_.direction[a][j] = float(rays.direction[a][i]);
+            batch_.time[j] = time_u[i];
+            weight_[j] = rays.weight[i];
+            slot_[j] = slot[i];
+            if (++batch_.count == kPacketSize) flush();
+        }
+    }
+
     // Shades the queued rays and adds each one's radiance to its pixel, in queue order.
     void flush() {
         if (batch_.count == 0) return;
@@ -177,6 +192,15 @@ template <class Camera>
 struct GeneratesBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays(
                                     nullptr, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>> : std::true_type {};
 
+// Cameras that find a batch's rays in columns say so with
+// generate_ray_batch(raster, lens, n, out) (CameraRayBatch).
+template <class Camera, class = void>
+struct GeneratesRayBatches : std::false_type {};
+template <class Camera>
+struct GeneratesRayBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_batch(
+                                       nullptr, nullptr, 0, static_cast<CameraRayBatch*>(nullptr)))>>
+    : std::true_type {};
+
 // Rays for n <= kCameraBatch samples.
 template <class Camera>
 void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
@@ -209,6 +233,16 @@ class CameraSampleBatcher {
 
     // Turns the queued samples into rays for the packet, in queue order.
     void flush() {
+        if constexpr (GeneratesRayBatches<Camera>::value) {
+            // In columns straight to the packet; a moving camera's offset (in
+            // double, before rounding) goes through the rays one at a time below.
+            if (!moves_camera_) {
+                camera_.generate_ray_batch(raster_px_, lens_, pending_, &columns_);
+                packet_.add_batch(columns_, pending_, time_, slot_);
+                pending_ = 0;
+                return;
+            }
+        }
         camera_rays(camera_, raster_px_, lens_, pending_, rays_);
         for (int i = 0; i < pending_; ++i) {
             if (!rays_[i]) continue;  // vignetted: contributes nothing
@@ -227,6 +261,7 @@ class CameraSampleBatcher {
     float time_[kCameraBatch];
     size_t slot_[kCameraBatch];
     MaybeRay rays_[kCameraBatch];  // a member, not a local of flush: see RayPacket::radiance_
+    CameraRayBatch columns_;
     int pending_ = 0;
 };
 

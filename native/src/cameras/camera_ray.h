@@ -31,6 +31,28 @@ inline void set_ray(MaybeRay* ray, double ox, double oy, double oz, double dx, d
 // registers of rays in flight to hide the latency of its square roots.
 constexpr int kCameraBatch = 32;
 
+// A batch's rays in columns, as the cameras find them (world space, metres):
+// the render loop takes them from here into its packets, with no MaybeRay
+// per ray between (whose double fields, stored and at once reloaded for the
+// float packet, cost a store-forwarding stall per ray).
+struct CameraRayBatch {
+    double origin[3][kCameraBatch], direction[3][kCameraBatch];
+    float weight[kCameraBatch];
+    bool alive[kCameraBatch];  // false: vignetted
+};
+
+// Rays [0, n) of a batch one at a time, for the callers that take MaybeRay.
+inline void maybe_rays(const CameraRayBatch& batch, int n, MaybeRay* out) {
+    for (int i = 0; i < n; ++i) {
+        if (!batch.alive[i]) {
+            out[i] = std::nullopt;
+            continue;
+        }
+        set_ray(&out[i], batch.origin[0][i], batch.origin[1][i], batch.origin[2][i], batch.direction[0][i],
+                batch.direction[1][i], batch.direction[2][i], batch.weight[i]);
+    }
+}
+
 // Raster position -> direction in camera space for an ideal perspective
 // projection: the film (width film_w, distance d' behind the lens) mapped in
 // front of the lens at z = 1. Raster x grows right, raster y grows down.

@@ -195,7 +195,8 @@ struct LensSystemCamera {
 
     // The same as generate_ray for up to kLensBatch samples at once, traced in
     // lockstep (the render loop uses this; results equal generate_ray's).
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                            CameraRayBatch* out) const {
         LensRayBatch batch;
         double area_mm2[kLensBatch];
         sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
@@ -204,14 +205,19 @@ struct LensSystemCamera {
         trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
         WorldRayBatch world;
         lens_to_world_batch(lens_to_world(), batch, cos_theta, area_mm2, &world);
-        for (int i = 0; i < n; ++i) {
-            if (!batch.alive[i]) {
-                out[i] = std::nullopt;
-                continue;
-            }
-            set_ray(&out[i], world.ox[i], world.oy[i], world.oz[i], world.dx[i], world.dy[i], world.dz[i],
-                    float(world.weight[i]));
+        for (int i = 0; i < kLensBatch; ++i) {
+            out->origin[0][i] = world.ox[i], out->origin[1][i] = world.oy[i], out->origin[2][i] = world.oz[i];
+            out->direction[0][i] = world.dx[i], out->direction[1][i] = world.dy[i];
+            out->direction[2][i] = world.dz[i];
+            out->weight[i] = float(world.weight[i]);
+            out->alive[i] = i < n && batch.alive[i];
         }
+    }
+
+    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+        CameraRayBatch batch;
+        generate_ray_batch(raster_px, lens_sample, n, &batch);
+        maybe_rays(batch, n, out);
     }
 
     LensToWorld lens_to_world() const {

@@ -22,17 +22,25 @@ struct PinholeCamera {
     // generate_ray operation for operation (x - 0 and 1 - 0 are exact), so
     // the same bits. One at a time, the ray's three divisions and square
     // root left the core waiting (12 % of a pinhole render under perf).
-    void generate_rays(const Point2f* raster_px, const Point2f* /*lens_sample*/, int n, MaybeRay* out) const {
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* /*lens_sample*/, int n,
+                            CameraRayBatch* out) const {
         double screen_x[kCameraBatch], screen_y[kCameraBatch], centre[kCameraBatch] = {};
         screen_points_lanes(n, film, raster_px, screen_x, screen_y);
-        double origin[3][kCameraBatch], direction[3][kCameraBatch];
-        double* const origin_rows[3] = {origin[0], origin[1], origin[2]};
-        double* const direction_rows[3] = {direction[0], direction[1], direction[2]};
+        double* const origin_rows[3] = {out->origin[0], out->origin[1], out->origin[2]};
+        double* const direction_rows[3] = {out->direction[0], out->direction[1], out->direction[2]};
         thin_lens_rays_lanes(n, screen_x, screen_y, centre, centre, 0.0, world_from_camera, origin_rows,
                              direction_rows);
-        const Vec3d& o = world_from_camera.origin;
-        for (int i = 0; i < n; ++i)
-            set_ray(&out[i], o.x, o.y, o.z, direction[0][i], direction[1][i], direction[2][i], 1.0f);
+        const Vec3d& o = world_from_camera.origin;  // the centre exactly, as generate_ray has it
+        for (int i = 0; i < n; ++i) {
+            out->origin[0][i] = o.x, out->origin[1][i] = o.y, out->origin[2][i] = o.z;
+            out->weight[i] = 1.0f, out->alive[i] = true;
+        }
+    }
+
+    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+        CameraRayBatch batch;
+        generate_ray_batch(raster_px, lens_sample, n, &batch);
+        maybe_rays(batch, n, out);
     }
 };
 

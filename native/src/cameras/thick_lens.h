@@ -23,6 +23,11 @@ struct ThickLensCamera {
         return at_front_principal_plane.generate_ray(raster_px, lens_sample);
     }
 
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                            CameraRayBatch* out) const {
+        at_front_principal_plane.generate_ray_batch(raster_px, lens_sample, n, out);
+    }
+
     void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
         at_front_principal_plane.generate_rays(raster_px, lens_sample, n, out);
     }

@@ -36,7 +36,8 @@ struct ThinLensCamera {
     // A batch of n <= kCameraBatch samples (render_tile.h): the aperture's map
     // sample by sample, the rest side by side (thin_lens_lanes.h); the same
     // rays as generate_ray, bit for bit.
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                            CameraRayBatch* out) const {
         double screen_x[kCameraBatch], screen_y[kCameraBatch], lens_x[kCameraBatch], lens_y[kCameraBatch];
         const bool concentric_circle = aperture.blades == 0 && disk_mapping == DiskMapping::Concentric;
         if (concentric_circle) concentric_disk_lanes(n, lens_sample, lens_x, lens_y);
@@ -45,14 +46,17 @@ struct ThinLensCamera {
             if (!concentric_circle) aperture.sample(lens_sample[i], disk_mapping, &lens_x[i], &lens_y[i]);
             lens_x[i] *= lens_radius_m, lens_y[i] *= lens_radius_m;
         }
-        double origin[3][kCameraBatch], direction[3][kCameraBatch];
-        double* const origin_rows[3] = {origin[0], origin[1], origin[2]};
-        double* const direction_rows[3] = {direction[0], direction[1], direction[2]};
+        double* const origin_rows[3] = {out->origin[0], out->origin[1], out->origin[2]};
+        double* const direction_rows[3] = {out->direction[0], out->direction[1], out->direction[2]};
         thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m, world_from_camera,
                              origin_rows, direction_rows);
-        for (int i = 0; i < n; ++i)
-            set_ray(&out[i], origin[0][i], origin[1][i], origin[2][i], direction[0][i], direction[1][i],
-                    direction[2][i], 1.0f);
+        for (int i = 0; i < n; ++i) out->weight[i] = 1.0f, out->alive[i] = true;
+    }
+
+    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
+        CameraRayBatch batch;
+        generate_ray_batch(raster_px, lens_sample, n, &batch);
+        maybe_rays(batch, n, out);
     }
 
     // The ray at wavelength nm: a thin lens of focal length f(λ) keeps the
