@@ -42,9 +42,7 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
             samples.fill(s, pixel_index, end);
             stats.samples += uint64_t(end - first);
             const size_t slot = sums.slot(x, y);
-            for (int i = first; i < end; ++i)
-                batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
-                            samples.lens[size_t(i)], samples.time_of(i), slot);
+            batcher.add_pixel(x, y, samples, first, end, slot);
         }
     }
     // The last, partly filled batch and packet

@@ -222,13 +222,25 @@ class CameraSampleBatcher {
     CameraSampleBatcher(const Camera& camera, const SceneMotion& motion, RayPacket& packet)
         : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet) {}
 
-    // Queues one sample (shutter time u) for the pixel at slot; a full batch goes to the camera at once.
-    void add(Point2f raster_px, Point2f lens, float time_u, size_t slot) {
-        raster_px_[pending_] = raster_px;
-        lens_[pending_] = lens;
-        time_[pending_] = time_u;
-        slot_[pending_++] = slot;
-        if (pending_ == kCameraBatch) flush();
+    // Queues samples [first, end) of pixel (x, y) (at slot; sample i at its
+    // raster position, lens point and shutter time), in runs that fill the
+    // batch, a full batch going to the camera at once.
+    void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
+        const float px = float(x), py = float(y);
+        for (int i = first; i < end;) {
+            const int n = std::min(end - i, kCameraBatch - pending_);
+            const Point2f* film = samples.film.data() + i;
+            const Point2f* lens = samples.lens.data() + i;
+            for (int j = 0; j < n; ++j) {
+                raster_px_[pending_ + j] = {px + film[j].x, py + film[j].y};
+                lens_[pending_ + j] = lens[j];
+                slot_[pending_ + j] = slot;
+            }
+            if (samples.time.empty()) std::fill_n(time_ + pending_, n, 0.0f);
+            else std::copy_n(samples.time.data() + i, n, time_ + pending_);
+            pending_ += n, i += n;
+            if (pending_ == kCameraBatch) flush();
+        }
     }
 
     // Turns the queued samples into rays for the packet, in queue order.
