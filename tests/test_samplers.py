@@ -57,6 +57,18 @@ class _Pcg32:
         return ((xorshifted >> rot) | (xorshifted << ((32 - rot) & 31))) & 0xFFFFFFFF
 
 
+@pytest.mark.parametrize("kernel", diagnostics.rng_kernels())
+def test_every_rng_kernel_draws_pcg32_one_step_at_a_time(kernel):
+    """Each kernel steps several PCG states side by side (rng_lanes.cpp); every
+    one must give PCG32's own outputs in order, for any count (whole leaps,
+    a remainder, fewer than one leap)."""
+    for n in (1, 3, 7, 8, 9, 63, 64, 129):
+        out = np.zeros(n, np.uint32)
+        diagnostics.pcg32_draws(11, 4242, 3, out, kernel)
+        rng = _Pcg32(11, 4242, 3)
+        assert out.tolist() == [rng.next_u32() for _ in range(n)]
+
+
 @pytest.mark.parametrize("spp, nx, ny", [(64, 8, 8), (12, 4, 3), (7, 7, 1), (2, 2, 1)])
 def test_jittered_draws_pcg32_one_step_at_a_time(spp, nx, ny):
     """The render draws its random numbers four PCG states at a time

@@ -28,6 +28,7 @@
 #include "samplers.h"
 #include "scene.h"
 #include "quad_lanes.h"
+#include "rng.h"
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
 
@@ -45,6 +46,30 @@ void bind_samplers(nb::module_& m) {
 
     m.attr("SAMPLER_SOBOL_PADDED") = int(SamplerKind::SobolPadded);
     m.attr("SAMPLER_SOBOL_TIME_NET") = int(SamplerKind::SobolTimeNet);
+
+    m.def("rng_kernels",
+          [] {
+              std::vector<std::string> names;
+              for (RngKernel kernel : kRngKernels)
+                  if (rng_kernel_available(kernel)) names.push_back(rng_kernel_name(kernel));
+              return names;
+          },
+          "The kernels that draw PCG32's outputs several at a time (rng_lanes.cpp) this CPU runs, slowest first.");
+
+    m.def("pcg32_draws",
+          [](uint64_t seed, uint64_t stream, uint64_t dimension, CArray<uint32_t, -1> out, const std::string& kernel) {
+              for (RngKernel k : kRngKernels)
+                  if (kernel == rng_kernel_name(k)) {
+                      if (!rng_kernel_available(k)) throw std::invalid_argument("kernel: this CPU cannot run " + kernel);
+                      Pcg32 rng(seed, stream, dimension);
+                      rng.fill_u32(out.data(), int(out.shape(0)), k);
+                      return;
+                  }
+              throw std::invalid_argument("kernel: no random-number kernel named " + kernel);
+          },
+          "seed"_a, "stream"_a, "dimension"_a, "out"_a, "kernel"_a,
+          "Fills out with the first outputs of the render's PCG32 stream (seed, stream, dimension), drawn by the "
+          "named kernel (Pcg32::fill_u32).");
 
     m.def("pixel_samples",
           [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,

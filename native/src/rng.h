@@ -13,6 +13,27 @@ inline uint64_t mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
+// PCG32's LCG multiplier (O'Neill 2014).
+constexpr uint64_t kPcg32Multiplier = 6364136223846793005ULL;
+
+// PCG's XSH RR output of a state.
+inline uint32_t pcg32_output(uint64_t old) {
+    const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+    const uint32_t rot = uint32_t(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+}
+
+// The kernels that draw many outputs at once (rng_lanes.cpp), one instruction
+// set each: the same numbers on every one.
+enum class RngKernel : int { Portable = 0, Avx2 = 1, Avx512 = 2 };
+constexpr RngKernel kRngKernels[] = {RngKernel::Portable, RngKernel::Avx2, RngKernel::Avx512};
+bool rng_kernel_available(RngKernel kernel);
+const char* rng_kernel_name(RngKernel kernel);
+RngKernel fastest_rng_kernel();
+
+// out[0, n): the outputs of PCG32 (increment inc) from *state on, which is then n steps further.
+void pcg32_fill(RngKernel kernel, uint64_t* state, uint64_t inc, uint32_t* out, int n);
+
 // PCG32 (O'Neill 2014), seeded from a hash of the stream's coordinates.
 class Pcg32 {
   public:
@@ -26,25 +47,14 @@ class Pcg32 {
 
     uint32_t next_u32() {
         uint64_t old = state_;
-        state_ = old * kMultiplier + inc_;
-        return output(old);
+        state_ = old * kPcg32Multiplier + inc_;
+        return pcg32_output(old);
     }
 
-    // The next n outputs of next_u32, in order, the state then n steps on. Four
-    // states a step apart each leap four steps at a time (the LCG's k-step map
-    // is again affine: A = M^4, C = inc (M^3 + M^2 + M + 1)), so four
-    // multiplications run side by side instead of one chain of n.
-    void fill_u32(uint32_t* out, int n) {
-        uint64_t lane[4];
-        for (uint64_t& s : lane) s = state_, state_ = state_ * kMultiplier + inc_;
-        const uint64_t m2 = kMultiplier * kMultiplier, leap_multiplier = m2 * m2;
-        const uint64_t leap_increment = inc_ * (m2 * kMultiplier + m2 + kMultiplier + 1);
-        int i = 0;
-        for (; i + 4 <= n; i += 4)
-            for (int j = 0; j < 4; ++j) out[i + j] = output(lane[j]), lane[j] = lane[j] * leap_multiplier + leap_increment;
-        // lane[0] is now the state after i steps; the rest one at a time
-        state_ = lane[0];
-        for (; i < n; ++i) out[i] = next_u32();
+    // The next n outputs of next_u32, in order, the state then n steps on:
+    // several states at a time (rng_lanes.cpp), not one chain of n multiplications.
+    void fill_u32(uint32_t* out, int n, RngKernel kernel = fastest_rng_kernel()) {
+        pcg32_fill(kernel, &state_, inc_, out, n);
     }
 
     // Uniform in [0, 1): 24 random bits, so the result is exactly representable
@@ -57,15 +67,6 @@ class Pcg32 {
     static uint32_t below(uint32_t bits, uint32_t n) { return uint32_t((uint64_t(bits) * n) >> 32); }
 
   private:
-    static constexpr uint64_t kMultiplier = 6364136223846793005ULL;
-
-    // PCG's XSH RR output of a state.
-    static uint32_t output(uint64_t old) {
-        const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
-        const uint32_t rot = uint32_t(old >> 59u);
-        return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
-    }
-
     uint64_t state_, inc_;
 };
 

@@ -1,0 +1,112 @@
+// PCG32's outputs several states at a time (Pcg32::fill_u32): each kernel
+// steps k states a step apart by the LCG's k-step map, s -> A s + C with
+// A = M^k and C = inc (M^(k-1) + ... + M + 1), so the multiplications run
+// side by side instead of in one chain, and every kernel gives the same
+// numbers, in order, as next_u32 one at a time (integer arithmetic only).
+// The AVX-512 kernel steps 8 states in one register (vpmullq, AVX-512DQ);
+// the AVX2 kernel the same 8 in two (GCC composes the 64-bit multiply);
+// the portable kernel 4 in general registers.
+#include "rng.h"
+
+#include <cstring>
+
+namespace lc {
+namespace {
+
+uint64_t step(uint64_t state, uint64_t inc) { return state * kPcg32Multiplier + inc; }
+
+// A and C of the LCG's k-step map.
+void leap(uint64_t inc, int k, uint64_t* a, uint64_t* c) {
+    *a = 1, *c = 0;
+    for (int j = 0; j < k; ++j) *a *= kPcg32Multiplier, *c = *c * kPcg32Multiplier + inc;
+}
+
+// The rest one step at a time, from the state after the leaps.
+void finish(uint64_t* state, uint64_t inc, uint32_t* out, int first, int n) {
+    for (int i = first; i < n; ++i) out[i] = pcg32_output(*state), *state = step(*state, inc);
+}
+
+void fill_portable(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    constexpr int kLanes = 4;
+    uint64_t lane[kLanes], a, c;
+    lane[0] = *state;
+    for (int j = 1; j < kLanes; ++j) lane[j] = step(lane[j - 1], inc);
+    leap(inc, kLanes, &a, &c);
+    int i = 0;
+    for (; i + kLanes <= n; i += kLanes)
+        for (int j = 0; j < kLanes; ++j) out[i + j] = pcg32_output(lane[j]), lane[j] = lane[j] * a + c;
+    *state = lane[0];  // the state after i steps
+    finish(state, inc, out, i, n);
+}
+
+// Eight states in a vector (GCC's vector extension: one zmm register, or two ymm).
+typedef uint64_t States8 __attribute__((vector_size(64)));
+typedef uint32_t Outputs8 __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline void fill_body8(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    constexpr int kLanes = 8;
+    States8 lane;
+    lane[0] = *state;
+    for (int j = 1; j < kLanes; ++j) lane[j] = step(lane[j - 1], inc);
+    uint64_t a, c;
+    leap(inc, kLanes, &a, &c);
+    int i = 0;
+    for (; i + kLanes <= n; i += kLanes) {
+        // pcg32_output, lane by lane
+        const Outputs8 xorshifted = __builtin_convertvector(((lane >> 18) ^ lane) >> 27, Outputs8);
+        const Outputs8 rot = __builtin_convertvector(lane >> 59, Outputs8);
+        const Outputs8 value = (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+        std::memcpy(out + i, &value, sizeof value);
+        lane = lane * a + c;
+    }
+    *state = lane[0];
+    finish(state, inc, out, i, n);
+}
+
+[[gnu::target("avx2")]] void fill_avx2(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    fill_body8(state, inc, out, n);
+}
+
+[[gnu::target("avx512f,avx512dq,avx512vl")]] void fill_avx512(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    fill_body8(state, inc, out, n);
+}
+
+}  // namespace
+
+bool rng_kernel_available(RngKernel kernel) {
+    switch (kernel) {
+        case RngKernel::Avx2: return __builtin_cpu_supports("avx2");
+        case RngKernel::Avx512:
+            return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                   __builtin_cpu_supports("avx512vl");
+        default: return true;
+    }
+}
+
+const char* rng_kernel_name(RngKernel kernel) {
+    switch (kernel) {
+        case RngKernel::Avx2: return "avx2";
+        case RngKernel::Avx512: return "avx512";
+        default: return "portable";
+    }
+}
+
+RngKernel fastest_rng_kernel() {
+    static const RngKernel best = [] {
+        RngKernel k = RngKernel::Portable;
+        for (RngKernel candidate : kRngKernels)
+            if (rng_kernel_available(candidate)) k = candidate;
+        return k;
+    }();
+    return best;
+}
+
+void pcg32_fill(RngKernel kernel, uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    switch (kernel) {
+        case RngKernel::Avx512: return fill_avx512(state, inc, out, n);
+        case RngKernel::Avx2: return fill_avx2(state, inc, out, n);
+        default: return fill_portable(state, inc, out, n);
+    }
+}
+
+}  // namespace lc
