@@ -126,6 +126,13 @@ class TileAccumulator {
     std::vector<double> sums_, squares_;
 };
 
+// Whether the n = kPacketSize flags are all set.
+inline bool all_alive(const bool* alive) {
+    bool all = true;
+    for (int i = 0; i < kPacketSize; ++i) all &= alive[i];
+    return all;
+}
+
 // Rays waiting for the scene: Embree traces a full 8-wide packet faster than
 // its rays one at a time, camera rays and shadow rays alike.
 class RayPacket {
@@ -147,15 +154,36 @@ class RayPacket {
     // Queues rays [0, n) of a camera batch (those alive), ray i at shutter
     // time time_u[i] for the pixel at slot[i]: as add, without a CameraRay between.
     void add_batch(const CameraRayBatch& rays, int n, const float* time_u, const size_t* slot) {
-        for (int i = 0; i < n; ++i) {
-            if (!rays.alive[i]) continue;  // vignetted: contributes nothing
-            const int j = batch_.count;
-            for (int a = 0; a < 3; ++a)
-                batch_.origin[a][j] = float(rays.origin[a][i]), batch_.direction[a][j] = float(rays.direction[a][i]);
-            batch_.time[j] = time_u[i];
-            weight_[j] = rays.weight[i];
-            slot_[j] = slot[i];
-            if (++batch_.count == kPacketSize) flush();
+        // Rounded to float row by row first (whole vectors), then queued: a
+        // run of a packet's worth of live rays into an empty packet as row
+        // copies (every run, for cameras that vignette nothing), others one by one.
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < n; ++i)
+                rounded_[a][i] = float(rays.origin[a][i]), rounded_[3 + a][i] = float(rays.direction[a][i]);
+        for (int i = 0; i < n;) {
+            if (batch_.count == 0 && i + kPacketSize <= n && all_alive(rays.alive + i)) {
+                for (int a = 0; a < 3; ++a) {
+                    std::copy_n(rounded_[a] + i, kPacketSize, batch_.origin[a]);
+                    std::copy_n(rounded_[3 + a] + i, kPacketSize, batch_.direction[a]);
+                }
+                std::copy_n(time_u + i, kPacketSize, batch_.time);
+                std::copy_n(rays.weight + i, kPacketSize, weight_);
+                std::copy_n(slot + i, kPacketSize, slot_);
+                batch_.count = kPacketSize;
+                flush();
+                i += kPacketSize;
+                continue;
+            }
+            if (rays.alive[i]) {  // else vignetted: contributes nothing
+                const int j = batch_.count;
+                for (int a = 0; a < 3; ++a)
+                    batch_.origin[a][j] = rounded_[a][i], batch_.direction[a][j] = rounded_[3 + a][i];
+                batch_.time[j] = time_u[i];
+                weight_[j] = rays.weight[i];
+                slot_[j] = slot[i];
+                if (++batch_.count == kPacketSize) flush();
+            }
+            ++i;
         }
     }
 
@@ -181,6 +209,7 @@ class RayPacket {
     // Members rather than locals of flush: a local array of these was zeroed
     // (rep stos) at every flush, a few per cent of render_tile under perf.
     Vec3f radiance_[kPacketSize];
+    float rounded_[6][kCameraBatch];  // add_batch's rays in float: origin x, y, z, then direction
     uint64_t rays_shaded_ = 0;
 };
 
