@@ -46,12 +46,18 @@ template <int N>
 
 // A packet's float origins and directions in double, converted once for
 // all the primitives the exact tests (in double) take it through.
+// Converted when the first primitive passes its cull (load_once): most
+// packets pass none of the spheres, and the conversion is a dozen vector
+// stores and loads.
 template <int N>
 struct DoubleLanes {
     double o[3][N], d[3][N];
-    [[gnu::always_inline]] DoubleLanes(const float* const origin[3], const float* const direction[3]) {
+    bool loaded = false;
+    [[gnu::always_inline]] void load_once(const float* const origin[3], const float* const direction[3]) {
+        if (loaded) return;
         for (int a = 0; a < 3; ++a)
             for (int i = 0; i < N; ++i) o[a][i] = origin[a][i], d[a][i] = direction[a][i];
+        loaded = true;
     }
 };
 

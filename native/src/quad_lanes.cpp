@@ -60,7 +60,8 @@ using lanes::DoubleLanes;
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
-    const DoubleLanes<N> ray(origin, direction);
+    DoubleLanes<N> ray;
+    ray.load_once(origin, direction);  // the plane culls take the lanes in double
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];
@@ -88,7 +89,8 @@ using lanes::DoubleLanes;
                                                  const int* active, int* blocked) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
-    const DoubleLanes<N> ray(origin, direction);
+    DoubleLanes<N> ray;
+    ray.load_once(origin, direction);  // the plane culls take the lanes in double
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const OwnQuad& q = quads[k];

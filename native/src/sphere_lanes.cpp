@@ -52,12 +52,13 @@ struct Roots {
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
-    const lanes::DoubleLanes<N> ray(origin, direction);
+    lanes::DoubleLanes<N> ray;
     double t_best[N] = {};
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
+        ray.load_once(origin, direction);
         Roots t;
         roots(c, ray, t);
         for (int i = 0; i < N; ++i) {
@@ -71,7 +72,7 @@ struct Roots {
             index[i] = take ? k : index[i];
         }
     }
-    if (n == 0) return;  // no sphere to take a normal from
+    if (!ray.loaded) return;  // no sphere near any lane: no hit, so no normal to find
     // Outward normals, (f + t d) / r, from the double hit distance
     for (int i = 0; i < N; ++i) {
         const int k = index[i] < 0 ? 0 : index[i];
@@ -89,11 +90,12 @@ struct Roots {
                                                  int* blocked) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
-    const lanes::DoubleLanes<N> ray(origin, direction);
+    lanes::DoubleLanes<N> ray;
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
+        ray.load_once(origin, direction);
         Roots t;
         roots(c, ray, t);
         for (int i = 0; i < N; ++i) {
