@@ -48,28 +48,38 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
         packet.ray.flags[i] = 0;
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        packet.hit.primID[i] = 0;
-        packet.hit.Ng_x[i] = packet.hit.Ng_y[i] = packet.hit.Ng_z[i] = 0.0f;
-        packet.hit.u[i] = packet.hit.v[i] = 0.0f;
     }
     // The own spheres first, then the own quads: their hits shorten the rays
     // Embree then traces, and each test (and Embree) replaces a hit only by a nearer one.
     const float* origin[3] = {packet.ray.org_x, packet.ray.org_y, packet.ray.org_z};
     const float* direction[3] = {packet.ray.dir_x, packet.ray.dir_y, packet.ray.dir_z};
     int index[kPacketSize];
-    float ng[3][kPacketSize];
+    float ng[3][kPacketSize] = {};  // read by the selects below on every lane, hit or not
     float* const normal[3] = {ng[0], ng[1], ng[2]};
-    // Selects on every lane (an idle one has index -1), so that the loop runs lanes side by side.
+    // Selects on every lane (an idle one has index -1), so that the loop runs
+    // lanes side by side. The first own geometry writes every lane (a lane it
+    // did not hit as a miss), the next keeps what it did not hit.
+    bool recorded = false;
     auto record_hits = [&](unsigned geometry) {
+        RTCHit16& hit = packet.hit;
+        if (!recorded) {
+            for (int i = 0; i < kPacketSize; ++i) {
+                const bool met = index[i] >= 0;
+                hit.geomID[i] = met ? geometry : RTC_INVALID_GEOMETRY_ID;
+                hit.primID[i] = met ? unsigned(index[i]) : 0u;
+                hit.Ng_x[i] = met ? ng[0][i] : 0.0f, hit.Ng_y[i] = met ? ng[1][i] : 0.0f;
+                hit.Ng_z[i] = met ? ng[2][i] : 0.0f;
+                hit.u[i] = hit.v[i] = 0.0f;
+            }
+            recorded = true;
+            return;
+        }
         for (int i = 0; i < kPacketSize; ++i) {
-            const bool hit = index[i] >= 0;
-            packet.hit.geomID[i] = hit ? geometry : packet.hit.geomID[i];
-            packet.hit.primID[i] = hit ? unsigned(index[i]) : packet.hit.primID[i];
-            packet.hit.Ng_x[i] = hit ? ng[0][i] : packet.hit.Ng_x[i];
-            packet.hit.Ng_y[i] = hit ? ng[1][i] : packet.hit.Ng_y[i];
-            packet.hit.Ng_z[i] = hit ? ng[2][i] : packet.hit.Ng_z[i];
-            packet.hit.u[i] = hit ? 0.0f : packet.hit.u[i];
-            packet.hit.v[i] = hit ? 0.0f : packet.hit.v[i];
+            const bool met = index[i] >= 0;
+            hit.geomID[i] = met ? geometry : hit.geomID[i];
+            hit.primID[i] = met ? unsigned(index[i]) : hit.primID[i];
+            hit.Ng_x[i] = met ? ng[0][i] : hit.Ng_x[i], hit.Ng_y[i] = met ? ng[1][i] : hit.Ng_y[i];
+            hit.Ng_z[i] = met ? ng[2][i] : hit.Ng_z[i];
         }
     };
     if (!own_spheres_.empty()) {
