@@ -235,6 +235,21 @@ class _Diagnostics(types.ModuleType):
     SAMPLER_SOBOL_PADDED: int = 6  # film, lens and time each stratified alone, paired at random: the study only
     SAMPLER_SOBOL_TIME_NET: int = 7  # sobol with time i / spp: what the render draws for sobol in a whole-pixel pass
     @staticmethod
+    def rng_kernels() -> list[str]:
+        """The kernels that draw PCG32's outputs several at a time (rng_lanes.cpp) this CPU runs, slowest first."""
+
+    @staticmethod
+    def pcg32_draws(
+        seed: int,
+        stream: int,
+        dimension: int,
+        out: numpy.ndarray,  # uint32 (n,), written
+        kernel: str,  # one of rng_kernels()
+    ) -> None:
+        """Fills out with the first outputs of the render's PCG32 stream (seed, stream, dimension), drawn by the
+        named kernel (Pcg32::fill_u32)."""
+
+    @staticmethod
     def pixel_samples(
         sampler: int,  # a SAMPLER_* code, or SAMPLER_SOBOL_UNSCRAMBLED
         seed: int,

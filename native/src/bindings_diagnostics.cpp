@@ -10,6 +10,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <iterator>
 #include <optional>
 #include <cstdint>
 #include <stdexcept>
@@ -41,31 +42,55 @@ namespace {
 
 const Point2f* points(const CArray<const float, -1, 2>& a) { return reinterpret_cast<const Point2f*>(a.data()); }
 
+// One family of kernels (lens trace, own primitives, random numbers): its
+// kernels slowest first, and whether this CPU runs one and what it is called.
+template <class Kernel, size_t N>
+struct KernelFamily {
+    const Kernel (&all)[N];
+    bool (*available)(Kernel);
+    const char* (*name)(Kernel);
+
+    // The names of the kernels this CPU runs, slowest first.
+    std::vector<std::string> names() const {
+        std::vector<std::string> out;
+        for (Kernel kernel : all)
+            if (available(kernel)) out.push_back(name(kernel));
+        return out;
+    }
+
+    // The kernel called wanted; else std::invalid_argument, "key: what"
+    // naming a kernel this CPU cannot run or a name no kernel has.
+    Kernel named(const std::string& wanted, const char* key, const char* family_name) const {
+        for (Kernel kernel : all)
+            if (wanted == name(kernel)) {
+                if (!available(kernel))
+                    throw std::invalid_argument(std::string(key) + ": this CPU cannot run " + wanted);
+                return kernel;
+            }
+        throw std::invalid_argument(std::string(key) + ": no " + family_name + " named " + wanted);
+    }
+};
+
+const KernelFamily<LensTraceKernel, std::size(kLensTraceKernels)> kLensTraceFamily{
+    kLensTraceKernels, lens_trace_kernel_available, lens_trace_kernel_name};
+const KernelFamily<SphereKernel, std::size(kSphereKernels)> kSphereFamily{kSphereKernels, sphere_kernel_available,
+                                                                         sphere_kernel_name};
+const KernelFamily<RngKernel, std::size(kRngKernels)> kRngFamily{kRngKernels, rng_kernel_available, rng_kernel_name};
+
 void bind_samplers(nb::module_& m) {
     m.attr("SAMPLER_SOBOL_UNSCRAMBLED") = int(SamplerKind::SobolUnscrambled);
 
     m.attr("SAMPLER_SOBOL_PADDED") = int(SamplerKind::SobolPadded);
     m.attr("SAMPLER_SOBOL_TIME_NET") = int(SamplerKind::SobolTimeNet);
 
-    m.def("rng_kernels",
-          [] {
-              std::vector<std::string> names;
-              for (RngKernel kernel : kRngKernels)
-                  if (rng_kernel_available(kernel)) names.push_back(rng_kernel_name(kernel));
-              return names;
-          },
+    m.def("rng_kernels", [] { return kRngFamily.names(); },
           "The kernels that draw PCG32's outputs several at a time (rng_lanes.cpp) this CPU runs, slowest first.");
 
     m.def("pcg32_draws",
           [](uint64_t seed, uint64_t stream, uint64_t dimension, CArray<uint32_t, -1> out, const std::string& kernel) {
-              for (RngKernel k : kRngKernels)
-                  if (kernel == rng_kernel_name(k)) {
-                      if (!rng_kernel_available(k)) throw std::invalid_argument("kernel: this CPU cannot run " + kernel);
-                      Pcg32 rng(seed, stream, dimension);
-                      rng.fill_u32(out.data(), int(out.shape(0)), k);
-                      return;
-                  }
-              throw std::invalid_argument("kernel: no random-number kernel named " + kernel);
+              const RngKernel k = kRngFamily.named(kernel, "kernel", "random-number kernel");
+              Pcg32 rng(seed, stream, dimension);
+              rng.fill_u32(out.data(), int(out.shape(0)), k);
           },
           "seed"_a, "stream"_a, "dimension"_a, "out"_a, "kernel"_a,
           "Fills out with the first outputs of the render's PCG32 stream (seed, stream, dimension), drawn by the "
@@ -183,13 +208,7 @@ void bind_lens(nb::module_& m) {
 
 // Which batch lens trace a camera runs: all give the same bits; tests and benchmarks compare them.
 void bind_trace_kernels(nb::module_& m) {
-    m.def("lens_trace_kernels",
-          [] {
-              std::vector<std::string> names;
-              for (LensTraceKernel kernel : kLensTraceKernels)
-                  if (lens_trace_kernel_available(kernel)) names.push_back(lens_trace_kernel_name(kernel));
-              return names;
-          },
+    m.def("lens_trace_kernels", [] { return kLensTraceFamily.names(); },
           "The batch lens-trace kernels this CPU runs, slowest first.");
 
     m.def("lens_trace_kernel",
@@ -198,14 +217,7 @@ void bind_trace_kernels(nb::module_& m) {
 
     m.def("set_lens_trace_kernel",
           [](LensSystemCamera& camera, const std::string& name) {
-              for (LensTraceKernel kernel : kLensTraceKernels)
-                  if (name == lens_trace_kernel_name(kernel)) {
-                      if (!lens_trace_kernel_available(kernel))
-                          throw std::invalid_argument("trace_kernel: this CPU cannot run " + name);
-                      camera.trace_kernel = kernel;
-                      return;
-                  }
-              throw std::invalid_argument("trace_kernel: no kernel named " + name);
+              camera.trace_kernel = kLensTraceFamily.named(name, "trace_kernel", "kernel");
           },
           "camera"_a, "kernel"_a, "Makes camera run the named batch lens-trace kernel.");
 
@@ -269,12 +281,7 @@ void bind_motion_culling(nb::module_& m) {
 
 // The render's own sphere test (sphere_lanes.h), on rays in groups of one packet, by any kernel.
 SphereKernel sphere_kernel_named(const std::string& name) {
-    for (SphereKernel kernel : kSphereKernels)
-        if (name == sphere_kernel_name(kernel)) {
-            if (!sphere_kernel_available(kernel)) throw std::invalid_argument("kernel: this CPU cannot run " + name);
-            return kernel;
-        }
-    throw std::invalid_argument("kernel: no sphere kernel named " + name);
+    return kSphereFamily.named(name, "kernel", "sphere kernel");
 }
 
 // Rays [first, first + kSphereLanes) of origin, direction and t_far as one
@@ -302,13 +309,7 @@ void bind_own_spheres(nb::module_& m) {
           "The instruction set the render's shading lanes run with (shading_lanes.h): the CPU's best, or "
           "LENSCOMPARE_SHADING_KERNEL's choice when this CPU can run it.");
 
-    m.def("sphere_kernels",
-          [] {
-              std::vector<std::string> names;
-              for (SphereKernel kernel : kSphereKernels)
-                  if (sphere_kernel_available(kernel)) names.push_back(sphere_kernel_name(kernel));
-              return names;
-          },
+    m.def("sphere_kernels", [] { return kSphereFamily.names(); },
           "The own-sphere kernels this CPU runs, slowest first.");
 
     m.def("own_spheres_closest",
