@@ -45,10 +45,9 @@ template <int N>
 }
 
 // A packet's float origins and directions in double, converted once for
-// all the primitives the exact tests (in double) take it through.
-// Converted when the first primitive passes its cull (load_once): most
-// packets pass none of the spheres, and the conversion is a dozen vector
-// stores and loads.
+// all the primitives the exact tests (in double) take it through, and only
+// when a primitive first needs them (load_once): most packets pass none of
+// the spheres' culls, and the conversion is a dozen vector stores and loads.
 template <int N>
 struct DoubleLanes {
     double o[3][N], d[3][N];

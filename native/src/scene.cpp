@@ -328,14 +328,6 @@ Scene::~Scene() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-namespace {
-
-void write_lanes(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {
-    for (int i = 0; i < count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
-}
-
-}  // namespace
-
 void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     CameraHits hits;
     trace_camera_rays(rays, hits);
@@ -345,7 +337,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     int material[kPacketSize];
     gather_surfaces(rays, hits, material, rgb);
     if (lights_.empty() || !any_diffuse(hits.surface)) {  // misses and emitters only: final already
-        write_lanes(rays.count, rgb, out);
+        write_radiance(rays.count, rgb, out);
         return;
     }
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
@@ -357,7 +349,7 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
         const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
         add_light_lanes(shading_kernel_, intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
     }
-    write_lanes(rays.count, rgb, out);
+    write_radiance(rays.count, rgb, out);
 }
 
 float Scene::first_hit_distance(const Vec3f& origin, const Vec3f& direction) const {

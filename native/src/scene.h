@@ -146,6 +146,8 @@ class Scene {
         bool lit(int i) const { return lanes.valid[i] && packet.tfar[i] != -std::numeric_limits<float>::infinity(); }
     };
     void trace_camera_rays(const RayBatch& rays, CameraHits& hits) const;
+    // Lanes [0, count) of rgb, the packet's radiance, into out one ray each.
+    static void write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out);
     // The material index of hit i (not a miss).
     int material_of(const CameraHits& hits, int i) const;
     // Each lane's material row (material_columns_'s miss row for a miss or an

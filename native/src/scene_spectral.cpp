@@ -101,7 +101,7 @@ void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const
             add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
         }
     }
-    for (int i = 0; i < rays.count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+    write_radiance(rays.count, rgb, out);
 }
 
 void Scene::set_spectral(std::shared_ptr<const SpectralTables> tables) {

@@ -96,6 +96,10 @@ void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
 }
 
+void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {
+    for (int i = 0; i < count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+}
+
 int Scene::material_of(const CameraHits& hits, int i) const {
     const GeometryTable& table = (hits.hit_mover[i] ? motion_tables_ : tables_)[hits.packet.hit.geomID[i]];
     return table.material[hits.packet.hit.primID[i]];
