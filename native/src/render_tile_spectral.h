@@ -52,6 +52,7 @@
 // 9.3x RGB's time to 1 % against 4.4x for tracing every wavelength.
 #pragma once
 
+#include <algorithm>
 #include <type_traits>
 #include <utility>
 
@@ -78,6 +79,15 @@ template <class Camera>
 struct HasWavelengthBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays_at_batch(
                                         nullptr, nullptr, nullptr, 0, 0,
                                         static_cast<MaybeRay(*)[kHeroWavelengths]>(nullptr)))>>
+    : std::true_type {};
+
+// Cameras that find those rays in columns, a CameraRayBatch per traced
+// wavelength, say so with generate_ray_batches_at(raster, lens, nm, n, traced, out).
+template <class Camera, class = void>
+struct HasWavelengthRayBatches : std::false_type {};
+template <class Camera>
+struct HasWavelengthRayBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_batches_at(
+                                           nullptr, nullptr, nullptr, 0, 0, static_cast<CameraRayBatch*>(nullptr)))>>
     : std::true_type {};
 
 // Rays for n <= kCameraBatch samples, sample i at wavelengths nm[i][0, traced).
@@ -120,18 +130,41 @@ class SpectralRayPacket {
     // wavelength it does not carry); last: the sample's last ray.
     void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, const float* scale, bool last,
              size_t slot) {
-        const int j = batch_.count;
-        batch_.set(j, ray);
-        batch_.time[j] = time_u;
-        for (int m = 0; m < kHeroWavelengths; ++m) nm_[j][m] = w.lane_nm[m];
-        for (int c = 0; c < 3; ++c)
-            for (int m = 0; m < kHeroWavelengths; ++m) {
-                basis_[j][c][m] = w.basis[c][m];
-                film_[j][c][m] = w.film_over_pdf[c][m] * scale[m];
+        batch_.set(batch_.count, ray);
+        batch_.time[batch_.count] = time_u;
+        queue(w, scale, last, slot);
+    }
+
+    // Queues the rays of samples [0, n) of a camera batch, each sample's in
+    // wavelength order: rays[k] holds sample i's ray at the k-th traced
+    // wavelength (the rotation's k * stride) or, when carries_all, rays[0]
+    // its one ray carrying all four. As add, ray by ray, with no CameraRay
+    // between: the rows rounded to float first, as RayPacket::add_batch.
+    void add_batch(const CameraRayBatch* rays, int traced, int stride, bool carries_all, int n,
+                   const HeroWavelengths* w, const float* time_u, const size_t* slot) {
+        for (int k = 0; k < traced; ++k)
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < n; ++i)
+                    rounded_[k][a][i] = float(rays[k].origin[a][i]),
+                    rounded_[k][3 + a][i] = float(rays[k].direction[a][i]);
+        const float ways = float(carries_all ? kHeroWavelengths : traced);
+        for (int i = 0; i < n; ++i) {
+            int last = -1;
+            for (int k = 0; k < traced; ++k)
+                if (rays[k].alive[i]) last = k;
+            for (int k = 0; k <= last; ++k) {
+                if (!rays[k].alive[i]) continue;  // vignetted, or blocked at this wavelength
+                const int j = batch_.count;
+                for (int a = 0; a < 3; ++a)
+                    batch_.origin[a][j] = rounded_[k][a][i], batch_.direction[a][j] = rounded_[k][3 + a][i];
+                batch_.time[j] = time_u[i];
+                const float s = rays[k].weight[i] / ways;
+                const int lane = w[i].lane(k * stride);
+                float scale[kHeroWavelengths];  // lane by lane (see flush_riding)
+                for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = (carries_all || m == lane) ? s : 0.0f;
+                queue(w[i], scale, k == last, slot[i]);
             }
-        last_[j] = last;
-        slot_[j] = slot;
-        if (++batch_.count == kPacketSize) flush();
+        }
     }
 
     void flush() {
@@ -159,6 +192,21 @@ class SpectralRayPacket {
     uint64_t samples_shaded() const { return samples_shaded_; }
 
   private:
+    // The rest of queueing ray batch_.count (its geometry and time written):
+    // its wavelengths, film weights and pixel; a full packet is shaded at once.
+    void queue(const HeroWavelengths& w, const float* scale, bool last, size_t slot) {
+        const int j = batch_.count;
+        for (int m = 0; m < kHeroWavelengths; ++m) nm_[j][m] = w.lane_nm[m];
+        for (int c = 0; c < 3; ++c)
+            for (int m = 0; m < kHeroWavelengths; ++m) {
+                basis_[j][c][m] = w.basis[c][m];
+                film_[j][c][m] = w.film_over_pdf[c][m] * scale[m];
+            }
+        last_[j] = last;
+        slot_[j] = slot;
+        if (++batch_.count == kPacketSize) flush();
+    }
+
     const Scene& scene_;
     TileAccumulator& sums_;
     RayBatch batch_;
@@ -168,6 +216,7 @@ class SpectralRayPacket {
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
+    float rounded_[kHeroWavelengths][6][kCameraBatch];  // add_batch's rays in float (see RayPacket::rounded_)
     uint64_t samples_shaded_ = 0;
 };
 
@@ -201,13 +250,24 @@ class SpectralCameraSampleBatcher {
         : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
           packet_(packet), path_(path) {}
 
-    void add(Point2f raster_px, Point2f lens, float time_u, float wavelength_u, size_t slot) {
-        raster_px_[pending_] = raster_px;
-        lens_[pending_] = lens;
-        time_[pending_] = time_u;
-        sample_hero_wavelengths(spectra_, wavelength_u, &wavelengths_[pending_]);
-        slot_[pending_++] = slot;
-        if (pending_ == kCameraBatch) flush();
+    // Queues samples [first, end) of pixel (x, y) (at slot), in runs that
+    // fill the batch, as CameraSampleBatcher::add_pixel; each sample draws
+    // its four wavelengths here.
+    void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
+        const float px = float(x), py = float(y);
+        for (int i = first; i < end;) {
+            const int n = std::min(end - i, kCameraBatch - pending_);
+            for (int j = 0; j < n; ++j) {
+                const size_t at = size_t(i + j);
+                raster_px_[pending_ + j] = {px + samples.film[at].x, py + samples.film[at].y};
+                lens_[pending_ + j] = samples.lens[at];
+                time_[pending_ + j] = samples.time_of(i + j);
+                sample_hero_wavelengths(spectra_, samples.wavelength[at], &wavelengths_[pending_ + j]);
+                slot_[pending_ + j] = slot;
+            }
+            pending_ += n, i += n;
+            if (pending_ == kCameraBatch) flush();
+        }
     }
 
     void flush() {
@@ -224,6 +284,13 @@ class SpectralCameraSampleBatcher {
   private:
     // One ray per sample, carrying all four wavelengths.
     void flush_shared() {
+        if constexpr (GeneratesRayBatches<Camera>::value) {
+            if (!moves_camera_) {  // in columns (a moving camera's offset: below, ray by ray)
+                camera_.generate_ray_batch(raster_px_, lens_, pending_, &columns_[0]);
+                packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, time_, slot_);
+                return;
+            }
+        }
         MaybeRay* rays = shared_rays_;
         camera_rays(camera_, raster_px_, lens_, pending_, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -271,6 +338,13 @@ class SpectralCameraSampleBatcher {
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
+        if constexpr (HasWavelengthRayBatches<Camera>::value) {
+            if (!moves_camera_) {  // in columns, as flush_shared
+                camera_.generate_ray_batches_at(raster_px_, lens_, nm, pending_, traced, columns_);
+                packet_.add_batch(columns_, traced, stride, false, pending_, wavelengths_, time_, slot_);
+                return;
+            }
+        }
         MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
         wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -297,6 +371,7 @@ class SpectralCameraSampleBatcher {
     // at every flush (8 KB for the dispersed batch; see RayPacket::radiance_).
     MaybeRay shared_rays_[kCameraBatch];
     MaybeRay dispersed_rays_[kCameraBatch][kHeroWavelengths];
+    CameraRayBatch columns_[kHeroWavelengths];  // a batch's rays at each traced wavelength
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;
@@ -330,10 +405,7 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
             if (end == first) continue;
             samples.fill(s, pixel_index, end);
             stats.samples += uint64_t(end - first);
-            const size_t slot = sums.slot(x, y);
-            for (int i = first; i < end; ++i)
-                batcher.add({float(x) + samples.film[size_t(i)].x, float(y) + samples.film[size_t(i)].y},
-                            samples.lens[size_t(i)], samples.time_of(i), samples.wavelength[size_t(i)], slot);
+            batcher.add_pixel(x, y, samples, first, end, sums.slot(x, y));
         }
     }
     batcher.flush();

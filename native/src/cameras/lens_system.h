@@ -137,12 +137,26 @@ struct LensSystemCamera {
 
     // generate_rays_at for up to kLensBatch samples at once: sample i at
     // wavelengths nm[i][0, traced), out[i][k] its ray at nm[i][k] (the same
-    // bits as generate_rays_at). The samples are aimed once, in lockstep,
-    // then traced once per k, every lane through the glass at its own
-    // wavelength, like generate_rays' RGB trace.
+    // bits as generate_rays_at), through generate_ray_batches_at.
     void generate_rays_at_batch(const Point2f* raster_px, const Point2f* lens_sample,
                                 const float (*nm)[kHeroWavelengths], int n, int traced,
                                 MaybeRay (*out)[kHeroWavelengths]) const {
+        CameraRayBatch columns[kHeroWavelengths];
+        generate_ray_batches_at(raster_px, lens_sample, nm, n, traced, columns);
+        MaybeRay rays[kLensBatch];
+        for (int k = 0; k < traced; ++k) {
+            maybe_rays(columns[k], n, rays);
+            for (int i = 0; i < n; ++i) out[i][k] = rays[i];
+        }
+    }
+
+    // The same rays in columns: out[k] holds each sample's ray at its
+    // wavelength nm[i][k], k < traced. The samples are aimed once, in
+    // lockstep, then traced once per k, every lane through the glass at its
+    // own wavelength, like generate_ray_batch's RGB trace.
+    void generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
+                                 const float (*nm)[kHeroWavelengths], int n, int traced,
+                                 CameraRayBatch* out) const {
         LensRayBatch aimed;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         sample_batch(raster_px, lens_sample, n, &aimed, area_mm2);
@@ -157,16 +171,7 @@ struct LensSystemCamera {
             } else {
                 trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
             }
-            WorldRayBatch world;
-            lens_to_world_batch(to_world, batch, cos_theta, area_mm2, &world);
-            for (int i = 0; i < n; ++i) {
-                if (!batch.alive[i]) {
-                    out[i][k] = std::nullopt;
-                    continue;
-                }
-                set_ray(&out[i][k], world.ox[i], world.oy[i], world.oz[i], world.dx[i], world.dy[i], world.dz[i],
-                        float(world.weight[i]));
-            }
+            to_columns(to_world, batch, cos_theta, area_mm2, n, &out[k]);
         }
     }
 
@@ -203,14 +208,21 @@ struct LensSystemCamera {
         double cos_theta[kLensBatch];
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
         trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
+        to_columns(lens_to_world(), batch, cos_theta, area_mm2, n, out);
+    }
+
+    // Traced lanes -> camera rays in world space with their weights; lanes
+    // from n on and those the lens blocked are not alive.
+    static void to_columns(const LensToWorld& to_world, const LensRayBatch& traced, const double* cos_theta,
+                           const double* area_mm2, int n, CameraRayBatch* out) {
         WorldRayBatch world;
-        lens_to_world_batch(lens_to_world(), batch, cos_theta, area_mm2, &world);
+        lens_to_world_batch(to_world, traced, cos_theta, area_mm2, &world);
         for (int i = 0; i < kLensBatch; ++i) {
             out->origin[0][i] = world.ox[i], out->origin[1][i] = world.oy[i], out->origin[2][i] = world.oz[i];
             out->direction[0][i] = world.dx[i], out->direction[1][i] = world.dy[i];
             out->direction[2][i] = world.dz[i];
             out->weight[i] = float(world.weight[i]);
-            out->alive[i] = i < n && batch.alive[i];
+            out->alive[i] = i < n && traced.alive[i];
         }
     }
 

@@ -40,11 +40,6 @@ struct D8 {
     D8(__m256d l, __m256d h) : lo(l), hi(h) {}
     explicit D8(double v) : lo(_mm256_set1_pd(v)), hi(lo) {}
     static D8 load(const double* p) { return {_mm256_loadu_pd(p), _mm256_loadu_pd(p + 4)}; }
-    // base[index[i]] in lane i
-    static D8 gather(const double* base, const int32_t* index) {
-        return {_mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(index)), 8),
-                _mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(index + 4)), 8)};
-    }
     void store(double* p) const { _mm256_storeu_pd(p, lo), _mm256_storeu_pd(p + 4, hi); }
 };
 

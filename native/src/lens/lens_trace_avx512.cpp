@@ -40,11 +40,6 @@ struct D16 {
     D16(__m512d l, __m512d h) : lo(l), hi(h) {}
     explicit D16(double x) : lo(_mm512_set1_pd(x)), hi(lo) {}
     static D16 load(const double* p) { return {_mm512_loadu_pd(p), _mm512_loadu_pd(p + 8)}; }
-    // base[index[i]] in lane i
-    static D16 gather(const double* base, const int32_t* index) {
-        return {_mm512_i32gather_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), base, 8),
-                _mm512_i32gather_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + 8)), base, 8)};
-    }
     void store(double* p) const { _mm512_storeu_pd(p, lo), _mm512_storeu_pd(p + 8, hi); }
 };
 

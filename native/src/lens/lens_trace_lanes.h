@@ -80,7 +80,7 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
 }
 
 // kDispersed: each lane refracts with its own row of glass.dispersion
-// (gathered per surface); otherwise every lane with e's indices, and glass,
+// (glass.eta_lanes, laid_out); otherwise every lane with e's indices, and glass,
 // surface and first go unused.
 template <class D, class M, bool kDispersed>
 inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f, size_t surface,
@@ -128,12 +128,12 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
     if constexpr (kDispersed) {
         const LensDispersion& d = *glass.dispersion;
         if (d.bends[surface] != LensDispersion::Bends::Never) {
-            const size_t table = surface * d.rows;
-            const D eta = D::gather(d.eta.data() + table, glass.row + first);
+            const size_t lanes = surface * kLensBatch + size_t(first);
+            const D eta = D::load(glass.eta_lanes + lanes);
             M passes = refract_lanes(e, px, py, pz, cos_i, cos2_i, eta, eta * eta, *l, &nx, &ny, &nz);
             if (d.bends[surface] == LensDispersion::Bends::Some) {
                 // Lanes where this surface does not refract go straight on, untested.
-                const D bends_at = D::gather(d.bends_at.data() + table, glass.row + first);
+                const D bends_at = D::load(glass.bends_at_lanes + lanes);
                 const M bends = bends_at > zero;
                 nx = select(bends, nx, l->dx), ny = select(bends, ny, l->dy), nz = select(bends, nz, l->dz);
                 passes = passes | not_greater(bends_at, zero);

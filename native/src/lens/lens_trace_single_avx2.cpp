@@ -56,16 +56,6 @@ struct F16 {
         for (int k = 0; k < kRegisters; ++k) f.r[k] = narrow(_mm256_loadu_pd(p + 8 * k), _mm256_loadu_pd(p + 8 * k + 4));
         return f;
     }
-    // float(base[index[i]]) in lane i
-    static F16 gather(const double* base, const int32_t* index) {
-        F16 f;
-        for (int k = 0; k < kRegisters; ++k) {
-            const int32_t* i = index + 8 * k;
-            f.r[k] = narrow(_mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(i)), 8),
-                            _mm256_i32gather_pd(base, _mm_loadu_si128(reinterpret_cast<const __m128i*>(i + 4)), 8));
-        }
-        return f;
-    }
     void store(double* p) const {
         for (int k = 0; k < kRegisters; ++k) {
             _mm256_storeu_pd(p + 8 * k, _mm256_cvtps_pd(_mm256_castps256_ps128(r[k])));

@@ -46,13 +46,6 @@ struct F32 {
         return {narrow(_mm512_loadu_pd(p), _mm512_loadu_pd(p + 8)),
                 narrow(_mm512_loadu_pd(p + 16), _mm512_loadu_pd(p + 24))};
     }
-    // float(base[index[i]]) in lane i
-    static F32 gather(const double* base, const int32_t* index) {
-        auto eight = [&](int first) {
-            return _mm512_i32gather_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + first)), base, 8);
-        };
-        return {narrow(eight(0), eight(8)), narrow(eight(16), eight(24))};
-    }
     void store(double* p) const {
         _mm512_storeu_pd(p, _mm512_cvtps_pd(_mm512_castps512_ps256(lo)));
         _mm512_storeu_pd(p + 8, _mm512_cvtps_pd(_mm512_extractf32x8_ps(lo, 1)));

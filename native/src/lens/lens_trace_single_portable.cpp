@@ -29,8 +29,6 @@ struct F1 {
         return f;
     }
     static F1 load(const double* p) { return of(float(*p)); }
-    // float(base[index[0]])
-    static F1 gather(const double* base, const int32_t* index) { return of(float(base[*index])); }
     void store(double* p) const { *p = double(v); }
 };
 
