@@ -53,6 +53,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <type_traits>
 #include <utility>
 
@@ -120,19 +121,21 @@ bool camera_disperses(const Camera& camera) {
 // Rays waiting for the scene, each with its wavelengths; a camera sample's
 // rays arrive together and in order, its value goes to the pixel after its last.
 // Every ray is shaded at all four of its sample's wavelengths, 4 wide (as
-// cheap as one); those it does not carry have a film weight of 0.
+// cheap as one); those it does not carry have a film weight of 0. A ray
+// holds its sample's wavelengths by pointer, not copied (a copy per ray was
+// most of this stage's time): the batcher keeps them until release.
 class SpectralRayPacket {
   public:
     SpectralRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
 
-    // Queues a ray: the lanes of w, lane m's film value scaled by scale[m]
-    // (the ray's weight over the sample's traced wavelength count, 0 for a
-    // wavelength it does not carry); last: the sample's last ray.
-    void add(const CameraRay& ray, float time_u, const HeroWavelengths& w, const float* scale, bool last,
+    // Queues a ray carrying the lanes of *w in lanes (bit m: lane m), each
+    // weighted by s (the ray's weight over the sample's traced wavelength
+    // count); last: the sample's last ray.
+    void add(const CameraRay& ray, float time_u, const HeroWavelengths* w, float s, unsigned lanes, bool last,
              size_t slot) {
         batch_.set(batch_.count, ray);
         batch_.time[batch_.count] = time_u;
-        queue(w, scale, last, slot);
+        queue(w, s, lanes, last, slot);
     }
 
     // Queues the rays of samples [0, n) of a camera batch, each sample's in
@@ -147,7 +150,8 @@ class SpectralRayPacket {
                 for (int i = 0; i < n; ++i)
                     rounded_[k][a][i] = float(rays[k].origin[a][i]),
                     rounded_[k][3 + a][i] = float(rays[k].direction[a][i]);
-        const float ways = float(carries_all ? kHeroWavelengths : traced);
+        // 1 / (1, 2 or 4): the product is the quotient, exactly.
+        const float share = 1.0f / float(carries_all ? kHeroWavelengths : traced);
         for (int i = 0; i < n; ++i) {
             int last = -1;
             for (int k = 0; k < traced; ++k)
@@ -158,24 +162,38 @@ class SpectralRayPacket {
                 for (int a = 0; a < 3; ++a)
                     batch_.origin[a][j] = rounded_[k][a][i], batch_.direction[a][j] = rounded_[k][3 + a][i];
                 batch_.time[j] = time_u[i];
-                const float s = rays[k].weight[i] / ways;
-                const int lane = w[i].lane(k * stride);
-                float scale[kHeroWavelengths];  // lane by lane (see flush_riding)
-                for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = (carries_all || m == lane) ? s : 0.0f;
-                queue(w[i], scale, k == last, slot[i]);
+                const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
+                queue(&w[i], rays[k].weight[i] * share, lanes, k == last, slot[i]);
             }
         }
+    }
+
+    // Shades the queued rays now if any holds wavelengths in [first, end),
+    // which the caller is about to overwrite.
+    void release(const HeroWavelengths* first, const HeroWavelengths* end) {
+        bool holds = false;
+        const auto from = reinterpret_cast<uintptr_t>(first), to = reinterpret_cast<uintptr_t>(end);
+        for (int j = 0; j < batch_.count; ++j) {
+            const auto at = reinterpret_cast<uintptr_t>(wavelengths_[j]);
+            holds |= at >= from && at < to;
+        }
+        if (holds) flush();
     }
 
     void flush() {
         if (batch_.count == 0) return;
         alignas(16) float radiance[kPacketSize][kHeroWavelengths];
-        scene_.spectral_radiance(batch_, nm_, basis_, radiance);
+        scene_.spectral_radiance(batch_, wavelengths_, radiance);
         for (int j = 0; j < batch_.count; ++j) {
-            // CIE 1931 response over the density, wavelength by wavelength, in lane order
+            // CIE 1931 response over the density times the ray's scale (0
+            // for lanes it does not carry), wavelength by wavelength, in lane order
+            const HeroWavelengths& w = *wavelengths_[j];
+            float scale[kHeroWavelengths];  // lane by lane (a vector load of scattered stores stalls)
+            for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = (lanes_[j] >> m & 1u) ? scale_[j] : 0.0f;
             float sum[3][kHeroWavelengths];
             for (int c = 0; c < 3; ++c)
-                for (int m = 0; m < kHeroWavelengths; ++m) sum[c][m] = film_[j][c][m] * radiance[j][m];
+                for (int m = 0; m < kHeroWavelengths; ++m)
+                    sum[c][m] = (w.film_over_pdf[c][m] * scale[m]) * radiance[j][m];
             pending_ += Vec3f{(sum[0][0] + sum[0][1]) + (sum[0][2] + sum[0][3]),
                               (sum[1][0] + sum[1][1]) + (sum[1][2] + sum[1][3]),
                               (sum[2][0] + sum[2][1]) + (sum[2][2] + sum[2][3])};
@@ -192,16 +210,13 @@ class SpectralRayPacket {
     uint64_t samples_shaded() const { return samples_shaded_; }
 
   private:
-    // The rest of queueing ray batch_.count (its geometry and time written):
-    // its wavelengths, film weights and pixel; a full packet is shaded at once.
-    void queue(const HeroWavelengths& w, const float* scale, bool last, size_t slot) {
+    // The rest of queueing ray batch_.count (its geometry and time written);
+    // a full packet is shaded at once.
+    void queue(const HeroWavelengths* w, float s, unsigned lanes, bool last, size_t slot) {
         const int j = batch_.count;
-        for (int m = 0; m < kHeroWavelengths; ++m) nm_[j][m] = w.lane_nm[m];
-        for (int c = 0; c < 3; ++c)
-            for (int m = 0; m < kHeroWavelengths; ++m) {
-                basis_[j][c][m] = w.basis[c][m];
-                film_[j][c][m] = w.film_over_pdf[c][m] * scale[m];
-            }
+        wavelengths_[j] = w;
+        scale_[j] = s;
+        lanes_[j] = lanes;
         last_[j] = last;
         slot_[j] = slot;
         if (++batch_.count == kPacketSize) flush();
@@ -210,9 +225,9 @@ class SpectralRayPacket {
     const Scene& scene_;
     TileAccumulator& sums_;
     RayBatch batch_;
-    alignas(16) float nm_[kPacketSize][kHeroWavelengths];
-    alignas(16) float basis_[kPacketSize][3][kHeroWavelengths];
-    alignas(16) float film_[kPacketSize][3][kHeroWavelengths];  // film response over density x scale
+    const HeroWavelengths* wavelengths_[kPacketSize];  // each ray's sample's, the batcher's
+    float scale_[kPacketSize];
+    unsigned lanes_[kPacketSize];  // bit m: the ray carries lane m
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
@@ -256,7 +271,9 @@ class SpectralCameraSampleBatcher {
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
         const float px = float(x), py = float(y);
         for (int i = first; i < end;) {
+            if (pending_ == 0) packet_.release(wavelengths_, wavelengths_ + kCameraBatch);
             const int n = std::min(end - i, kCameraBatch - pending_);
+            for (int j = 0; j < n; ++j) prefetch_hero_wavelengths(spectra_, samples.wavelength[size_t(i + j)]);
             for (int j = 0; j < n; ++j) {
                 const size_t at = size_t(i + j);
                 raster_px_[pending_ + j] = {px + samples.film[at].x, py + samples.film[at].y};
@@ -279,6 +296,8 @@ class SpectralCameraSampleBatcher {
             case SpectralPath::RayPerWavelength: flush_dispersed(); break;
         }
         pending_ = 0;
+        // The packet may hold rays of this batch still: the next one fills the other buffer.
+        std::swap(wavelengths_, other_wavelengths_);
     }
 
   private:
@@ -296,9 +315,8 @@ class SpectralCameraSampleBatcher {
         for (int i = 0; i < pending_; ++i) {
             if (!rays[i]) continue;  // vignetted: contributes nothing
             moved(&*rays[i], time_[i]);
-            const float s = rays[i]->weight / float(kHeroWavelengths);
-            const float scale[kHeroWavelengths] = {s, s, s, s};
-            packet_.add(*rays[i], time_[i], wavelengths_[i], scale, true, slot_[i]);
+            packet_.add(*rays[i], time_[i], &wavelengths_[i], rays[i]->weight / float(kHeroWavelengths), 0xfu, true,
+                        slot_[i]);
         }
     }
 
@@ -317,15 +335,14 @@ class SpectralCameraSampleBatcher {
                 for (int k = 0; k <= last; ++k) {
                     if (!rays[k] || (k > 0 && shares[k])) continue;
                     moved(&*rays[k], time_[i]);
-                    const float s = rays[k]->weight / float(kHeroWavelengths);
-                    // Lane m holds wavelength (m - hero_lane) % 4 (written lane by
-                    // lane: stores to scattered lanes stall the vector load that reads them).
-                    float scale[kHeroWavelengths];
+                    // Lane m holds wavelength (m - hero_lane) % 4.
+                    unsigned lanes = 0;
                     for (int m = 0; m < kHeroWavelengths; ++m) {
                         const int j = (m - w.hero_lane) & (kHeroWavelengths - 1);
-                        scale[m] = (j == k || (k == 0 && shares[j])) ? s : 0.0f;
+                        if (j == k || (k == 0 && shares[j])) lanes |= 1u << m;
                     }
-                    packet_.add(*rays[k], time_[i], w, scale, k == last, slot_[i]);
+                    packet_.add(*rays[k], time_[i], &w, rays[k]->weight / float(kHeroWavelengths), lanes, k == last,
+                                slot_[i]);
                 }
             }
         }
@@ -354,11 +371,8 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[i][k]) continue;
                 moved(&*rays[i][k], time_[i]);
-                const int lane = wavelengths_[i].lane(k * stride);
-                const float s = rays[i][k]->weight / float(traced);
-                float scale[kHeroWavelengths];  // lane by lane, as flush_riding's
-                for (int m = 0; m < kHeroWavelengths; ++m) scale[m] = m == lane ? s : 0.0f;
-                packet_.add(*rays[i][k], time_[i], wavelengths_[i], scale, k == last, slot_[i]);
+                packet_.add(*rays[i][k], time_[i], &wavelengths_[i], rays[i][k]->weight / float(traced),
+                            1u << wavelengths_[i].lane(k * stride), k == last, slot_[i]);
             }
         }
     }
@@ -380,7 +394,11 @@ class SpectralCameraSampleBatcher {
     SpectralPath path_;
     Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
     float time_[kCameraBatch];
-    HeroWavelengths wavelengths_[kCameraBatch];
+    // Two buffers of the batch's wavelengths, swapped after each flush
+    // (the packet reads a ray's until it is shaded: SpectralRayPacket::release).
+    HeroWavelengths wavelength_buffers_[2][kCameraBatch];
+    HeroWavelengths* wavelengths_ = wavelength_buffers_[0];
+    HeroWavelengths* other_wavelengths_ = wavelength_buffers_[1];
     size_t slot_[kCameraBatch];
     int pending_ = 0;
 };

@@ -96,10 +96,9 @@ class Scene {
     void radiance(const RayBatch& rays, Vec3f* radiance_out) const;
 
     // Spectral renders (scene_spectral.cpp): radiance at each ray's four
-    // wavelengths, the scene's colours taken to spectra by the basis there
-    // (basis[i][channel][wavelength]).
-    void spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kHeroWavelengths],
-                           const float (*basis)[3][kHeroWavelengths],
+    // wavelengths (ray i's: *wavelengths[i], in its lanes), the scene's
+    // colours taken to spectra by the basis there.
+    void spectral_radiance(const RayBatch& rays, const HeroWavelengths* const* wavelengths,
                            float (*radiance_out)[kHeroWavelengths]) const;
 
     // Spectral renders through a camera that does not disperse: the film's

@@ -25,8 +25,8 @@ inline void spectrum(float r, float g, float b, const float (&basis)[3][kW], flo
 // Lane by lane without branches where it can (as shading_lanes.cpp): every
 // ray's four wavelengths are one 4-wide step, and a lane a light does not
 // reach adds that light times 0.
-void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm)[kW],
-                              const float (*basis)[3][kW], float (*out)[kW]) const {
+void Scene::spectral_radiance(const RayBatch& rays, const HeroWavelengths* const* wavelengths,
+                              float (*out)[kW]) const {
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);
@@ -36,12 +36,13 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     int material[kPacketSize];
     float start[3][kPacketSize];
     gather_surfaces(rays, hits, material, start);
-    for (int i = 0; i < rays.count; ++i) spectrum(start[0][i], start[1][i], start[2][i], basis[i], out[i]);
+    for (int i = 0; i < rays.count; ++i)
+        spectrum(start[0][i], start[1][i], start[2][i], wavelengths[i]->basis, out[i]);
     // A monochromatic emitter is its line alone.
     if (spectra.any_line())
         for (int i = 0; i < rays.count; ++i)
             if (shows_line(hits, material, i))
-                for (int k = 0; k < kW; ++k) out[i][k] = spectra.line_at(material[i], wavelengths_nm[i][k]);
+                for (int k = 0; k < kW; ++k) out[i][k] = spectra.line_at(material[i], wavelengths[i]->lane_nm[k]);
     if (lights_.empty() || !any_diffuse(hits.surface)) return;
 
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
@@ -49,7 +50,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
     for (int i = 0; i < rays.count; ++i) {
         const SurfaceLanes& s = hits.surface;
         float r[kW];
-        spectrum(s.albedo[0][i], s.albedo[1][i], s.albedo[2][i], basis[i], r);
+        spectrum(s.albedo[0][i], s.albedo[1][i], s.albedo[2][i], wavelengths[i]->basis, r);
         for (int k = 0; k < kW; ++k) reflectance[i][k] = s.diffuse[i] ? r[k] : 0.0f;
     }
 
@@ -60,7 +61,7 @@ void Scene::spectral_radiance(const RayBatch& rays, const float (*wavelengths_nm
         for (int i = 0; i < rays.count; ++i) {
             // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
             float emitted[kW];
-            spectrum(light.intensity.x, light.intensity.y, light.intensity.z, basis[i], emitted);
+            spectrum(light.intensity.x, light.intensity.y, light.intensity.z, wavelengths[i]->basis, emitted);
             const float geometry = shadow.lit(i) ? shadow.lanes.cos_theta[i] * shadow.lanes.falloff[i] : 0.0f;
             for (int k = 0; k < kW; ++k) out[i][k] += reflectance[i][k] * emitted[k] * geometry;
         }

@@ -220,6 +220,15 @@ struct alignas(16) HeroWavelengths {
     int lane(int k) const { return (hero_lane + k) & (kHeroWavelengths - 1); }
 };
 
+// Starts loading the quad sample_hero_wavelengths(t, u) will read: the
+// quads are 512 KB read at random, mostly from L2 and beyond.
+inline void prefetch_hero_wavelengths(const SpectralTables& t, float u) {
+    constexpr int cells = SpectralTables::kInverseCells, quads = SpectralTables::kQuads;
+    const int j = std::min(int(u * float(cells)), cells - 1);
+    const char* q = reinterpret_cast<const char*>(&t.quads[size_t(j & (quads - 1))]);
+    for (size_t line = 0; line < sizeof(SpectralTables::HeroQuad); line += 64) __builtin_prefetch(q + line);
+}
+
 // Fills *w in place (the caller's batch slot): wavelength k from u + k / 4
 // (mod 1) through the inverse CDF, i.e. one HeroQuad at one fraction.
 inline void sample_hero_wavelengths(const SpectralTables& t, float u, HeroWavelengths* w) {
