@@ -184,6 +184,9 @@ class SpectralRayPacket {
         if (batch_.count == 0) return;
         alignas(16) float radiance[kPacketSize][kHeroWavelengths];
         scene_.spectral_radiance(batch_, wavelengths_, radiance);
+        // The sample's value in a local: the member, stored in two parts at
+        // every ray and reloaded whole at the next, stalled store forwarding.
+        Vec3f pending = pending_;
         for (int j = 0; j < batch_.count; ++j) {
             // CIE 1931 response over the density times the ray's scale (0
             // for lanes it does not carry), wavelength by wavelength, in lane order
@@ -194,15 +197,16 @@ class SpectralRayPacket {
             for (int c = 0; c < 3; ++c)
                 for (int m = 0; m < kHeroWavelengths; ++m)
                     sum[c][m] = (w.film_over_pdf[c][m] * scale[m]) * radiance[j][m];
-            pending_ += Vec3f{(sum[0][0] + sum[0][1]) + (sum[0][2] + sum[0][3]),
-                              (sum[1][0] + sum[1][1]) + (sum[1][2] + sum[1][3]),
-                              (sum[2][0] + sum[2][1]) + (sum[2][2] + sum[2][3])};
+            pending += Vec3f{(sum[0][0] + sum[0][1]) + (sum[0][2] + sum[0][3]),
+                             (sum[1][0] + sum[1][1]) + (sum[1][2] + sum[1][3]),
+                             (sum[2][0] + sum[2][1]) + (sum[2][2] + sum[2][3])};
             if (last_[j]) {
-                sums_.add(slot_[j], pending_, 1.0f);
-                pending_ = Vec3f{};
+                sums_.add(slot_[j], pending, 1.0f);
+                pending = Vec3f{};
                 ++samples_shaded_;
             }
         }
+        pending_ = pending;
         batch_.count = 0;
     }
 
