@@ -3,7 +3,11 @@
 For each scene, every renderer renders the same picture at the same
 resolution, spp and thread count; the renders alternate (one of each per
 round, ``--repeat`` rounds) and each keeps its best, so a slow spell of a
-shared machine costs all alike. Times are render time only:
+shared machine costs all alike. The rounds run forward and backward in
+turn: a native render straight after one of Mitsuba's is about a tenth
+slower than after a native one (Mitsuba's after a native one is not;
+bench_peers_order.py), and in a fixed order the native thin lens always
+came straight after the others. Times are render time only:
 
 - native: the render loop (no scene build), ``Image.metadata["seconds"]``;
 - Mitsuba 3: ``mi.render`` on a scene loaded once, evaluated to an array;
@@ -229,8 +233,10 @@ def main() -> int:
                 timers["povray_thin"] = povray_timer(scene, args.spp, args.threads)
             best = {key: float("inf") for key in timers}
             for round_ in range(args.repeat):
-                for key, run in timers.items():
-                    best[key] = min(best[key], run())
+                # Serpentine: forward, then backward (see the top).
+                order = list(timers) if round_ % 2 == 0 else list(reversed(timers))
+                for key in order:
+                    best[key] = min(best[key], timers[key]())
                 log(f"{name} round {round_ + 1}: " + ", ".join(f"{k} {samples / v / 1e6:.2f}" for k, v in best.items())
                     + " M samples/s (best so far)")
             sps = {key: samples / seconds for key, seconds in best.items()}
