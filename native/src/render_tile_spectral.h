@@ -122,8 +122,9 @@ bool camera_disperses(const Camera& camera) {
 // rays arrive together and in order, its value goes to the pixel after its last.
 // Every ray is shaded at all four of its sample's wavelengths, 4 wide (as
 // cheap as one); those it does not carry have a film weight of 0. A ray
-// holds its sample's wavelengths by pointer, not copied (a copy per ray was
-// most of this stage's time): the batcher keeps them until release.
+// holds its sample's wavelengths by pointer, not a copy of their 28 floats
+// (3 % off a lens-system render with 2 traced wavelengths, session 13): the
+// batcher keeps them until release.
 class SpectralRayPacket {
   public:
     SpectralRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
