@@ -255,7 +255,7 @@ class _Diagnostics(types.ModuleType):
         seed: int,
         pixel_index: int,  # row-major over the image
         film: numpy.ndarray,  # float32 (spp, 2), written
-        lens: numpy.ndarray,  # float32 (spp, 2), written
+        lens: numpy.ndarray | None,  # float32 (spp, 2), written; None: not drawn (the pinhole's render)
         time: numpy.ndarray | None = None,  # float32 (spp,), written: shutter times in [0, 1)
         wavelength: numpy.ndarray | None = None,  # float32 (spp,), written: wavelength samples in [0, 1)
         first_sample: int = 0,  # the pass takes samples [first_sample, spp); 0: the pixel whole

@@ -391,3 +391,23 @@ def test_sobol_lens_points_are_uniform_on_the_disk(mapping):
     sector = ((np.arctan2(out[:, 1], out[:, 0]) + np.pi) / (2 * np.pi) * sectors).astype(int) % sectors
     counts = np.bincount(ring * sectors + sector, minlength=rings * sectors)
     assert stats.chisquare(counts).pvalue > 1e-3
+
+
+@pytest.mark.parametrize("name", sorted(SAMPLER_CODES))
+@pytest.mark.parametrize("first_sample", [0, 16])
+def test_a_pixel_without_lens_points_has_the_same_film_time_and_wavelength(name, first_sample):
+    """The pinhole's render draws no lens points (random and jittered skip
+    their stream, the others make them into scratch): nothing else may move."""
+    spp = 32
+    for pixel in (0, 5, 77):
+        drawn = [np.zeros((spp, 2), np.float32), np.zeros((spp, 2), np.float32), np.zeros(spp, np.float32),
+                 np.zeros(spp, np.float32)]
+        skipped = [np.zeros((spp, 2), np.float32), None, np.zeros(spp, np.float32), np.zeros(spp, np.float32)]
+        for film, lens, time, wavelength in (drawn, skipped):
+            diagnostics.pixel_samples(SAMPLER_CODES[name], 4, pixel, film, lens, time, wavelength,
+                                      first_sample=first_sample)
+        for a, b in zip(drawn, skipped):
+            if b is not None:
+                assert a.tobytes() == b.tobytes(), (name, pixel)
+        assert np.any(drawn[1] != 0.0)  # the lens points were drawn in the first call
+

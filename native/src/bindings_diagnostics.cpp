@@ -97,19 +97,22 @@ void bind_samplers(nb::module_& m) {
           "named kernel (Pcg32::fill_u32).");
 
     m.def("pixel_samples",
-          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film, CArray<float, -1, 2> lens,
-             std::optional<CArray<float, -1>> time, std::optional<CArray<float, -1>> wavelength, int first_sample) {
-              if (lens.shape(0) != film.shape(0) || (time && time->shape(0) != film.shape(0)) ||
+          [](int sampler, uint64_t seed, uint64_t pixel_index, CArray<float, -1, 2> film,
+             std::optional<CArray<float, -1, 2>> lens, std::optional<CArray<float, -1>> time,
+             std::optional<CArray<float, -1>> wavelength, int first_sample) {
+              if ((lens && lens->shape(0) != film.shape(0)) || (time && time->shape(0) != film.shape(0)) ||
                   (wavelength && wavelength->shape(0) != film.shape(0)))
                   throw std::invalid_argument("film, lens, time and wavelength need one row per sample");
               if (first_sample < 0) throw std::invalid_argument("first_sample must be 0 or more");
               fill_pixel_samples(pass_sampler(SamplerKind(sampler), first_sample), seed, pixel_index, int(film.shape(0)),
-                                 reinterpret_cast<Point2f*>(film.data()), reinterpret_cast<Point2f*>(lens.data()),
+                                 reinterpret_cast<Point2f*>(film.data()),
+                                 lens ? reinterpret_cast<Point2f*>(lens->data()) : nullptr,
                                  time ? time->data() : nullptr, wavelength ? wavelength->data() : nullptr);
           },
-          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a, "time"_a = nb::none(),
+          "sampler"_a, "seed"_a, "pixel_index"_a, "film"_a, "lens"_a.none(), "time"_a = nb::none(),
           "wavelength"_a = nb::none(), "first_sample"_a = 0,
-          "Fills film and lens (spp x 2), and time and wavelength (spp) when given, with one pixel's samples, as "
+          "Fills film and lens (spp x 2; lens None: not drawn, as for the pinhole), and time and wavelength (spp) "
+          "when given, with one pixel's samples, as "
           "the render draws them in a pass that takes samples [first_sample, spp) (0: the pixel whole; sobol's time "
           "is then i / spp, Owen-scrambled, and dimension 6 otherwise).");
 

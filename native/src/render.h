@@ -32,7 +32,7 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     RayPacket packet(scene, sums, integrate_wavelengths);
     CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
-    PixelSamples samples(s.spp, scene.motion().samples_time());
+    PixelSamples samples(s.spp, scene.motion().samples_time(), false, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
         for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {

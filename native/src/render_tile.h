@@ -33,10 +33,13 @@ struct PixelSamples {
     std::vector<Point2f> film, lens;
     std::vector<float> time;        // empty unless times are drawn; then in [0, 1) over the shutter
     std::vector<float> wavelength;  // empty unless wavelengths are drawn; then in [0, 1) (spectral.h)
+    // false: the camera ignores lens samples; the samplers whose lens points
+    // are a stream of their own then draw none (lens stays at 0; see fill_pixel_samples).
+    bool with_lens = true;
 
-    PixelSamples(int spp, bool with_time, bool with_wavelength = false)
+    PixelSamples(int spp, bool with_time, bool with_wavelength = false, bool with_lens_samples = true)
         : film(size_t(spp)), lens(size_t(spp)), time(with_time ? size_t(spp) : 0),
-          wavelength(with_wavelength ? size_t(spp) : 0) {}
+          wavelength(with_wavelength ? size_t(spp) : 0), with_lens(with_lens_samples) {}
 
     // Samples [0, end) of the pixel; the buffers grow when an adaptive pass asks for more.
     void fill(const RenderSettings& s, uint64_t pixel_index, int end) {
@@ -53,12 +56,21 @@ struct PixelSamples {
         // scrambling); dimension 6's points [first, end) are moreover whole
         // Sobol' blocks, stratified over the shutter, when first and end are
         // powers of two.
-        fill_pixel_samples(pass_sampler(s.sampler, s.first_sample), s.seed, pixel_index, end, film.data(), lens.data(),
+        fill_pixel_samples(pass_sampler(s.sampler, s.first_sample), s.seed, pixel_index, end, film.data(),
+                           with_lens ? lens.data() : nullptr,
                            with_time ? time.data() : nullptr, with_wavelength ? wavelength.data() : nullptr);
     }
 
     float time_of(int i) const { return time.empty() ? 0.0f : time[size_t(i)]; }
 };
+
+// Cameras whose rays ignore the lens sample (the pinhole) say so with
+// kUsesLensSamples = false: their pixels then draw none.
+template <class Camera, class = void>
+struct UsesLensSamples : std::true_type {};
+template <class Camera>
+struct UsesLensSamples<Camera, std::void_t<decltype(Camera::kUsesLensSamples)>>
+    : std::bool_constant<Camera::kUsesLensSamples> {};
 
 // Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
 class TileAccumulator {

@@ -419,7 +419,7 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
-    PixelSamples samples(s.spp, scene.motion().samples_time(), true);
+    PixelSamples samples(s.spp, scene.motion().samples_time(), true, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
         for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {

@@ -147,16 +147,25 @@ void jittered_strata(int spp, int* nx, int* ny) {
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
                         Point2f* film, Point2f* lens, float* time, float* wavelength) {
     if (spp <= 0) return;
+    // No lens points asked for (a pinhole): random and jittered draw them from
+    // streams of their own, so they skip them and the rest is unchanged; the
+    // other samplers make them with the film's and they go to scratch.
+    if (lens == nullptr && kind != SamplerKind::Random && kind != SamplerKind::Jittered) {
+        thread_local std::vector<Point2f> scratch;
+        scratch.resize(size_t(spp));
+        lens = scratch.data();
+    }
     switch (kind) {
         case SamplerKind::Random: {
             Pcg32 film_rng(seed, pixel_index, kFilmStream), lens_rng(seed, pixel_index, kLensStream);
             fill_random(film_rng, spp, film);
-            fill_random(lens_rng, spp, lens);
+            if (lens) fill_random(lens_rng, spp, lens);
             break;
         }
         case SamplerKind::Jittered: {
             Pcg32 film_rng(seed, pixel_index, kFilmStream), lens_rng(seed, pixel_index, kLensStream);
             fill_jittered(film_rng, spp, film);
+            if (lens == nullptr) break;
             fill_jittered(lens_rng, spp, lens);
             Pcg32 shuffle_rng(seed, pixel_index, kShuffleStream);
             shuffle(shuffle_rng, spp, lens);

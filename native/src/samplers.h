@@ -79,7 +79,9 @@ enum class DiskMapping : int { Polar = 0, Concentric = 1 };
 // Fills film[0..spp) and lens[0..spp) with points in [0,1)^2 for one pixel.
 // The same (seed, pixel_index) always gives the same points.
 // time (nullptr: not drawn) receives spp sample times in [0, 1), and
-// wavelength (nullptr: not drawn) spp wavelength samples in [0, 1).
+// wavelength (nullptr: not drawn) spp wavelength samples in [0, 1). lens may
+// be nullptr too (a camera that ignores it): the film, time and wavelength
+// points are the same either way.
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
                         Point2f* film, Point2f* lens, float* time = nullptr, float* wavelength = nullptr);
 

@@ -11,6 +11,8 @@ namespace lc {
 struct PinholeCamera {
     Frame world_from_camera;
     FilmToScreen film;
+    // Its rays ignore the lens sample, so the render loop draws none (render_tile.h).
+    static constexpr bool kUsesLensSamples = false;
 
     MaybeRay generate_ray(Point2f raster_px, Point2f /*lens_sample*/) const {
         Vec3d dir_camera = normalize(film.direction(raster_px));
