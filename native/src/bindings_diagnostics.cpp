@@ -144,7 +144,7 @@ void generate_rays_batched(const Camera& camera, CArray<const float, -1, 2> rast
     for (size_t first = 0; first < raster_px.shape(0); first += kCameraBatch) {
         const int n = int(std::min<size_t>(kCameraBatch, raster_px.shape(0) - first));
         MaybeRay rays[kCameraBatch];
-        camera.generate_rays(raster + first, u + first, n, rays);
+        camera_rays(camera, raster + first, u + first, n, rays);
         for (int i = 0; i < n; ++i) store_ray(rays[i], first + size_t(i), origin, direction, weight);
     }
 }

@@ -145,6 +145,23 @@ inline bool all_alive(const bool* alive) {
     return all;
 }
 
+// A camera batch's rays rounded to float row by row (whole vectors), as
+// the packets take them: origin x, y, z, then direction.
+struct RoundedRays {
+    float row[6][kCameraBatch];
+
+    void round(const CameraRayBatch& rays, int n) {
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < n; ++i)
+                row[a][i] = float(rays.origin[a][i]), row[3 + a][i] = float(rays.direction[a][i]);
+    }
+
+    // Ray i into lane j of batch.
+    void copy_to(RayBatch* batch, int j, int i) const {
+        for (int a = 0; a < 3; ++a) batch->origin[a][j] = row[a][i], batch->direction[a][j] = row[3 + a][i];
+    }
+};
+
 // Rays waiting for the scene: Embree traces a full 8-wide packet faster than
 // its rays one at a time, camera rays and shadow rays alike.
 class RayPacket {
@@ -166,17 +183,15 @@ class RayPacket {
     // Queues rays [0, n) of a camera batch (those alive), ray i at shutter
     // time time_u[i] for the pixel at slot[i]: as add, without a CameraRay between.
     void add_batch(const CameraRayBatch& rays, int n, const float* time_u, const size_t* slot) {
-        // Rounded to float row by row first (whole vectors), then queued: a
-        // run of a packet's worth of live rays into an empty packet as row
-        // copies (every run, for cameras that vignette nothing), others one by one.
-        for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < n; ++i)
-                rounded_[a][i] = float(rays.origin[a][i]), rounded_[3 + a][i] = float(rays.direction[a][i]);
+        // Rounded to float first, then queued: a run of a packet's worth of
+        // live rays into an empty packet as row copies (every run, for
+        // cameras that vignette nothing), others one by one.
+        rounded_.round(rays, n);
         for (int i = 0; i < n;) {
             if (batch_.count == 0 && i + kPacketSize <= n && all_alive(rays.alive + i)) {
                 for (int a = 0; a < 3; ++a) {
-                    std::copy_n(rounded_[a] + i, kPacketSize, batch_.origin[a]);
-                    std::copy_n(rounded_[3 + a] + i, kPacketSize, batch_.direction[a]);
+                    std::copy_n(rounded_.row[a] + i, kPacketSize, batch_.origin[a]);
+                    std::copy_n(rounded_.row[3 + a] + i, kPacketSize, batch_.direction[a]);
                 }
                 std::copy_n(time_u + i, kPacketSize, batch_.time);
                 std::copy_n(rays.weight + i, kPacketSize, weight_);
@@ -188,8 +203,7 @@ class RayPacket {
             }
             if (rays.alive[i]) {  // else vignetted: contributes nothing
                 const int j = batch_.count;
-                for (int a = 0; a < 3; ++a)
-                    batch_.origin[a][j] = rounded_[a][i], batch_.direction[a][j] = rounded_[3 + a][i];
+                rounded_.copy_to(&batch_, j, i);
                 batch_.time[j] = time_u[i];
                 weight_[j] = rays.weight[i];
                 slot_[j] = slot[i];
@@ -221,36 +235,31 @@ class RayPacket {
     // Members rather than locals of flush: a local array of these was zeroed
     // (rep stos) at every flush, a few per cent of render_tile under perf.
     Vec3f radiance_[kPacketSize];
-    float rounded_[6][kCameraBatch];  // add_batch's rays in float: origin x, y, z, then direction
+    RoundedRays rounded_;  // add_batch's rays in float
     uint64_t rays_shaded_ = 0;
 };
 
-// Cameras that can turn several samples into rays at once (the lens system
-// traces them in lockstep) say so with generate_rays(raster, lens, n, out).
-template <class Camera, class = void>
-struct GeneratesBatches : std::false_type {};
-template <class Camera>
-struct GeneratesBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_rays(
-                                    nullptr, nullptr, 0, static_cast<MaybeRay*>(nullptr)))>> : std::true_type {};
+// A camera batch's samples, in columns: raster positions, lens points,
+// shutter times and the pixels' slots.
+struct SampleColumns {
+    Point2f raster_px[kCameraBatch], lens[kCameraBatch];
+    float time[kCameraBatch];
+    size_t slot[kCameraBatch];
 
-// Cameras that find a batch's rays in columns say so with
-// generate_ray_batch(raster, lens, n, out) (CameraRayBatch).
-template <class Camera, class = void>
-struct GeneratesRayBatches : std::false_type {};
-template <class Camera>
-struct GeneratesRayBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_batch(
-                                       nullptr, nullptr, 0, static_cast<CameraRayBatch*>(nullptr)))>>
-    : std::true_type {};
-
-// Rays for n <= kCameraBatch samples.
-template <class Camera>
-void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
-    if constexpr (GeneratesBatches<Camera>::value) {
-        camera.generate_rays(raster_px, lens, n, out);
-    } else {
-        for (int i = 0; i < n; ++i) out[i] = camera.generate_ray(raster_px[i], lens[i]);
+    // Samples [first, first + n) of pixel (x, y) (at slot pixel_slot) into columns [at, at + n).
+    void take(int at, int x, int y, const PixelSamples& samples, int first, int n, size_t pixel_slot) {
+        const float px = float(x), py = float(y);
+        const Point2f* film = samples.film.data() + first;
+        const Point2f* lens_points = samples.lens.data() + first;
+        for (int j = 0; j < n; ++j) {
+            raster_px[at + j] = {px + film[j].x, py + film[j].y};
+            lens[at + j] = lens_points[j];
+            slot[at + j] = pixel_slot;
+        }
+        if (samples.time.empty()) std::fill_n(time + at, n, 0.0f);
+        else std::copy_n(samples.time.data() + first, n, time + at);
     }
-}
+};
 
 // Samples waiting for the camera: the lens system traces kCameraBatch of them
 // in lockstep, and a tile's pixels together fill a batch at any spp.
@@ -267,18 +276,9 @@ class CameraSampleBatcher {
     // raster position, lens point and shutter time), in runs that fill the
     // batch, a full batch going to the camera at once.
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
-        const float px = float(x), py = float(y);
         for (int i = first; i < end;) {
             const int n = std::min(end - i, kCameraBatch - pending_);
-            const Point2f* film = samples.film.data() + i;
-            const Point2f* lens = samples.lens.data() + i;
-            for (int j = 0; j < n; ++j) {
-                raster_px_[pending_ + j] = {px + film[j].x, py + film[j].y};
-                lens_[pending_ + j] = lens[j];
-                slot_[pending_ + j] = slot;
-            }
-            if (samples.time.empty()) std::fill_n(time_ + pending_, n, 0.0f);
-            else std::copy_n(samples.time.data() + i, n, time_ + pending_);
+            staged_.take(pending_, x, y, samples, i, n, slot);
             pending_ += n, i += n;
             if (pending_ == kCameraBatch) flush();
         }
@@ -290,17 +290,17 @@ class CameraSampleBatcher {
             // In columns straight to the packet; a moving camera's offset (in
             // double, before rounding) goes through the rays one at a time below.
             if (!moves_camera_) {
-                camera_.generate_ray_batch(raster_px_, lens_, pending_, &columns_);
-                packet_.add_batch(columns_, pending_, time_, slot_);
+                camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_);
+                packet_.add_batch(columns_, pending_, staged_.time, staged_.slot);
                 pending_ = 0;
                 return;
             }
         }
-        camera_rays(camera_, raster_px_, lens_, pending_, rays_);
+        camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays_);
         for (int i = 0; i < pending_; ++i) {
             if (!rays_[i]) continue;  // vignetted: contributes nothing
-            if (moves_camera_) rays_[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(time_[i]);
-            packet_.add(*rays_[i], time_[i], slot_[i]);
+            if (moves_camera_) rays_[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
+            packet_.add(*rays_[i], staged_.time[i], staged_.slot[i]);
         }
         pending_ = 0;
     }
@@ -310,9 +310,7 @@ class CameraSampleBatcher {
     const SceneMotion& motion_;
     bool moves_camera_;
     RayPacket& packet_;
-    Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
-    float time_[kCameraBatch];
-    size_t slot_[kCameraBatch];
+    SampleColumns staged_;
     MaybeRay rays_[kCameraBatch];  // a member, not a local of flush: see RayPacket::radiance_
     CameraRayBatch columns_;
     int pending_ = 0;

@@ -146,11 +146,7 @@ class SpectralRayPacket {
     // between: the rows rounded to float first, as RayPacket::add_batch.
     void add_batch(const CameraRayBatch* rays, int traced, int stride, bool carries_all, int n,
                    const HeroWavelengths* w, const float* time_u, const size_t* slot) {
-        for (int k = 0; k < traced; ++k)
-            for (int a = 0; a < 3; ++a)
-                for (int i = 0; i < n; ++i)
-                    rounded_[k][a][i] = float(rays[k].origin[a][i]),
-                    rounded_[k][3 + a][i] = float(rays[k].direction[a][i]);
+        for (int k = 0; k < traced; ++k) rounded_[k].round(rays[k], n);
         // 1 / (1, 2 or 4): the product is the quotient, exactly.
         const float share = 1.0f / float(carries_all ? kHeroWavelengths : traced);
         for (int i = 0; i < n; ++i) {
@@ -160,8 +156,7 @@ class SpectralRayPacket {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[k].alive[i]) continue;  // vignetted, or blocked at this wavelength
                 const int j = batch_.count;
-                for (int a = 0; a < 3; ++a)
-                    batch_.origin[a][j] = rounded_[k][a][i], batch_.direction[a][j] = rounded_[k][3 + a][i];
+                rounded_[k].copy_to(&batch_, j, i);
                 batch_.time[j] = time_u[i];
                 const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
                 queue(&w[i], rays[k].weight[i] * share, lanes, k == last, slot[i]);
@@ -236,7 +231,7 @@ class SpectralRayPacket {
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
-    float rounded_[kHeroWavelengths][6][kCameraBatch];  // add_batch's rays in float (see RayPacket::rounded_)
+    RoundedRays rounded_[kHeroWavelengths];  // add_batch's rays in float, per traced wavelength
     uint64_t samples_shaded_ = 0;
 };
 
@@ -274,19 +269,13 @@ class SpectralCameraSampleBatcher {
     // fill the batch, as CameraSampleBatcher::add_pixel; each sample draws
     // its four wavelengths here.
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
-        const float px = float(x), py = float(y);
         for (int i = first; i < end;) {
             if (pending_ == 0) packet_.release(wavelengths_, wavelengths_ + kCameraBatch);
             const int n = std::min(end - i, kCameraBatch - pending_);
-            for (int j = 0; j < n; ++j) prefetch_hero_wavelengths(spectra_, samples.wavelength[size_t(i + j)]);
-            for (int j = 0; j < n; ++j) {
-                const size_t at = size_t(i + j);
-                raster_px_[pending_ + j] = {px + samples.film[at].x, py + samples.film[at].y};
-                lens_[pending_ + j] = samples.lens[at];
-                time_[pending_ + j] = samples.time_of(i + j);
-                sample_hero_wavelengths(spectra_, samples.wavelength[at], &wavelengths_[pending_ + j]);
-                slot_[pending_ + j] = slot;
-            }
+            const float* u = samples.wavelength.data() + i;
+            for (int j = 0; j < n; ++j) prefetch_hero_wavelengths(spectra_, u[j]);
+            staged_.take(pending_, x, y, samples, i, n, slot);
+            for (int j = 0; j < n; ++j) sample_hero_wavelengths(spectra_, u[j], &wavelengths_[pending_ + j]);
             pending_ += n, i += n;
             if (pending_ == kCameraBatch) flush();
         }
@@ -310,18 +299,18 @@ class SpectralCameraSampleBatcher {
     void flush_shared() {
         if constexpr (GeneratesRayBatches<Camera>::value) {
             if (!moves_camera_) {  // in columns (a moving camera's offset: below, ray by ray)
-                camera_.generate_ray_batch(raster_px_, lens_, pending_, &columns_[0]);
-                packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, time_, slot_);
+                camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_[0]);
+                packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, staged_.time, staged_.slot);
                 return;
             }
         }
         MaybeRay* rays = shared_rays_;
-        camera_rays(camera_, raster_px_, lens_, pending_, rays);
+        camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays);
         for (int i = 0; i < pending_; ++i) {
             if (!rays[i]) continue;  // vignetted: contributes nothing
-            moved(&*rays[i], time_[i]);
-            packet_.add(*rays[i], time_[i], &wavelengths_[i], rays[i]->weight / float(kHeroWavelengths), 0xfu, true,
-                        slot_[i]);
+            moved(&*rays[i], staged_.time[i]);
+            packet_.add(*rays[i], staged_.time[i], &wavelengths_[i], rays[i]->weight / float(kHeroWavelengths), 0xfu, true,
+                        staged_.slot[i]);
         }
     }
 
@@ -333,21 +322,21 @@ class SpectralCameraSampleBatcher {
                 const HeroWavelengths& w = wavelengths_[i];
                 MaybeRay rays[kHeroWavelengths];
                 bool shares[kHeroWavelengths];
-                camera_.generate_rays_sharing(raster_px_[i], lens_[i], w.nm, rays, shares);
+                camera_.generate_rays_sharing(staged_.raster_px[i], staged_.lens[i], w.nm, rays, shares);
                 int last = -1;
                 for (int k = 0; k < kHeroWavelengths; ++k)
                     if (rays[k] && (k == 0 || !shares[k])) last = k;
                 for (int k = 0; k <= last; ++k) {
                     if (!rays[k] || (k > 0 && shares[k])) continue;
-                    moved(&*rays[k], time_[i]);
+                    moved(&*rays[k], staged_.time[i]);
                     // Lane m holds wavelength (m - hero_lane) % 4.
                     unsigned lanes = 0;
                     for (int m = 0; m < kHeroWavelengths; ++m) {
                         const int j = (m - w.hero_lane) & (kHeroWavelengths - 1);
                         if (j == k || (k == 0 && shares[j])) lanes |= 1u << m;
                     }
-                    packet_.add(*rays[k], time_[i], &w, rays[k]->weight / float(kHeroWavelengths), lanes, k == last,
-                                slot_[i]);
+                    packet_.add(*rays[k], staged_.time[i], &w, rays[k]->weight / float(kHeroWavelengths), lanes, k == last,
+                                staged_.slot[i]);
                 }
             }
         }
@@ -362,22 +351,22 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
         if constexpr (HasWavelengthRayBatches<Camera>::value) {
             if (!moves_camera_) {  // in columns, as flush_shared
-                camera_.generate_ray_batches_at(raster_px_, lens_, nm, pending_, traced, columns_);
-                packet_.add_batch(columns_, traced, stride, false, pending_, wavelengths_, time_, slot_);
+                camera_.generate_ray_batches_at(staged_.raster_px, staged_.lens, nm, pending_, traced, columns_);
+                packet_.add_batch(columns_, traced, stride, false, pending_, wavelengths_, staged_.time, staged_.slot);
                 return;
             }
         }
         MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
-        wavelength_rays(camera_, raster_px_, lens_, nm, pending_, traced, rays);
+        wavelength_rays(camera_, staged_.raster_px, staged_.lens, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
             int last = -1;
             for (int k = 0; k < traced; ++k)
                 if (rays[i][k]) last = k;
             for (int k = 0; k <= last; ++k) {
                 if (!rays[i][k]) continue;
-                moved(&*rays[i][k], time_[i]);
-                packet_.add(*rays[i][k], time_[i], &wavelengths_[i], rays[i][k]->weight / float(traced),
-                            1u << wavelengths_[i].lane(k * stride), k == last, slot_[i]);
+                moved(&*rays[i][k], staged_.time[i]);
+                packet_.add(*rays[i][k], staged_.time[i], &wavelengths_[i], rays[i][k]->weight / float(traced),
+                            1u << wavelengths_[i].lane(k * stride), k == last, staged_.slot[i]);
             }
         }
     }
@@ -397,14 +386,12 @@ class SpectralCameraSampleBatcher {
     const SpectralTables& spectra_;
     SpectralRayPacket& packet_;
     SpectralPath path_;
-    Point2f raster_px_[kCameraBatch], lens_[kCameraBatch];
-    float time_[kCameraBatch];
+    SampleColumns staged_;
     // Two buffers of the batch's wavelengths, swapped after each flush
     // (the packet reads a ray's until it is shaded: SpectralRayPacket::release).
     HeroWavelengths wavelength_buffers_[2][kCameraBatch];
     HeroWavelengths* wavelengths_ = wavelength_buffers_[0];
     HeroWavelengths* other_wavelengths_ = wavelength_buffers_[1];
-    size_t slot_[kCameraBatch];
     int pending_ = 0;
 };
 

@@ -10,6 +10,8 @@
 
 #include <cstring>
 
+#include "cpu_kernels.h"
+
 namespace lc {
 namespace {
 
@@ -92,12 +94,7 @@ const char* rng_kernel_name(RngKernel kernel) {
 }
 
 RngKernel fastest_rng_kernel() {
-    static const RngKernel best = [] {
-        RngKernel k = RngKernel::Portable;
-        for (RngKernel candidate : kRngKernels)
-            if (rng_kernel_available(candidate)) k = candidate;
-        return k;
-    }();
+    static const RngKernel best = fastest_available(kRngKernels, rng_kernel_available);
     return best;
 }
 

@@ -220,12 +220,21 @@ struct alignas(16) HeroWavelengths {
     int lane(int k) const { return (hero_lane + k) & (kHeroWavelengths - 1); }
 };
 
+// The inverse-CDF cell u falls in.
+inline int hero_cell(float u) {
+    constexpr int cells = SpectralTables::kInverseCells;
+    return std::min(int(u * float(cells)), cells - 1);
+}
+
+// The quad holding cell j's wavelengths (see SpectralTables::HeroQuad).
+inline const SpectralTables::HeroQuad& hero_quad(const SpectralTables& t, int j) {
+    return t.quads[size_t(j & (SpectralTables::kQuads - 1))];
+}
+
 // Starts loading the quad sample_hero_wavelengths(t, u) will read: the
 // quads are 512 KB read at random, mostly from L2 and beyond.
 inline void prefetch_hero_wavelengths(const SpectralTables& t, float u) {
-    constexpr int cells = SpectralTables::kInverseCells, quads = SpectralTables::kQuads;
-    const int j = std::min(int(u * float(cells)), cells - 1);
-    const char* q = reinterpret_cast<const char*>(&t.quads[size_t(j & (quads - 1))]);
+    const char* q = reinterpret_cast<const char*>(&hero_quad(t, hero_cell(u)));
     for (size_t line = 0; line < sizeof(SpectralTables::HeroQuad); line += 64) __builtin_prefetch(q + line);
 }
 
@@ -235,10 +244,9 @@ inline void sample_hero_wavelengths(const SpectralTables& t, float u, HeroWavele
     constexpr int cells = SpectralTables::kInverseCells, quads = SpectralTables::kQuads;
     static_assert(quads * kHeroWavelengths == cells && (quads & (quads - 1)) == 0,
                   "u + k / 4 falls at the same place in its cell for every k");
-    const float x = u * float(cells);
-    const int j = std::min(int(x), cells - 1);
-    const float within = x - float(j);
-    const SpectralTables::HeroQuad& q = t.quads[size_t(j & (quads - 1))];
+    const int j = hero_cell(u);
+    const float within = u * float(cells) - float(j);
+    const SpectralTables::HeroQuad& q = hero_quad(t, j);
     for (int m = 0; m < kHeroWavelengths; ++m) w->lane_nm[m] = q.nm[m] + within * q.nm_step[m];
     for (int c = 0; c < 3; ++c)
         for (int m = 0; m < kHeroWavelengths; ++m) {

@@ -1,5 +1,6 @@
 #include "sphere_lanes.h"
 
+#include "cpu_kernels.h"
 #include "near_line_lanes.h"
 
 #include <cmath>
@@ -163,12 +164,7 @@ const char* sphere_kernel_name(SphereKernel kernel) {
 }
 
 SphereKernel fastest_sphere_kernel() {
-    static const SphereKernel best = [] {
-        SphereKernel k = SphereKernel::Default;
-        for (SphereKernel candidate : kSphereKernels)
-            if (sphere_kernel_available(candidate)) k = candidate;
-        return k;
-    }();
+    static const SphereKernel best = fastest_available(kSphereKernels, sphere_kernel_available);
     return best;
 }
 

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <optional>
+#include <type_traits>
+#include <utility>
 
 #include "vec.h"
 
@@ -50,6 +52,28 @@ inline void maybe_rays(const CameraRayBatch& batch, int n, MaybeRay* out) {
         }
         set_ray(&out[i], batch.origin[0][i], batch.origin[1][i], batch.origin[2][i], batch.direction[0][i],
                 batch.direction[1][i], batch.direction[2][i], batch.weight[i]);
+    }
+}
+
+// Cameras that find a batch's rays in columns say so with
+// generate_ray_batch(raster, lens, n, out) (CameraRayBatch).
+template <class Camera, class = void>
+struct GeneratesRayBatches : std::false_type {};
+template <class Camera>
+struct GeneratesRayBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_batch(
+                                       nullptr, nullptr, 0, static_cast<CameraRayBatch*>(nullptr)))>>
+    : std::true_type {};
+
+// Rays for n <= kCameraBatch samples, one MaybeRay each: through the
+// camera's batch (the same bits as generate_ray) where it has one.
+template <class Camera>
+void camera_rays(const Camera& camera, const Point2f* raster_px, const Point2f* lens, int n, MaybeRay* out) {
+    if constexpr (GeneratesRayBatches<Camera>::value) {
+        CameraRayBatch batch;
+        camera.generate_ray_batch(raster_px, lens, n, &batch);
+        maybe_rays(batch, n, out);
+    } else {
+        for (int i = 0; i < n; ++i) out[i] = camera.generate_ray(raster_px[i], lens[i]);
     }
 }
 

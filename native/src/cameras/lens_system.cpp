@@ -20,7 +20,7 @@ void calibrate_centre_irradiance(LensSystemCamera* camera) {
     for (int j = 0; j < kAround; ++j)
         for (int first = 0; first < kRadial; first += kCameraBatch) {
             for (int k = 0; k < kCameraBatch; ++k) u[k] = {(first + k + 0.5f) / kRadial, (j + 0.5f) / kAround};
-            camera->generate_rays(raster, u, kCameraBatch, rays);
+            camera_rays(*camera, raster, u, kCameraBatch, rays);
             for (const MaybeRay& ray : rays)
                 if (ray) sum += ray->weight;
         }

@@ -33,7 +33,7 @@ inline std::vector<LensElement> without_blades(std::vector<LensElement> elements
     return elements;
 }
 
-static_assert(kLensBatch == kCameraBatch, "generate_rays takes the render loop's whole camera batch");
+static_assert(kLensBatch == kCameraBatch, "generate_ray_batch takes the render loop's whole camera batch");
 
 struct LensSystemCamera {
     Frame world_from_camera;           // origin at the entrance-pupil centre
@@ -224,12 +224,6 @@ struct LensSystemCamera {
             out->weight[i] = float(world.weight[i]);
             out->alive[i] = i < n && traced.alive[i];
         }
-    }
-
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
-        CameraRayBatch batch;
-        generate_ray_batch(raster_px, lens_sample, n, &batch);
-        maybe_rays(batch, n, out);
     }
 
     LensToWorld lens_to_world() const {

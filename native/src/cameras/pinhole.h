@@ -38,12 +38,6 @@ struct PinholeCamera {
             out->weight[i] = 1.0f, out->alive[i] = true;
         }
     }
-
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
-        CameraRayBatch batch;
-        generate_ray_batch(raster_px, lens_sample, n, &batch);
-        maybe_rays(batch, n, out);
-    }
 };
 
 }  // namespace lc

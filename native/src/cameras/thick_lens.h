@@ -28,10 +28,6 @@ struct ThickLensCamera {
         at_front_principal_plane.generate_ray_batch(raster_px, lens_sample, n, out);
     }
 
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
-        at_front_principal_plane.generate_rays(raster_px, lens_sample, n, out);
-    }
-
     // Spectral renders: the thin lens at H with the focal length at λ (H itself stays put).
     bool disperses() const { return at_front_principal_plane.disperses(); }
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {

@@ -53,12 +53,6 @@ struct ThinLensCamera {
         for (int i = 0; i < n; ++i) out->weight[i] = 1.0f, out->alive[i] = true;
     }
 
-    void generate_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, MaybeRay* out) const {
-        CameraRayBatch batch;
-        generate_ray_batch(raster_px, lens_sample, n, &batch);
-        maybe_rays(batch, n, out);
-    }
-
     // The ray at wavelength nm: a thin lens of focal length f(λ) keeps the
     // chief ray through its centre, so only the plane of focus moves.
     MaybeRay generate_ray_at(Point2f raster_px, Point2f lens_sample, float nm) const {

@@ -1,4 +1,5 @@
 // Which batch lens-trace kernel this CPU runs. All give the same bits.
+#include "cpu_kernels.h"
 #include "lens/lens_trace.h"
 
 namespace lc {
@@ -15,11 +16,7 @@ bool lens_trace_kernel_available(LensTraceKernel kernel) {
 }
 
 LensTraceKernel best_lens_trace_kernel() {
-    static const LensTraceKernel best = [] {
-        for (LensTraceKernel k : {LensTraceKernel::Avx512, LensTraceKernel::Avx2})
-            if (lens_trace_kernel_available(k)) return k;
-        return LensTraceKernel::Portable;
-    }();
+    static const LensTraceKernel best = fastest_available(kLensTraceKernels, lens_trace_kernel_available);
     return best;
 }
 
