@@ -179,24 +179,9 @@ struct LensSystemCamera {
     // ray: film points and pupil picks lane by lane (table look-ups), then the
     // aim, with its square roots and divisions, in SIMD. Lanes outside the
     // image circle or past n are dead.
+    // (lens_system.cpp, built per instruction set as the trace is.)
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
-                      double* area_mm2) const {
-        LensAimBatch aim;
-        // Film points first, in loops of their own: film_point's arithmetic,
-        // with the square roots in a plain array loop that GCC vectorises
-        // (two per instruction at the baseline), none waiting behind the
-        // picks' branches.
-        for (int i = 0; i < kLensBatch; ++i) {
-            const Point2f p = raster_px[i < n ? i : 0];
-            aim.film_x_mm[i] = (0.5 * width_px - double(p.x)) * film_mm_per_px_x;
-            aim.film_y_mm[i] = (double(p.y) - 0.5 * height_px) * film_mm_per_px_y;
-        }
-        for (int i = 0; i < kLensBatch; ++i)
-            aim.film_r_mm[i] = std::sqrt(aim.film_x_mm[i] * aim.film_x_mm[i] + aim.film_y_mm[i] * aim.film_y_mm[i]);
-        for (int i = 0; i < kLensBatch; ++i) aim.u_radial[i] = double(lens_sample[i < n ? i : 0].x);
-        pupil->pick_batch(aim.film_r_mm, lens_sample, n, &aim, area_mm2, batch->alive);
-        aim_batch(aim, aim_planes(), batch, trace_kernel);
-    }
+                      double* area_mm2) const;
 
     // The same as generate_ray for up to kLensBatch samples at once, traced in
     // lockstep (the render loop uses this; results equal generate_ray's).
