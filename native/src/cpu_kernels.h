@@ -5,6 +5,12 @@
 
 #include <cstddef>
 
+// A function GCC builds once per instruction set, the library picking one
+// for this CPU when it loads (target_clones): for loops over a packet's
+// lanes that are not a kernel family of their own. No FMA contraction and
+// IEEE operations only, so every build gives the same bits.
+#define LC_BUILT_PER_ISA __attribute__((target_clones("default", "avx2", "avx512f")))
+
 namespace lc {
 
 // The last of kernels (slowest first) that available says this CPU runs;

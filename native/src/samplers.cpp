@@ -6,6 +6,7 @@
 #include <vector>
 #include <algorithm>
 
+#include "cpu_kernels.h"
 #include "rng.h"
 
 namespace lc {
@@ -30,7 +31,7 @@ void fill_random(Pcg32& rng, int spp, Point2f* out) {
     for (int i = 0; i < spp; ++i) out[i] = {rng.next_float(), rng.next_float()};
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
+LC_BUILT_PER_ISA void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
     int nx, ny;
     jittered_strata(spp, &nx, &ny);
     // The random numbers first (Pcg32::fill_u32 breaks their chain of

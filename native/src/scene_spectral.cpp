@@ -7,6 +7,8 @@
 
 #include <cstring>
 
+#include "cpu_kernels.h"
+
 namespace lc {
 namespace {
 
@@ -25,8 +27,8 @@ inline void spectrum(float r, float g, float b, const float (&basis)[3][kW], flo
 // Lane by lane without branches where it can (as shading_lanes.cpp): every
 // ray's four wavelengths are one 4-wide step, and a lane a light does not
 // reach adds that light times 0.
-__attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::spectral_radiance(const RayBatch& rays, const HeroWavelengths* const* wavelengths,
-                              float (*out)[kW]) const {
+LC_BUILT_PER_ISA void Scene::spectral_radiance(const RayBatch& rays, const HeroWavelengths* const* wavelengths,
+                                               float (*out)[kW]) const {
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);
@@ -72,7 +74,7 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::spectra
 // exact (spectral.h, integrate_still), as RGB-like sums. Each colour of the
 // file reaches the film through film_of_basis, a lit reflectance through
 // its light's film_of_light: the RGB path's stages with those maps between.
-__attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const {
+LC_BUILT_PER_ISA void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const {
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);

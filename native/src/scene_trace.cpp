@@ -4,14 +4,14 @@
 // only says what colour a hit, the background and a light contribute.
 // Rays go to Embree as packets (embree_packet.h); a moving scene's geometry
 // lives in a scene of its own, traced only by the rays that pass its bounds.
-// The per-packet stages are built per instruction set (target_clones, as
-// thin_lens_lanes.cpp): their lane loops then run 16 wide on AVX-512 (4-6 %
-// of a lit_showcase render); with no FMA contraction and IEEE operations the
-// clones give the same bits.
+// The per-packet stages are built per instruction set (LC_BUILT_PER_ISA,
+// cpu_kernels.h): their lane loops then run 16 wide on AVX-512 (4-6 % of a
+// lit_showcase render), with the same bits.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "cpu_kernels.h"
 #include "scene.h"
 
 namespace lc {
@@ -23,7 +23,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
+LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits& hits) const {
     RTCIntersectContext& context = hits.context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -100,7 +100,7 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::trace_c
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {
+LC_BUILT_PER_ISA void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {
     for (int i = 0; i < count; ++i) out[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
 }
 
@@ -109,7 +109,7 @@ int Scene::material_of(const CameraHits& hits, int i) const {
     return table.material[hits.packet.hit.primID[i]];
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material,
+LC_BUILT_PER_ISA void Scene::gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material,
                             float (&rgb)[3][kPacketSize]) const {
     const int miss = material_columns_.miss();
     for (int i = 0; i < kPacketSize; ++i)
@@ -128,7 +128,8 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void Scene::gather_
     }
 }
 
-__attribute__((target_clones("default", "avx2", "avx512f"))) bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const {
+LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits,
+                                                ShadowRays& shadow) const {
     const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
     RTCRayPacket& packet = shadow.packet;
     const bool any = shadow_lanes(shading_kernel_, light_m, light.inverse_square, hits.surface, hits.packet.ray.time,

@@ -1,5 +1,8 @@
-// The lens-system camera's set-up, done once per camera (not per ray).
+// The lens-system camera: its set-up, done once per camera, and the film
+// points and pupil picks of a batch (sample_batch), built per instruction set.
 #include "cameras/lens_system.h"
+
+#include "cpu_kernels.h"
 
 namespace lc {
 
@@ -32,10 +35,8 @@ void calibrate_centre_irradiance(LensSystemCamera* camera) {
 namespace {
 
 // LensSystemCamera::sample_batch's work, per instruction set.
-__attribute__((target_clones("default", "avx2", "avx512f"))) void sample_lanes(const LensSystemCamera& c,
-                                                                            const Point2f* raster_px,
-                                                                            const Point2f* lens_sample, int n,
-                                                                            LensRayBatch* batch, double* area_mm2) {
+LC_BUILT_PER_ISA void sample_lanes(const LensSystemCamera& c, const Point2f* raster_px, const Point2f* lens_sample,
+                                   int n, LensRayBatch* batch, double* area_mm2) {
     LensAimBatch aim;
     // Film points first, in loops of their own: film_point's arithmetic,
     // with the square roots in a plain array loop that GCC vectorises
