@@ -1,6 +1,7 @@
-// Choosing among a family of SIMD kernels (lens trace, own primitives and
-// shading, random numbers): each family lists its kernels slowest first and
-// says which this CPU runs; every kernel of a family gives the same bits.
+// Code per instruction set, picked for this CPU: a family of SIMD kernels
+// (lens trace, own primitives and shading, random numbers) lists its kernels
+// slowest first and says which this CPU runs, and single functions are built
+// per set by the compiler (LC_BUILT_PER_ISA). Every choice gives the same bits.
 #pragma once
 
 #include <cstddef>

@@ -60,8 +60,6 @@ struct PixelSamples {
                            with_lens ? lens.data() : nullptr,
                            with_time ? time.data() : nullptr, with_wavelength ? wavelength.data() : nullptr);
     }
-
-    float time_of(int i) const { return time.empty() ? 0.0f : time[size_t(i)]; }
 };
 
 // Cameras whose rays ignore the lens sample (the pinhole) say so with

@@ -309,8 +309,8 @@ class SpectralCameraSampleBatcher {
         for (int i = 0; i < pending_; ++i) {
             if (!rays[i]) continue;  // vignetted: contributes nothing
             moved(&*rays[i], staged_.time[i]);
-            packet_.add(*rays[i], staged_.time[i], &wavelengths_[i], rays[i]->weight / float(kHeroWavelengths), 0xfu, true,
-                        staged_.slot[i]);
+            packet_.add(*rays[i], staged_.time[i], &wavelengths_[i], rays[i]->weight / float(kHeroWavelengths), 0xfu,
+                        true, staged_.slot[i]);
         }
     }
 
@@ -335,8 +335,8 @@ class SpectralCameraSampleBatcher {
                         const int j = (m - w.hero_lane) & (kHeroWavelengths - 1);
                         if (j == k || (k == 0 && shares[j])) lanes |= 1u << m;
                     }
-                    packet_.add(*rays[k], staged_.time[i], &w, rays[k]->weight / float(kHeroWavelengths), lanes, k == last,
-                                staged_.slot[i]);
+                    packet_.add(*rays[k], staged_.time[i], &w, rays[k]->weight / float(kHeroWavelengths), lanes,
+                                k == last, staged_.slot[i]);
                 }
             }
         }
