@@ -86,13 +86,14 @@ using lanes::DoubleLanes;
 
 [[gnu::always_inline]] inline bool occluded_body(const OwnQuad* quads, int n, const float* const origin[3],
                                                  const float* const direction[3], const float* t_far,
-                                                 const int* active, int* blocked) {
+                                                 const int* active, int* blocked, uint64_t candidates) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     DoubleLanes<N> ray;
     ray.load_once(origin, direction);  // the plane culls take the lanes in double
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
+        if (!is_candidate(candidates, k)) continue;
         const OwnQuad& q = quads[k];
         if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
@@ -123,17 +124,18 @@ void closest_default(const OwnQuad* q, int n, const float* const o[3], const flo
 }
 
 bool occluded_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const float* t_far,
-                      const int* active, int* blocked) {
-    return occluded_body(q, n, o, d, t_far, active, blocked);
+                      const int* active, int* blocked, uint64_t candidates) {
+    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
 }
 [[gnu::target("avx2")]] bool occluded_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
-                                           const float* t_far, const int* active, int* blocked) {
-    return occluded_body(q, n, o, d, t_far, active, blocked);
+                                           const float* t_far, const int* active, int* blocked,
+                                           uint64_t candidates) {
+    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
 }
 [[gnu::target("avx512f")]] bool occluded_avx512(const OwnQuad* q, int n, const float* const o[3],
                                                 const float* const d[3], const float* t_far, const int* active,
-                                                int* blocked) {
-    return occluded_body(q, n, o, d, t_far, active, blocked);
+                                                int* blocked, uint64_t candidates) {
+    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
 }
 
 void cross(const double* a, const double* b, double* out) {
@@ -201,11 +203,13 @@ void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float
 }
 
 bool quads_occluded(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
-                    const float* const direction[3], const float* t_far, const int* active, int* blocked) {
+                    const float* const direction[3], const float* t_far, const int* active, int* blocked,
+                    uint64_t candidates) {
     switch (kernel) {
-        case SphereKernel::Avx512: return occluded_avx512(quads, n, origin, direction, t_far, active, blocked);
-        case SphereKernel::Avx2: return occluded_avx2(quads, n, origin, direction, t_far, active, blocked);
-        default: return occluded_default(quads, n, origin, direction, t_far, active, blocked);
+        case SphereKernel::Avx512:
+            return occluded_avx512(quads, n, origin, direction, t_far, active, blocked, candidates);
+        case SphereKernel::Avx2: return occluded_avx2(quads, n, origin, direction, t_far, active, blocked, candidates);
+        default: return occluded_default(quads, n, origin, direction, t_far, active, blocked, candidates);
     }
 }
 

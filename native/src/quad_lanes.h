@@ -53,8 +53,10 @@ void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float
 // Whether the segments t in [0, t_far[i]] cross some quad: blocked[i] = -1
 // where so (active lanes), else 0. Returns whether any lane is blocked. Shadow
 // rays start lifted off their surface (shading_lanes.h), so a quad does not
-// block the rays that leave it.
+// block the rays that leave it. Only the quads candidates names are tested
+// (is_candidate, sphere_lanes.h).
 bool quads_occluded(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
-                    const float* const direction[3], const float* t_far, const int* active, int* blocked);
+                    const float* const direction[3], const float* t_far, const int* active, int* blocked,
+                    uint64_t candidates = kAllCandidates);
 
 }  // namespace lc

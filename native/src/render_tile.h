@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -187,13 +188,15 @@ class RayPacket {
         rounded_.round(rays, n);
         for (int i = 0; i < n;) {
             if (batch_.count == 0 && i + kPacketSize <= n && all_alive(rays.alive + i)) {
+                // memcpy, not std::copy_n: GCC inlines a fixed-size memcpy but
+                // called memmove for copy_n's (under perf, 9 % of an empty scene's render).
                 for (int a = 0; a < 3; ++a) {
-                    std::copy_n(rounded_.row[a] + i, kPacketSize, batch_.origin[a]);
-                    std::copy_n(rounded_.row[3 + a] + i, kPacketSize, batch_.direction[a]);
+                    std::memcpy(batch_.origin[a], rounded_.row[a] + i, sizeof(batch_.origin[a]));
+                    std::memcpy(batch_.direction[a], rounded_.row[3 + a] + i, sizeof(batch_.direction[a]));
                 }
-                std::copy_n(time_u + i, kPacketSize, batch_.time);
-                std::copy_n(rays.weight + i, kPacketSize, weight_);
-                std::copy_n(slot + i, kPacketSize, slot_);
+                std::memcpy(batch_.time, time_u + i, sizeof(batch_.time));
+                std::memcpy(weight_, rays.weight + i, sizeof(weight_));
+                std::memcpy(slot_, slot + i, sizeof(slot_));
                 batch_.count = kPacketSize;
                 flush();
                 i += kPacketSize;

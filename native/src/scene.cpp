@@ -296,6 +296,8 @@ Scene::Scene(const SceneArrays& a)
         if (id == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
         return id;
     };
+    own_columns_ = CullColumns::of_own(own_spheres_, own_quads_);
+    packet_cull_ = packet_cull_enabled() && own_columns_.count() <= 64;
     if (!own_spheres_.empty()) own_spheres_id_ = own_id(own_table);
     if (!own_quads_.empty()) own_quads_id_ = own_id(own_quad_table);
     sphere_kernel_ = fastest_sphere_kernel();

@@ -18,6 +18,7 @@
 
 #include "embree_packet.h"
 #include "motion.h"
+#include "packet_bounds.h"
 #include "quad_lanes.h"
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
@@ -175,6 +176,8 @@ class Scene {
     // Still quads the render tests itself (quad_lanes.h), all or none; their hits carry own_quads_id_.
     std::vector<OwnQuad> own_quads_;
     unsigned own_quads_id_ = RTC_INVALID_GEOMETRY_ID;
+    CullColumns own_columns_;  // both again, as the per-packet cull takes them (packet_bounds.h)
+    bool packet_cull_ = true;
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry

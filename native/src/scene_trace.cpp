@@ -152,6 +152,17 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
         shadow.start_sphere[i] = k;
         shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
     }
+    // The own primitives some lane's segment may reach (packet_bounds.h); the rest are not tested.
+    uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
+    SegmentCapsule capsule;
+    const int n_spheres = int(own_spheres_.size() / 4);
+    if (packet_cull_ && capsule_of_segments(packet, valid, light_m, &capsule)) {
+        const uint64_t near = near_capsule(capsule, own_columns_);
+        near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
+        near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
+    }
+    int self_blocked = 0;
+    for (int i = 0; i < kPacketSize; ++i) self_blocked |= shadow.self_blocks[i];
     alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere or quad blocks
     for (int i = 0; i < kPacketSize; ++i) open[i] = valid[i];
     const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
@@ -167,16 +178,16 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
         return left != 0;
     };
     bool any_open = true;
-    if (!own_spheres_.empty()) {
+    if (n_spheres > 0 && (near_spheres != 0 || n_spheres > 64 || self_blocked)) {
         int blocked[kPacketSize];
-        spheres_occluded(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction,
-                         packet.tfar, shadow.start_sphere, shadow.self_blocks, open, blocked);
+        spheres_occluded(sphere_kernel_, own_spheres_.data(), n_spheres, origin, direction, packet.tfar,
+                         shadow.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
         any_open = close_blocked(blocked);
     }
-    if (any_open && !own_quads_.empty()) {
+    if (any_open && !own_quads_.empty() && (near_quads != 0 || own_quads_.size() > 64)) {
         int blocked[kPacketSize];
         quads_occluded(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, packet.tfar,
-                       open, blocked);
+                       open, blocked, near_quads);
         any_open = close_blocked(blocked);
     }
     if (embree_still_ && any_open) occluded_packet(open, scene_, &context, &packet);

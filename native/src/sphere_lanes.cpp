@@ -88,12 +88,13 @@ struct Roots {
 [[gnu::always_inline]] inline bool occluded_body(const float* spheres, int n, const float* const origin[3],
                                                  const float* const direction[3], const float* t_far,
                                                  const int* start_sphere, const int* self_blocks, const int* active,
-                                                 int* blocked) {
+                                                 int* blocked, uint64_t candidates) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     lanes::DoubleLanes<N> ray;
     int met[N] = {};
     for (int k = 0; k < n; ++k) {
+        if (!is_candidate(candidates, k)) continue;
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
         ray.load_once(origin, direction);
@@ -131,18 +132,19 @@ void closest_default(const float* s, int n, const float* const o[3], const float
 }
 
 bool occluded_default(const float* s, int n, const float* const o[3], const float* const d[3], const float* t_far,
-                      const int* start, const int* self, const int* active, int* blocked) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+                      const int* start, const int* self, const int* active, int* blocked, uint64_t candidates) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 [[gnu::target("avx2")]] bool occluded_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
                                            const float* t_far, const int* start, const int* self, const int* active,
-                                           int* blocked) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+                                           int* blocked, uint64_t candidates) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 [[gnu::target("avx512f")]] bool occluded_avx512(const float* s, int n, const float* const o[3],
                                                 const float* const d[3], const float* t_far, const int* start,
-                                                const int* self, const int* active, int* blocked) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked);
+                                                const int* self, const int* active, int* blocked,
+                                                uint64_t candidates) {
+    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 
 }  // namespace
@@ -189,14 +191,17 @@ void spheres_closest(SphereKernel kernel, const float* spheres, int n, const flo
 
 bool spheres_occluded(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
                       const float* const direction[3], const float* t_far, const int* start_sphere,
-                      const int* self_blocks, const int* active, int* blocked) {
+                      const int* self_blocks, const int* active, int* blocked, uint64_t candidates) {
     switch (kernel) {
         case SphereKernel::Avx512:
-            return occluded_avx512(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+            return occluded_avx512(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked,
+                                   candidates);
         case SphereKernel::Avx2:
-            return occluded_avx2(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+            return occluded_avx2(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked,
+                                 candidates);
         default:
-            return occluded_default(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked);
+            return occluded_default(spheres, n, origin, direction, t_far, start_sphere, self_blocks, active, blocked,
+                                    candidates);
     }
 }
 

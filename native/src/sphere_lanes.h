@@ -14,6 +14,7 @@
 // the packet comes near first.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ constexpr SphereKernel kSphereKernels[] = {SphereKernel::Default, SphereKernel::
 bool sphere_kernel_available(SphereKernel kernel);
 const char* sphere_kernel_name(SphereKernel kernel);
 SphereKernel fastest_sphere_kernel();
+
+// Which primitives of a call a packet may meet: bit k for primitive k < 64,
+// those past 64 always. A cull outside the kernels (packet_bounds.h) clears
+// the bits of primitives no lane can reach.
+constexpr uint64_t kAllCandidates = ~uint64_t(0);
+inline bool is_candidate(uint64_t candidates, int k) { return k >= 64 || ((candidates >> k) & 1u) != 0; }
 
 // How many rays one call takes: the render's packet width (embree_packet.h).
 constexpr int kSphereLanes = 16;
@@ -50,9 +57,11 @@ void spheres_closest(SphereKernel kernel, const float* spheres, int n, const flo
 // sphere blocks a segment from its own surface exactly when the segment goes
 // inside and ends outside, which the caller knows (self_blocks[i]); a
 // rounded root near t = 0 would shadow the surface itself.
-// Returns whether any lane is blocked.
+// Only the spheres candidates names are tested (is_candidate: a caller that
+// knows no lane comes near sphere k clears its bit). Returns whether any lane is blocked.
 bool spheres_occluded(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
                       const float* const direction[3], const float* t_far, const int* start_sphere,
-                      const int* self_blocks, const int* active, int* blocked);
+                      const int* self_blocks, const int* active, int* blocked,
+                      uint64_t candidates = kAllCandidates);
 
 }  // namespace lc

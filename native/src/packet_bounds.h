@@ -1,0 +1,62 @@
+// One bound round a whole packet of shadow rays, and the own primitives
+// (sphere_lanes.h, quad_lanes.h) it may meet: a per-packet cull that runs
+// before the kernels' per-lane culls.
+//
+// A packet's shadow rays start at nearby hits (a camera packet's samples lie
+// in one or two pixels) and all end at one light, so every segment lies in
+// one capsule: round the axis from one lane's origin to the light, as wide
+// as the farthest origin from that one (or the farthest end from the light). A primitive whose bounding ball lies farther from the axis than
+// that radius plus a margin (1e-4 of the coordinates, far above any
+// rounding), or whose plane leaves the whole capsule on one side, meets no
+// lane: it is skipped after one test per packet, all primitives side by side
+// in float lanes, instead of the kernels' per-lane culls, 16 lanes each. The
+// cull only skips what cannot block, so the images are the same bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "embree_packet.h"
+#include "quad_lanes.h"
+
+namespace lc {
+
+// Whether a scene built now culls per packet: LENSCOMPARE_PACKET_CULL=0 turns
+// it off, for the tests that show it changes no image and the benchmarks that
+// measure what it saves.
+bool packet_cull_enabled();
+
+struct SegmentCapsule {
+    float a[3], b[3];  // the axis: the first valid lane's origin, the light (m)
+    float radius_m;    // every valid segment lies within this of the axis
+    float size_m;      // 1 + the largest coordinate or radius: the margin's scale
+};
+
+// The valid lanes' segments t in [0, tfar] (an RTCRayPacket as shadow_lanes
+// fills it, toward light_m); false when no lane is valid. A value not finite
+// makes the radius infinite: every primitive stays a candidate.
+bool capsule_of_segments(const RTCRayPacket& packet, const int* valid, const float light_m[3],
+                         SegmentCapsule* out);
+
+// The own primitives as the cull takes them, in columns: a bounding ball
+// each, and a quad's plane (unit normal and offset n . v0; a sphere's normal
+// is 0, so its plane test always passes).
+// Padded with zeros to whole packets, so that near_capsule's loop takes whole vectors.
+struct CullColumns {
+    std::vector<float> x, y, z, radius, nx, ny, nz, offset;
+    int count() const { return count_; }
+    int padded_count() const { return int(x.size()); }
+    // The own spheres (centre xyz, radius each), then the own quads.
+    static CullColumns of_own(const std::vector<float>& spheres, const std::vector<OwnQuad>& quads);
+
+  private:
+    void pad();
+    int count_ = 0;
+};
+
+// Bit k set: primitive k (k < 64) may meet a segment within the capsule (for
+// of_own's columns: the spheres' candidates from bit 0, the quads' after them;
+// is_candidate, sphere_lanes.h).
+uint64_t near_capsule(const SegmentCapsule& capsule, const CullColumns& primitives);
+
+}  // namespace lc

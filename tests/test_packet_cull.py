@@ -1,0 +1,80 @@
+"""The per-packet cull of shadow rays (native/src/packet_bounds.h) only skips primitives no lane can reach:
+renders with it and without it (LENSCOMPARE_PACKET_CULL=0) are the same bit for bit, on the reference scenes
+and on scenes built to sit at its edges."""
+import numpy as np
+import pytest
+
+from helpers import REFERENCE_SCENES
+from lenscompare.render import render
+from lenscompare.scene import load_scene, parse_scene
+
+HEADER = '''name = "cull"
+[camera]
+model = "thin"
+position = [0.0, 1.0, -2.0]
+look_at = [0.0, 0.2, 2.0]
+focal_length_mm = 35.0
+f_number = 2.0
+focus_distance = 4.0
+film_mm = [36.0, 24.0]
+resolution = [72, 48]
+[materials.m]
+type = "diffuse"
+color = [0.7, 0.6, 0.5]
+[[objects]]
+type = "rectangle"
+corner = [-4.0, 0.0, -1.0]
+edge1 = [8.0, 0.0, 0.0]
+edge2 = [0.0, 0.0, 9.0]
+material = "m"
+'''
+
+
+def sphere(centre, radius):
+    return (f'[[objects]]\ntype = "sphere"\ncenter = [{centre[0]!r}, {centre[1]!r}, {centre[2]!r}]\n'
+            f'radius = {radius!r}\nmaterial = "m"\n')
+
+
+def light(position):
+    return (f'[[lights]]\ntype = "point"\nposition = [{position[0]!r}, {position[1]!r}, {position[2]!r}]\n'
+            'color = [20.0, 20.0, 20.0]\nfalloff = "inverse_square"\n')
+
+
+def edge_scenes():
+    rng = np.random.default_rng(5)
+    lamp = np.array([0.5, 3.0, 2.0])
+    # Small spheres strewn between the floor and the light, many of them grazing some shadow ray
+    strewn = "".join(sphere([float(v) for v in lamp * t + (1 - t) * np.array([x, 0.0, z])], float(r)) for t, x, z, r in zip(
+        rng.uniform(0.05, 0.95, 24), rng.uniform(-2, 2, 24), rng.uniform(0, 6, 24), rng.uniform(0.005, 0.05, 24)))
+    return {
+        "strewn": HEADER + strewn + light([float(v) for v in lamp]),
+        # The light on the floor's plane (its shadow rays run along it), and one inside a sphere
+        "light_in_plane": HEADER + sphere((0.0, 0.4, 2.0), 0.4) + light((3.0, 0.0, 2.0)),
+        "light_inside_sphere": HEADER + sphere((0.0, 2.0, 2.0), 0.5) + light((0.0, 2.0, 2.0)) + light((2, 2, 0)),
+        # A sphere touching the light, a tiny one and a huge one whose surface passes near the scene
+        "touching_tiny_huge": HEADER + sphere((1.3, 2.3, 2.0), 0.3) + sphere((0.2, 0.5, 1.5), 1e-4)
+        + sphere((0.0, -1e4 - 5.0, 0.0), 1e4) + light((1.0, 2.3, 2.0)),
+    }
+
+
+def render_both(monkeypatch, scene, **options):
+    images = {}
+    for cull in ("1", "0"):
+        monkeypatch.setenv("LENSCOMPARE_PACKET_CULL", cull)
+        images[cull] = render(scene, progress=False, **options).pixels
+    return images["1"], images["0"]
+
+
+@pytest.mark.parametrize("name", list(edge_scenes()))
+def test_the_cull_changes_no_bit_at_its_edges(monkeypatch, name):
+    culled, tested = render_both(monkeypatch, parse_scene(edge_scenes()[name]), model="thin", spp=16, threads=2)
+    assert np.isfinite(culled).all()
+    assert np.array_equal(culled, tested)
+
+
+@pytest.mark.parametrize("model", ["pinhole", "thin"])
+def test_the_cull_changes_no_bit_on_lit_showcase(monkeypatch, model):
+    scene = load_scene(REFERENCE_SCENES / "lit_showcase.toml").with_camera(resolution=(96, 64))
+    culled, tested = render_both(monkeypatch, scene, model=model, spp=16, threads=2)
+    assert culled.mean() > 0.01  # lit, with shadows to cull for
+    assert np.array_equal(culled, tested)
