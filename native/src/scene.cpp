@@ -297,7 +297,7 @@ Scene::Scene(const SceneArrays& a)
         return id;
     };
     own_columns_ = CullColumns::of_own(own_spheres_, own_quads_);
-    packet_cull_ = packet_cull_enabled() && own_columns_.count() <= 64;
+    packet_cull_ = packet_cull_enabled() && own_columns_.count() > 0 && own_columns_.count() <= 64;
     if (!own_spheres_.empty()) own_spheres_id_ = own_id(own_table);
     if (!own_quads_.empty()) own_quads_id_ = own_id(own_quad_table);
     sphere_kernel_ = fastest_sphere_kernel();
