@@ -44,8 +44,10 @@ def edge_scenes():
     rng = np.random.default_rng(5)
     lamp = np.array([0.5, 3.0, 2.0])
     # Small spheres strewn between the floor and the light, many of them grazing some shadow ray
-    strewn = "".join(sphere([float(v) for v in lamp * t + (1 - t) * np.array([x, 0.0, z])], float(r)) for t, x, z, r in zip(
-        rng.uniform(0.05, 0.95, 24), rng.uniform(-2, 2, 24), rng.uniform(0, 6, 24), rng.uniform(0.005, 0.05, 24)))
+    draws = zip(rng.uniform(0.05, 0.95, 24), rng.uniform(-2, 2, 24), rng.uniform(0, 6, 24),
+                rng.uniform(0.005, 0.05, 24))
+    strewn = "".join(sphere([float(v) for v in lamp * t + (1 - t) * np.array([x, 0.0, z])], float(r))
+                     for t, x, z, r in draws)
     return {
         "strewn": HEADER + strewn + light([float(v) for v in lamp]),
         # The light on the floor's plane (its shadow rays run along it), and one inside a sphere

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <string>
+#include <cstring>
 #include <limits>
 
 #include "cpu_kernels.h"
@@ -30,7 +30,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 bool packet_cull_enabled() {
     const char* text = std::getenv("LENSCOMPARE_PACKET_CULL");
-    return !(text && std::string(text) == "0");
+    return !(text && std::strcmp(text, "0") == 0);  // as LENSCOMPARE_EMBREE_ROBUST (embree_packet.cpp)
 }
 
 LC_BUILT_PER_ISA bool capsule_of_segments(const RTCRayPacket& packet, const int* valid, const float light_m[3],
@@ -71,9 +71,8 @@ CullColumns CullColumns::of_own(const std::vector<float>& spheres, const std::ve
     for (const OwnQuad& q : quads) {
         c.x.push_back(q.bound[0]), c.y.push_back(q.bound[1]), c.z.push_back(q.bound[2]);
         c.radius.push_back(q.bound[3]);
-        const double length = std::sqrt(q.n[0] * q.n[0] + q.n[1] * q.n[1] + q.n[2] * q.n[2]);
-        const double unit[3] = {q.n[0] / length, q.n[1] / length, q.n[2] / length};
-        c.nx.push_back(float(unit[0])), c.ny.push_back(float(unit[1])), c.nz.push_back(float(unit[2]));
+        const float* unit = q.unit_normal;
+        c.nx.push_back(unit[0]), c.ny.push_back(unit[1]), c.nz.push_back(unit[2]);
         c.offset.push_back(float(unit[0] * q.v0[0] + unit[1] * q.v0[1] + unit[2] * q.v0[2]));
     }
     c.pad();

@@ -5,7 +5,8 @@
 // A packet's shadow rays start at nearby hits (a camera packet's samples lie
 // in one or two pixels) and all end at one light, so every segment lies in
 // one capsule: round the axis from one lane's origin to the light, as wide
-// as the farthest origin from that one (or the farthest end from the light). A primitive whose bounding ball lies farther from the axis than
+// as the farthest origin from that one (or the farthest end from the
+// light). A primitive whose bounding ball lies farther from the axis than
 // that radius plus a margin (1e-4 of the coordinates, far above any
 // rounding), or whose plane leaves the whole capsule on one side, meets no
 // lane: it is skipped after one test per packet, all primitives side by side
@@ -39,9 +40,9 @@ bool capsule_of_segments(const RTCRayPacket& packet, const int* valid, const flo
                          SegmentCapsule* out);
 
 // The own primitives as the cull takes them, in columns: a bounding ball
-// each, and a quad's plane (unit normal and offset n . v0; a sphere's normal
-// is 0, so its plane test always passes).
-// Padded with zeros to whole packets, so that near_capsule's loop takes whole vectors.
+// each, and a quad's plane (its unit normal and offset n . v0; a sphere's
+// normal is 0, so its plane test always passes). Padded with zeros to whole
+// packets, so that near_capsule's loop takes whole vectors.
 struct CullColumns {
     std::vector<float> x, y, z, radius, nx, ny, nz, offset;
     int count() const { return count_; }

@@ -137,6 +137,7 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
     if (!any) return false;
     const int* valid = shadow.lanes.valid;
     RTCIntersectContext& context = hits.context;
+    int self_blocked = 0;  // some lane is blocked by the sphere it starts on
     for (int i = 0; i < kPacketSize; ++i) {
         shadow.start_sphere[i] = -1, shadow.self_blocks[i] = 0;
         if (!valid[i] || hits.hit_mover[i] || hits.packet.hit.geomID[i] != own_spheres_id_) continue;
@@ -151,8 +152,10 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
         const bool light_outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
         shadow.start_sphere[i] = k;
         shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
+        self_blocked |= shadow.self_blocks[i];
     }
-    // The own primitives some lane's segment may reach (packet_bounds.h); the rest are not tested.
+    // The own primitives some lane's segment may reach (packet_bounds.h); the
+    // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     SegmentCapsule capsule;
     const int n_spheres = int(own_spheres_.size() / 4);
@@ -161,8 +164,6 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
         near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
     }
-    int self_blocked = 0;
-    for (int i = 0; i < kPacketSize; ++i) self_blocked |= shadow.self_blocks[i];
     alignas(kPacketAlignment) int open[kPacketSize];  // lanes no own sphere or quad blocks
     for (int i = 0; i < kPacketSize; ++i) open[i] = valid[i];
     const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
@@ -178,13 +179,13 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
         return left != 0;
     };
     bool any_open = true;
-    if (n_spheres > 0 && (near_spheres != 0 || n_spheres > 64 || self_blocked)) {
+    if (n_spheres > 0 && (near_spheres != 0 || self_blocked)) {
         int blocked[kPacketSize];
         spheres_occluded(sphere_kernel_, own_spheres_.data(), n_spheres, origin, direction, packet.tfar,
                          shadow.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
         any_open = close_blocked(blocked);
     }
-    if (any_open && !own_quads_.empty() && (near_quads != 0 || own_quads_.size() > 64)) {
+    if (any_open && !own_quads_.empty() && near_quads != 0) {
         int blocked[kPacketSize];
         quads_occluded(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, packet.tfar,
                        open, blocked, near_quads);
