@@ -395,6 +395,7 @@ class _Diagnostics(types.ModuleType):
         t_far: numpy.ndarray,  # float32 (n,), read and written
         index: numpy.ndarray,  # int32 (n,), written (-1: no hit)
         kernel: str,
+        first_quad: int = 0,  # tested first, then the one the last packet met (the same hits in any order)
     ) -> None:
         """Closest hits at t in [0, t_far) as the render's camera rays get them, in place."""
 

@@ -28,11 +28,12 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=1, keepdims=True)
 
 
-def closest(corners, origin, direction, kernel="default", t_far=None):
+def closest(corners, origin, direction, kernel="default", t_far=None, first_quad=0):
     n = len(origin)
     t = np.full(n, np.inf, np.float32) if t_far is None else np.asarray(t_far, np.float32).copy()
     index = np.zeros(n, np.int32)
-    diagnostics.own_quads_closest(np.ascontiguousarray(corners, np.float32), origin, direction, t, index, kernel)
+    diagnostics.own_quads_closest(np.ascontiguousarray(corners, np.float32), origin, direction, t, index, kernel,
+                                  first_quad)
     return t, index
 
 
@@ -158,6 +159,42 @@ def test_every_kernel_gives_the_same_bits():
         assert np.array_equal(results[kernel][0], results[first][0])
         assert np.array_equal(results[kernel][1], results[first][1])
         assert np.array_equal(blocked[kernel], blocked[first])
+
+
+def test_the_quad_tested_first_changes_no_hit():
+    """A render tests first the quad its last packet met: ties (rays at a box's edges, where two faces
+    meet at one float distance) still go to the lower index, and every hit is the same. Each packet is
+    16 copies of one ray at an edge, so that the plane cull of the face tested second sees only a ray
+    ending on its plane: it must not drop that face when its hit rounds to the same float."""
+    lo, hi = np.array([-4.0, -0.1, -1.0]), np.array([4.0, 0.0, 12.0])  # lit_showcase's floor slab
+    quads = box_quads(lo, hi).astype(np.float32)
+    rays = []
+    for a in range(3):  # the twelve edges: along axis a, at one of the four corners across
+        for corner in range(4):
+            across = [b for b in range(3) if b != a]
+            end_lo = np.where([False] * 3, hi, lo).astype(float)
+            end_lo[across[0]] = (lo, hi)[corner & 1][across[0]]
+            end_lo[across[1]] = (lo, hi)[corner >> 1][across[1]]
+            outward = np.sign(end_lo - (lo + hi) / 2)
+            outward[a] = 0.0
+            s = RNG.uniform(0.01, 0.99, (256, 1, 1))
+            points = np.repeat(end_lo + s * np.eye(3)[a] * (hi[a] - lo[a]), 16, axis=1)
+            toward = -unit(outward[None] + RNG.uniform(-0.3, 0.3, (256, 3)) * (outward != 0))
+            direction = np.repeat(toward[:, None], 16, axis=1).astype(np.float32)
+            origin = (points - direction * 6.0).astype(np.float32)
+            rays.append((origin.reshape(-1, 3), direction.reshape(-1, 3)))
+    origin = np.concatenate([o for o, _ in rays])
+    direction = np.concatenate([d for _, d in rays])
+    baseline = closest(quads, origin, direction)
+    assert np.all(baseline[1] >= 0)
+    for first in range(1, len(quads)):
+        t, index = closest(quads, origin, direction, first_quad=first)
+        assert np.array_equal(t, baseline[0]) and np.array_equal(index, baseline[1]), f"first quad {first}"
+    ties = 0
+    for k in range(len(quads)):  # the rays whose hit another quad matches exactly
+        alone, _ = closest(quads[k:k + 1], origin, direction)
+        ties += np.sum((alone == baseline[0]) & (baseline[1] != k))
+    assert ties > 1000, "the rays should meet ties at the edges"
 
 
 def test_a_quad_that_is_not_a_parallelogram_is_refused():

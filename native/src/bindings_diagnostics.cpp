@@ -380,10 +380,13 @@ void bind_own_quads(nb::module_& m) {
     m.def("own_quads_closest",
           [](CArray<const float, -1, 4, 3> corners, CArray<const float, -1, 3> origin,
              CArray<const float, -1, 3> direction, CArray<float, -1> t_far, CArray<int32_t, -1> index,
-             const std::string& kernel) {
+             const std::string& kernel, int first_quad) {
               constexpr int N = kSphereLanes;
               const SphereKernel k = sphere_kernel_named(kernel);
               const std::vector<OwnQuad> quads = own_quads_from(corners);
+              if (first_quad < 0 || (first_quad > 0 && size_t(first_quad) >= quads.size()))
+                  throw std::invalid_argument("first_quad: " + std::to_string(first_quad) + " is not a quad");
+              int tested_first = first_quad;  // then the quad the last packet met, as in a render
               const size_t n = origin.shape(0);
               if (direction.shape(0) != n || t_far.shape(0) != n || index.shape(0) != n)
                   throw std::invalid_argument("origin, direction, t_far and index need one row per ray");
@@ -393,14 +396,14 @@ void bind_own_quads(nb::module_& m) {
                   int idx[N];
                   float* const nn[3] = {nrm[0], nrm[1], nrm[2]};
                   quads_closest(k, quads.data(), int(quads.size()), lanes.origin, lanes.direction, lanes.active,
-                                lanes.t_far, idx, nn);
+                                lanes.t_far, idx, nn, &tested_first);
                   for (int i = 0; i < N && first + size_t(i) < n; ++i)
                       t_far(first + size_t(i)) = lanes.t_far[i], index(first + size_t(i)) = idx[i];
               }
           },
-          "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "kernel"_a,
+          "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "kernel"_a, "first_quad"_a = 0,
           "Closest hits at t in [0, t_far) with parallelograms (corners in order round each, xyz): t_far and "
-          "index (-1: none), in place, as the render's camera rays get them.");
+          "index (-1: none), in place, as the render's camera rays get them; first_quad is tested first.");
 
     m.def("own_quads_occluded",
           [](CArray<const float, -1, 4, 3> corners, CArray<const float, -1, 3> origin,

@@ -30,18 +30,18 @@ using lanes::DoubleLanes;
     }
 }
 
-// Whether some active lane's segment t in [0, t_far] may cross q's plane:
-// its ends are not both strictly on one side. Shadow rays mostly start and
-// end on one side of a quad's plane (a floor's faces, a wall behind the
+// Whether some active lane's segment t in [0, t_far * stretch] may cross q's
+// plane: its ends are not both strictly on one side. Shadow rays mostly start
+// and end on one side of a quad's plane (a floor's faces, a wall behind the
 // lights): then the quad is skipped before plane_hits' division.
 [[gnu::always_inline]] inline bool may_cross_plane(const OwnQuad& q, const DoubleLanes<N>& ray, const float* t_far,
-                                                   const int* active) {
+                                                   const int* active, double stretch) {
     int any = 0;
     for (int i = 0; i < N; ++i) {
         const double fx = ray.o[0][i] - q.v0[0], fy = ray.o[1][i] - q.v0[1], fz = ray.o[2][i] - q.v0[2];
         const double start = fx * q.n[0] + fy * q.n[1] + fz * q.n[2];
         const double along = ray.d[0][i] * q.n[0] + ray.d[1][i] * q.n[1] + ray.d[2][i] * q.n[2];
-        const double end = start + double(t_far[i]) * along;
+        const double end = start + double(t_far[i]) * stretch * along;
         any |= (active[i] != 0) & !(start * end > 0.0);
     }
     return any != 0;
@@ -50,38 +50,53 @@ using lanes::DoubleLanes;
 // The two culls, the plane's sides first (it skips most shadow rays), then the bounding sphere.
 [[gnu::always_inline]] inline bool may_meet(const OwnQuad& q, const DoubleLanes<N>& ray, const float* const origin[3],
                                             const float* const direction[3], const float* t_far,
-                                            const float* inv_dd, const float* origin_size, const int* active) {
-    return may_cross_plane(q, ray, t_far, active) &&
+                                            const float* inv_dd, const float* origin_size, const int* active,
+                                            double stretch = 1.0) {
+    return may_cross_plane(q, ray, t_far, active, stretch) &&
            lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active);
 }
 
+// The plane cull's stretch of t_far in the closest test: a quad whose hit
+// rounds (to float) to the current t_far is still tested, so that a tie goes
+// to the lower index whichever quad came first (plane_hits' t and the cull's
+// ends differ by a few double roundings, far below 2^-20).
+constexpr double kTieStretch = 1.0 + 0x1p-20;
+
 [[gnu::always_inline]] inline void closest_body(const OwnQuad* quads, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
-                                                int* index, float* const normal[3]) {
+                                                int* index, float* const normal[3], int* first_quad) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     DoubleLanes<N> ray;
     ray.load_once(origin, direction);  // the plane culls take the lanes in double
     for (int i = 0; i < N; ++i) index[i] = -1;
-    for (int k = 0; k < n; ++k) {
+    const int first = first_quad && *first_quad >= 0 && *first_quad < n ? *first_quad : 0;
+    for (int step = 0; step < n; ++step) {
+        // first, then the others in order
+        const int k = step == 0 ? first : (step <= first ? step - 1 : step);
         const OwnQuad& q = quads[k];
-        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
+        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) continue;
         double t[N];
         int inside[N];
         plane_hits(q, ray, t, inside);
         for (int i = 0; i < N; ++i) {
             const float hit_f = float(t[i]);
-            // Strictly nearer: of two quads at one distance (a shared edge) the first keeps the hit
-            const bool take = (active[i] != 0) & (inside[i] != 0) & (hit_f < t_far[i]);
+            // Nearer, or as near and of a lower index (a shared edge): the
+            // lowest index at the least distance, in any order.
+            const bool nearer = (hit_f < t_far[i]) | ((hit_f == t_far[i]) & (index[i] > k));
+            const bool take = (active[i] != 0) & (inside[i] != 0) & nearer;
             t_far[i] = take ? hit_f : t_far[i];
             index[i] = take ? k : index[i];
         }
     }
     if (n == 0) return;  // no quad to take a normal from
+    int winner = -1;
     for (int i = 0; i < N; ++i) {
         const OwnQuad& q = quads[index[i] < 0 ? 0 : index[i]];
         for (int a = 0; a < 3; ++a) normal[a][i] = q.unit_normal[a];
+        winner = winner < 0 ? index[i] : winner;
     }
+    if (first_quad && winner >= 0) *first_quad = winner;
 }
 
 [[gnu::always_inline]] inline bool occluded_body(const OwnQuad* quads, int n, const float* const origin[3],
@@ -110,17 +125,18 @@ using lanes::DoubleLanes;
 }
 
 void closest_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const int* active,
-                     float* t_far, int* index, float* const normal[3]) {
-    closest_body(q, n, o, d, active, t_far, index, normal);
+                     float* t_far, int* index, float* const normal[3], int* first) {
+    closest_body(q, n, o, d, active, t_far, index, normal, first);
 }
 [[gnu::target("avx2")]] void closest_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
-                                          const int* active, float* t_far, int* index, float* const normal[3]) {
-    closest_body(q, n, o, d, active, t_far, index, normal);
+                                          const int* active, float* t_far, int* index, float* const normal[3],
+                                          int* first) {
+    closest_body(q, n, o, d, active, t_far, index, normal, first);
 }
 [[gnu::target("avx512f")]] void closest_avx512(const OwnQuad* q, int n, const float* const o[3],
                                                const float* const d[3], const int* active, float* t_far, int* index,
-                                               float* const normal[3]) {
-    closest_body(q, n, o, d, active, t_far, index, normal);
+                                               float* const normal[3], int* first) {
+    closest_body(q, n, o, d, active, t_far, index, normal, first);
 }
 
 bool occluded_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const float* t_far,
@@ -194,11 +210,13 @@ int max_own_quads() {
 
 void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
                    const float* const direction[3], const int* active, float* t_far, int* index,
-                   float* const normal[3]) {
+                   float* const normal[3], int* first_quad) {
     switch (kernel) {
-        case SphereKernel::Avx512: return closest_avx512(quads, n, origin, direction, active, t_far, index, normal);
-        case SphereKernel::Avx2: return closest_avx2(quads, n, origin, direction, active, t_far, index, normal);
-        default: return closest_default(quads, n, origin, direction, active, t_far, index, normal);
+        case SphereKernel::Avx512:
+            return closest_avx512(quads, n, origin, direction, active, t_far, index, normal, first_quad);
+        case SphereKernel::Avx2:
+            return closest_avx2(quads, n, origin, direction, active, t_far, index, normal, first_quad);
+        default: return closest_default(quads, n, origin, direction, active, t_far, index, normal, first_quad);
     }
 }
 

@@ -92,8 +92,11 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
         record_hits(own_spheres_id_);
     }
     if (!own_quads_.empty()) {
+        // The quad the thread's last packet met is tested first (any order
+        // gives the same hits: quads_closest).
+        thread_local int first_quad = 0;
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
-                      packet.ray.tfar, index, normal);
+                      packet.ray.tfar, index, normal, &first_quad);
         record_hits(own_quads_id_);
     }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
