@@ -9,17 +9,50 @@
 
 #include <cmath>
 
+#include <immintrin.h>
+
 namespace lc::lanes {
+
+// Which instruction set a kernel body is compiled for: any_set's test of a
+// row of flags differs by set (the rest of a body is plain lane loops).
+struct PortableSet {};
+struct Avx2Set {};
+struct Avx512Set {};
+
+// Whether any of N (a multiple of 16) int flags is nonzero. As an OR over a
+// loop GCC reduces the lanes with a chain of shuffles before the branch that
+// waits on it (a third of the own quads' closest test, perf); a whole-row
+// test is one instruction per 8 or 16 flags. Each overload only inlines into
+// bodies compiled for its set.
+template <int N>
+[[gnu::always_inline]] inline bool any_set(PortableSet, const int* flags) {
+    int any = 0;
+    for (int i = 0; i < N; ++i) any |= flags[i];
+    return any != 0;
+}
+template <int N>
+[[gnu::target("avx2")]] inline bool any_set(Avx2Set, const int* flags) {
+    __m256i any = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(flags));
+    for (int i = 8; i < N; i += 8)
+        any = _mm256_or_si256(any, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(flags + i)));
+    return !_mm256_testz_si256(any, any);
+}
+template <int N>
+[[gnu::target("avx512f")]] inline bool any_set(Avx512Set, const int* flags) {
+    __m512i any = _mm512_loadu_si512(flags);
+    for (int i = 16; i < N; i += 16) any = _mm512_or_si512(any, _mm512_loadu_si512(flags + i));
+    return _mm512_test_epi32_mask(any, any) != 0;
+}
 
 // Whether a lane may meet the sphere c (centre xyz, radius) anywhere on its
 // line; NaN keeps the lane. Returns whether any lane may.
-template <int N>
-[[gnu::always_inline]] inline bool near_line(const float* c, const float* const origin[3],
+template <int N, class Set>
+[[gnu::always_inline]] inline bool near_line(Set set, const float* c, const float* const origin[3],
                                              const float* const direction[3], const float* inv_dd,
                                              const float* origin_size, const int* active) {
     float centre_size = 1.0f;
     for (int a = 0; a < 4; ++a) centre_size = std::fabs(c[a]) > centre_size ? std::fabs(c[a]) : centre_size;
-    int any = 0;
+    alignas(64) int near[N];
     for (int i = 0; i < N; ++i) {
         const float dx = direction[0][i], dy = direction[1][i], dz = direction[2][i];
         const float fx = origin[0][i] - c[0], fy = origin[1][i] - c[1], fz = origin[2][i] - c[2];
@@ -27,9 +60,9 @@ template <int N>
         const float px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
         const float reach = c[3] * (1.0f + 1e-5f) + 1e-5f * (centre_size + origin_size[i]);
         // & not &&: a branch per lane keeps GCC from running the lanes side by side
-        any |= (active[i] != 0) & !(px * px + py * py + pz * pz > reach * reach);
+        near[i] = -int((active[i] != 0) & !(px * px + py * py + pz * pz > reach * reach));
     }
-    return any != 0;
+    return any_set<N>(set, near);
 }
 
 // Per lane: 1 / |d|^2 and the largest origin coordinate, which near_line takes.

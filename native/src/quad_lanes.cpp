@@ -34,26 +34,28 @@ using lanes::DoubleLanes;
 // plane: its ends are not both strictly on one side. Shadow rays mostly start
 // and end on one side of a quad's plane (a floor's faces, a wall behind the
 // lights): then the quad is skipped before plane_hits' division.
-[[gnu::always_inline]] inline bool may_cross_plane(const OwnQuad& q, const DoubleLanes<N>& ray, const float* t_far,
+template <class Set>
+[[gnu::always_inline]] inline bool may_cross_plane(Set set, const OwnQuad& q, const DoubleLanes<N>& ray, const float* t_far,
                                                    const int* active, double stretch) {
-    int any = 0;
+    alignas(64) int crosses[N];
     for (int i = 0; i < N; ++i) {
         const double fx = ray.o[0][i] - q.v0[0], fy = ray.o[1][i] - q.v0[1], fz = ray.o[2][i] - q.v0[2];
         const double start = fx * q.n[0] + fy * q.n[1] + fz * q.n[2];
         const double along = ray.d[0][i] * q.n[0] + ray.d[1][i] * q.n[1] + ray.d[2][i] * q.n[2];
         const double end = start + double(t_far[i]) * stretch * along;
-        any |= (active[i] != 0) & !(start * end > 0.0);
+        crosses[i] = -int((active[i] != 0) & !(start * end > 0.0));
     }
-    return any != 0;
+    return lanes::any_set<N>(set, crosses);
 }
 
 // The two culls, the plane's sides first (it skips most shadow rays), then the bounding sphere.
-[[gnu::always_inline]] inline bool may_meet(const OwnQuad& q, const DoubleLanes<N>& ray, const float* const origin[3],
+template <class Set>
+[[gnu::always_inline]] inline bool may_meet(Set set, const OwnQuad& q, const DoubleLanes<N>& ray, const float* const origin[3],
                                             const float* const direction[3], const float* t_far,
                                             const float* inv_dd, const float* origin_size, const int* active,
                                             double stretch = 1.0) {
-    return may_cross_plane(q, ray, t_far, active, stretch) &&
-           lanes::near_line<N>(q.bound, origin, direction, inv_dd, origin_size, active);
+    return may_cross_plane(set, q, ray, t_far, active, stretch) &&
+           lanes::near_line<N>(set, q.bound, origin, direction, inv_dd, origin_size, active);
 }
 
 // The plane cull's stretch of t_far in the closest test: a quad whose hit
@@ -62,7 +64,8 @@ using lanes::DoubleLanes;
 // ends differ by a few double roundings, far below 2^-20).
 constexpr double kTieStretch = 1.0 + 0x1p-20;
 
-[[gnu::always_inline]] inline void closest_body(const OwnQuad* quads, int n, const float* const origin[3],
+template <class Set>
+[[gnu::always_inline]] inline void closest_body(Set set, const OwnQuad* quads, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
                                                 int* index, float* const normal[3], int* first_quad) {
     float inv_dd[N], origin_size[N];
@@ -75,7 +78,7 @@ constexpr double kTieStretch = 1.0 + 0x1p-20;
         // first, then the others in order
         const int k = step == 0 ? first : (step <= first ? step - 1 : step);
         const OwnQuad& q = quads[k];
-        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) continue;
+        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) continue;
         double t[N];
         int inside[N];
         plane_hits(q, ray, t, inside);
@@ -99,7 +102,8 @@ constexpr double kTieStretch = 1.0 + 0x1p-20;
     if (first_quad && winner >= 0) *first_quad = winner;
 }
 
-[[gnu::always_inline]] inline bool occluded_body(const OwnQuad* quads, int n, const float* const origin[3],
+template <class Set>
+[[gnu::always_inline]] inline bool occluded_body(Set set, const OwnQuad* quads, int n, const float* const origin[3],
                                                  const float* const direction[3], const float* t_far,
                                                  const int* active, int* blocked, uint64_t candidates) {
     float inv_dd[N], origin_size[N];
@@ -110,7 +114,7 @@ constexpr double kTieStretch = 1.0 + 0x1p-20;
     for (int k = 0; k < n; ++k) {
         if (!is_candidate(candidates, k)) continue;
         const OwnQuad& q = quads[k];
-        if (!may_meet(q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
+        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
         double t[N];
         int inside[N];
         plane_hits(q, ray, t, inside);
@@ -126,32 +130,32 @@ constexpr double kTieStretch = 1.0 + 0x1p-20;
 
 void closest_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const int* active,
                      float* t_far, int* index, float* const normal[3], int* first) {
-    closest_body(q, n, o, d, active, t_far, index, normal, first);
+    closest_body(lanes::PortableSet{}, q, n, o, d, active, t_far, index, normal, first);
 }
 [[gnu::target("avx2")]] void closest_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
                                           const int* active, float* t_far, int* index, float* const normal[3],
                                           int* first) {
-    closest_body(q, n, o, d, active, t_far, index, normal, first);
+    closest_body(lanes::Avx2Set{}, q, n, o, d, active, t_far, index, normal, first);
 }
 [[gnu::target("avx512f")]] void closest_avx512(const OwnQuad* q, int n, const float* const o[3],
                                                const float* const d[3], const int* active, float* t_far, int* index,
                                                float* const normal[3], int* first) {
-    closest_body(q, n, o, d, active, t_far, index, normal, first);
+    closest_body(lanes::Avx512Set{}, q, n, o, d, active, t_far, index, normal, first);
 }
 
 bool occluded_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const float* t_far,
                       const int* active, int* blocked, uint64_t candidates) {
-    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
+    return occluded_body(lanes::PortableSet{}, q, n, o, d, t_far, active, blocked, candidates);
 }
 [[gnu::target("avx2")]] bool occluded_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
                                            const float* t_far, const int* active, int* blocked,
                                            uint64_t candidates) {
-    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
+    return occluded_body(lanes::Avx2Set{}, q, n, o, d, t_far, active, blocked, candidates);
 }
 [[gnu::target("avx512f")]] bool occluded_avx512(const OwnQuad* q, int n, const float* const o[3],
                                                 const float* const d[3], const float* t_far, const int* active,
                                                 int* blocked, uint64_t candidates) {
-    return occluded_body(q, n, o, d, t_far, active, blocked, candidates);
+    return occluded_body(lanes::Avx512Set{}, q, n, o, d, t_far, active, blocked, candidates);
 }
 
 void cross(const double* a, const double* b, double* out) {

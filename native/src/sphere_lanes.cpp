@@ -48,7 +48,8 @@ struct Roots {
     }
 }
 
-[[gnu::always_inline]] inline void closest_body(const float* spheres, int n, const float* const origin[3],
+template <class Set>
+[[gnu::always_inline]] inline void closest_body(Set set, const float* spheres, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
                                                 int* index, float* const normal[3]) {
     float inv_dd[N], origin_size[N];
@@ -58,7 +59,7 @@ struct Roots {
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
         const float* c = spheres + 4 * k;
-        if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!lanes::near_line<N>(set, c, origin, direction, inv_dd, origin_size, active)) continue;
         ray.load_once(origin, direction);
         Roots t;
         roots(c, ray, t);
@@ -85,7 +86,8 @@ struct Roots {
     }
 }
 
-[[gnu::always_inline]] inline bool occluded_body(const float* spheres, int n, const float* const origin[3],
+template <class Set>
+[[gnu::always_inline]] inline bool occluded_body(Set set, const float* spheres, int n, const float* const origin[3],
                                                  const float* const direction[3], const float* t_far,
                                                  const int* start_sphere, const int* self_blocks, const int* active,
                                                  int* blocked, uint64_t candidates) {
@@ -96,7 +98,7 @@ struct Roots {
     for (int k = 0; k < n; ++k) {
         if (!is_candidate(candidates, k)) continue;
         const float* c = spheres + 4 * k;
-        if (!lanes::near_line<N>(c, origin, direction, inv_dd, origin_size, active)) continue;
+        if (!lanes::near_line<N>(set, c, origin, direction, inv_dd, origin_size, active)) continue;
         ray.load_once(origin, direction);
         Roots t;
         roots(c, ray, t);
@@ -119,32 +121,32 @@ struct Roots {
 
 void closest_default(const float* s, int n, const float* const o[3], const float* const d[3], const int* active,
                      float* t_far, int* index, float* const normal[3]) {
-    closest_body(s, n, o, d, active, t_far, index, normal);
+    closest_body(lanes::PortableSet{}, s, n, o, d, active, t_far, index, normal);
 }
 [[gnu::target("avx2")]] void closest_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
                                           const int* active, float* t_far, int* index, float* const normal[3]) {
-    closest_body(s, n, o, d, active, t_far, index, normal);
+    closest_body(lanes::Avx2Set{}, s, n, o, d, active, t_far, index, normal);
 }
 [[gnu::target("avx512f")]] void closest_avx512(const float* s, int n, const float* const o[3],
                                                const float* const d[3], const int* active, float* t_far, int* index,
                                                float* const normal[3]) {
-    closest_body(s, n, o, d, active, t_far, index, normal);
+    closest_body(lanes::Avx512Set{}, s, n, o, d, active, t_far, index, normal);
 }
 
 bool occluded_default(const float* s, int n, const float* const o[3], const float* const d[3], const float* t_far,
                       const int* start, const int* self, const int* active, int* blocked, uint64_t candidates) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
+    return occluded_body(lanes::PortableSet{}, s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 [[gnu::target("avx2")]] bool occluded_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
                                            const float* t_far, const int* start, const int* self, const int* active,
                                            int* blocked, uint64_t candidates) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
+    return occluded_body(lanes::Avx2Set{}, s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 [[gnu::target("avx512f")]] bool occluded_avx512(const float* s, int n, const float* const o[3],
                                                 const float* const d[3], const float* t_far, const int* start,
                                                 const int* self, const int* active, int* blocked,
                                                 uint64_t candidates) {
-    return occluded_body(s, n, o, d, t_far, start, self, active, blocked, candidates);
+    return occluded_body(lanes::Avx512Set{}, s, n, o, d, t_far, start, self, active, blocked, candidates);
 }
 
 }  // namespace
