@@ -35,8 +35,8 @@ using lanes::DoubleLanes;
 // and end on one side of a quad's plane (a floor's faces, a wall behind the
 // lights): then the quad is skipped before plane_hits' division.
 template <class Set>
-[[gnu::always_inline]] inline bool may_cross_plane(Set set, const OwnQuad& q, const DoubleLanes<N>& ray, const float* t_far,
-                                                   const int* active, double stretch) {
+[[gnu::always_inline]] inline bool may_cross_plane(Set set, const OwnQuad& q, const DoubleLanes<N>& ray,
+                                                   const float* t_far, const int* active, double stretch) {
     alignas(64) int crosses[N];
     for (int i = 0; i < N; ++i) {
         const double fx = ray.o[0][i] - q.v0[0], fy = ray.o[1][i] - q.v0[1], fz = ray.o[2][i] - q.v0[2];
@@ -48,12 +48,13 @@ template <class Set>
     return lanes::any_set<N>(set, crosses);
 }
 
-// The two culls, the plane's sides first (it skips most shadow rays), then the bounding sphere.
+// The two culls, the plane's sides first (it skips most shadow rays), then
+// the bounding sphere; stretch widens the plane cull's segment (kTieStretch).
 template <class Set>
-[[gnu::always_inline]] inline bool may_meet(Set set, const OwnQuad& q, const DoubleLanes<N>& ray, const float* const origin[3],
-                                            const float* const direction[3], const float* t_far,
-                                            const float* inv_dd, const float* origin_size, const int* active,
-                                            double stretch = 1.0) {
+[[gnu::always_inline]] inline bool may_meet(Set set, const OwnQuad& q, const DoubleLanes<N>& ray,
+                                            const float* const origin[3], const float* const direction[3],
+                                            const float* t_far, const float* inv_dd, const float* origin_size,
+                                            const int* active, double stretch = 1.0) {
     return may_cross_plane(set, q, ray, t_far, active, stretch) &&
            lanes::near_line<N>(set, q.bound, origin, direction, inv_dd, origin_size, active);
 }
