@@ -121,12 +121,8 @@ template <class Set>
         plane_hits(q, ray, t, inside);
         for (int i = 0; i < N; ++i) met[i] |= (inside[i] != 0) & (t[i] <= double(t_far[i]));
     }
-    int any = 0;
-    for (int i = 0; i < N; ++i) {
-        blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
-        any |= blocked[i];
-    }
-    return any != 0;
+    for (int i = 0; i < N; ++i) blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
+    return lanes::any_set<N>(set, blocked);
 }
 
 void closest_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const int* active,

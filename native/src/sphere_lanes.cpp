@@ -111,12 +111,8 @@ template <class Set>
     }
     // The sphere a lane starts on blocks it whatever the line test said
     for (int i = 0; i < N; ++i) met[i] |= (start_sphere[i] >= 0) & (start_sphere[i] < n) & (self_blocks[i] != 0);
-    int any = 0;
-    for (int i = 0; i < N; ++i) {
-        blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
-        any |= blocked[i];
-    }
-    return any != 0;
+    for (int i = 0; i < N; ++i) blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
+    return lanes::any_set<N>(set, blocked);
 }
 
 void closest_default(const float* s, int n, const float* const o[3], const float* const d[3], const int* active,
