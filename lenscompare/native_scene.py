@@ -1,7 +1,8 @@
 """Scene objects -> the flat arrays the native tracer builds its Embree scene from.
 
-Spheres stay exact (Embree sphere points); a box becomes its six faces and a
-rectangle one quad; meshes go in as one Embree triangle geometry (all meshes'
+Spheres stay exact (Embree sphere points); a box becomes its six faces, marked
+as one closed solid (``quad_solid``: the render then skips the faces a ray
+cannot meet first, native/src/solid_faces.h), and a rectangle one quad; meshes go in as one Embree triangle geometry (all meshes'
 vertices in one buffer, indices offset).
 
 Motion: when anything has a velocity, each primitive's velocity (and each
@@ -44,7 +45,7 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
     """Build the Embree scene for ``scene`` (a BVH build: milliseconds for our scenes)."""
     names = list(scene.materials)
     index = {name: i for i, name in enumerate(names)}
-    spheres, sphere_material, quads, quad_material = [], [], [], []
+    spheres, sphere_material, quads, quad_material, quad_solid = [], [], [], [], []
     mesh_vertices, mesh_triangles, triangle_material, n_vertices = [], [], [], 0
     sphere_velocity, quad_velocity, vertex_velocity = [], [], []
     for obj in scene.objects:
@@ -56,10 +57,12 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
             faces = box_quads(obj.min, obj.max)
             quads.extend(faces)
             quad_material.extend([index[obj.material]] * len(faces))
+            quad_solid.extend([len(quads)] * len(faces))  # one id per box: a closed convex solid
             quad_velocity.extend([obj.velocity] * len(faces))
         elif isinstance(obj, Rectangle):
             quads.append(rectangle_quad(obj.corner, obj.edge1, obj.edge2))
             quad_material.append(index[obj.material])
+            quad_solid.append(-1)
             quad_velocity.append(obj.velocity)
         elif isinstance(obj, Mesh):
             mesh_vertices.append(obj.vertices_m)
@@ -108,5 +111,6 @@ def build_native_scene(scene: Scene) -> "_native.Scene":
         f32(np.concatenate(mesh_vertices) if mesh_vertices else [], (-1, 3)),
         np.ascontiguousarray(np.concatenate(mesh_triangles) if mesh_triangles else np.zeros((0, 3)), dtype=np.int32),
         i32(np.concatenate(triangle_material) if triangle_material else []),
+        quad_solid=i32(quad_solid),
         **motion,
     )

@@ -65,7 +65,7 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
                   const std::optional<CArray<const float, -1, 3>>& sphere_velocity,
                   const std::optional<CArray<const float, -1, 3>>& quad_velocity,
                   const std::optional<CArray<const float, -1, 3>>& vertex_velocity, const Pair& shutter_s,
-                  const Triple& camera_velocity) {
+                  const Triple& camera_velocity, const std::optional<CArray<const int32_t, -1>>& quad_solid) {
     SceneArrays a;
     a.spheres = spheres.data();
     a.sphere_material = sphere_material.data();
@@ -94,6 +94,10 @@ SceneArrays scene_arrays(CArray<const float, -1, 4> spheres, CArray<const int32_
     };
     a.sphere_velocity = velocities(sphere_velocity, size_t(a.n_spheres));
     a.quad_velocity = velocities(quad_velocity, size_t(a.n_quads));
+    if (quad_solid) {
+        if (quad_solid->shape(0) != size_t(a.n_quads)) throw std::invalid_argument("one solid id per quad expected");
+        a.quad_solid = quad_solid->data();
+    }
     a.vertex_velocity = velocities(vertex_velocity, size_t(a.n_vertices));
     if (!(shutter_s[1] >= shutter_s[0])) throw std::invalid_argument("shutter closes before it opens");
     a.motion.open_s = shutter_s[0];
@@ -314,20 +318,22 @@ NB_MODULE(_native, m) {
                 std::optional<CArray<const float, -1, 3>> sphere_velocity,
                 std::optional<CArray<const float, -1, 3>> quad_velocity,
                 std::optional<CArray<const float, -1, 3>> vertex_velocity, const Pair& shutter_s,
-                const Triple& camera_velocity) {
+                const Triple& camera_velocity, std::optional<CArray<const int32_t, -1>> quad_solid) {
                  // Python has checked the shapes and indices (native_scene.py); the arrays are
                  // copied, so they may go once this returns.
                  new (self) Scene(scene_arrays(spheres, sphere_material, quads, quad_material, material_kind,
                                                material_color, material_emission, checker_color, checker_size_m,
                                                light_position_m, light_intensity, background, light_inverse_square,
                                                triangle_vertices, triangles, triangle_material, sphere_velocity,
-                                               quad_velocity, vertex_velocity, shutter_s, camera_velocity));
+                                               quad_velocity, vertex_velocity, shutter_s, camera_velocity,
+                                               quad_solid));
              },
              "spheres"_a, "sphere_material"_a, "quads"_a, "quad_material"_a, "material_kind"_a, "material_color"_a,
              "material_emission"_a, "checker_color"_a, "checker_size_m"_a, "light_position_m"_a, "light_intensity"_a,
              "background"_a, "light_inverse_square"_a, "triangle_vertices"_a, "triangles"_a, "triangle_material"_a,
              "sphere_velocity"_a = nb::none(), "quad_velocity"_a = nb::none(), "vertex_velocity"_a = nb::none(),
-             "shutter_s"_a = Pair{0.0, 0.0}, "camera_velocity"_a = Triple{0.0, 0.0, 0.0})
+             "shutter_s"_a = Pair{0.0, 0.0}, "camera_velocity"_a = Triple{0.0, 0.0, 0.0},
+             "quad_solid"_a = nb::none())
         .def("set_spectral",
              [](Scene& self, CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
                 CArray<const double, -1> edges_nm, CArray<const double, -1> probabilities,

@@ -5,6 +5,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/array.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
@@ -29,6 +30,7 @@
 #include "samplers.h"
 #include "scene.h"
 #include "quad_lanes.h"
+#include "solid_faces.h"
 #include "rng.h"
 #include "shading_lanes.h"
 #include "sphere_lanes.h"
@@ -404,6 +406,37 @@ void bind_own_quads(nb::module_& m) {
           "corners"_a, "origin"_a, "direction"_a, "t_far"_a, "index"_a, "kernel"_a, "first_quad"_a = 0,
           "Closest hits at t in [0, t_far) with parallelograms (corners in order round each, xyz): t_far and "
           "index (-1: none), in place, as the render's camera rays get them; first_quad is tested first.");
+
+    m.def("solid_faces_first_hits",
+          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid, CArray<const float, -1, 3> origin) {
+              if (solid.shape(0) != corners.shape(0)) throw std::invalid_argument("one solid id per quad expected");
+              const size_t n = origin.shape(0);
+              if (n == 0 || n > size_t(kSphereLanes))
+                  throw std::invalid_argument("1 to " + std::to_string(kSphereLanes) + " origins (one packet)");
+              const SolidFaces faces(corners.data(), solid.data(), int(corners.shape(0)));
+              float rows[3][kSphereLanes] = {};
+              int active[kSphereLanes] = {};
+              for (size_t i = 0; i < n; ++i) {
+                  for (int a = 0; a < 3; ++a) rows[a][i] = origin(i, size_t(a));
+                  active[i] = -1;
+              }
+              const float* const o[3] = {rows[0], rows[1], rows[2]};
+              OriginRegion region;  // fresh: the packet's own box
+              return faces.first_hits_from(o, active, &region);
+          },
+          "corners"_a, "solid"_a, "origin"_a,
+          "Bit k set: quad k (a face of closed convex solid solid[k], or -1 alone) may be the first hit of a ray "
+          "from one of the origins (one packet); the render's camera-ray cull.");
+
+    m.def("solid_faces_blocking",
+          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid, const std::array<double, 3>& light_m) {
+              if (solid.shape(0) != corners.shape(0)) throw std::invalid_argument("one solid id per quad expected");
+              const SolidFaces faces(corners.data(), solid.data(), int(corners.shape(0)));
+              const float light[3] = {float(light_m[0]), float(light_m[1]), float(light_m[2])};
+              return faces.blocking_toward(light);
+          },
+          "corners"_a, "solid"_a, "light_m"_a,
+          "Bit k set: quad k may block a segment that ends at light_m; the render's shadow-ray cull.");
 
     m.def("own_quads_occluded",
           [](CArray<const float, -1, 4, 3> corners, CArray<const float, -1, 3> origin,

@@ -68,7 +68,8 @@ constexpr double kTieStretch = 1.0 + 0x1p-20;
 template <class Set>
 [[gnu::always_inline]] inline void closest_body(Set set, const OwnQuad* quads, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
-                                                int* index, float* const normal[3], int* first_quad) {
+                                                int* index, float* const normal[3], int* first_quad,
+                                                uint64_t candidates) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     DoubleLanes<N> ray;
@@ -78,6 +79,7 @@ template <class Set>
     for (int step = 0; step < n; ++step) {
         // first, then the others in order
         const int k = step == 0 ? first : (step <= first ? step - 1 : step);
+        if (!is_candidate(candidates, k)) continue;
         const OwnQuad& q = quads[k];
         if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) continue;
         double t[N];
@@ -126,18 +128,18 @@ template <class Set>
 }
 
 void closest_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const int* active,
-                     float* t_far, int* index, float* const normal[3], int* first) {
-    closest_body(lanes::PortableSet{}, q, n, o, d, active, t_far, index, normal, first);
+                     float* t_far, int* index, float* const normal[3], int* first, uint64_t candidates) {
+    closest_body(lanes::PortableSet{}, q, n, o, d, active, t_far, index, normal, first, candidates);
 }
 [[gnu::target("avx2")]] void closest_avx2(const OwnQuad* q, int n, const float* const o[3], const float* const d[3],
                                           const int* active, float* t_far, int* index, float* const normal[3],
-                                          int* first) {
-    closest_body(lanes::Avx2Set{}, q, n, o, d, active, t_far, index, normal, first);
+                                          int* first, uint64_t candidates) {
+    closest_body(lanes::Avx2Set{}, q, n, o, d, active, t_far, index, normal, first, candidates);
 }
 [[gnu::target("avx512f")]] void closest_avx512(const OwnQuad* q, int n, const float* const o[3],
                                                const float* const d[3], const int* active, float* t_far, int* index,
-                                               float* const normal[3], int* first) {
-    closest_body(lanes::Avx512Set{}, q, n, o, d, active, t_far, index, normal, first);
+                                               float* const normal[3], int* first, uint64_t candidates) {
+    closest_body(lanes::Avx512Set{}, q, n, o, d, active, t_far, index, normal, first, candidates);
 }
 
 bool occluded_default(const OwnQuad* q, int n, const float* const o[3], const float* const d[3], const float* t_far,
@@ -201,7 +203,7 @@ bool make_own_quad(const float* corners, OwnQuad* out) {
 }
 
 int max_own_quads() {
-    constexpr int kMaxOwnQuads = 8;  // Embree ahead at 13 (quad_lanes.h)
+    constexpr int kMaxOwnQuads = 16;  // faces met; Embree level from 19 (quad_lanes.h)
     const char* text = std::getenv("LENSCOMPARE_MAX_OWN_QUADS");
     if (!text || !*text) return kMaxOwnQuads;
     char* end = nullptr;
@@ -211,13 +213,14 @@ int max_own_quads() {
 
 void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
                    const float* const direction[3], const int* active, float* t_far, int* index,
-                   float* const normal[3], int* first_quad) {
+                   float* const normal[3], int* first_quad, uint64_t candidates) {
     switch (kernel) {
         case SphereKernel::Avx512:
-            return closest_avx512(quads, n, origin, direction, active, t_far, index, normal, first_quad);
+            return closest_avx512(quads, n, origin, direction, active, t_far, index, normal, first_quad, candidates);
         case SphereKernel::Avx2:
-            return closest_avx2(quads, n, origin, direction, active, t_far, index, normal, first_quad);
-        default: return closest_default(quads, n, origin, direction, active, t_far, index, normal, first_quad);
+            return closest_avx2(quads, n, origin, direction, active, t_far, index, normal, first_quad, candidates);
+        default:
+            return closest_default(quads, n, origin, direction, active, t_far, index, normal, first_quad, candidates);
     }
 }
 

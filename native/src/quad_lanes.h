@@ -35,11 +35,15 @@ struct OwnQuad {
 // rounding) or is degenerate: Embree takes such quads.
 bool make_own_quad(const float* corners, OwnQuad* out);
 
-// The largest count of still quads the render intersects itself (8): one test
-// per quad per ray grows with their count, and Embree's BVH was ahead from 13
-// (bench/bench_quads.py: Embree / own 1.24 on lit_showcase's 7 quads, 0.73 at
-// 13, 0.61 at 25), so past 8 Embree takes all of them. LENSCOMPARE_MAX_OWN_QUADS
-// overrides it (0: Embree takes all), for tests and benchmarks that compare the two.
+// The most faces a ray may have to test (SolidFaces::faces_met: each lone
+// quad, three of each box's six) for the render to intersect the still quads
+// itself (16): one test per quad per ray grows with their count, and Embree's
+// BVH does not. Once rays skipped the boxes' hidden faces (solid_faces.h) the
+// own test was ahead to peers_lit's 4 boxes and wall (25 quads, 13 met:
+// bench/bench_quads.py, Embree / own 1.16) and level at 19 to 31 met; before,
+// with every face tested, Embree led from 13 quads. Past the limit Embree
+// takes all of them. LENSCOMPARE_MAX_OWN_QUADS overrides it (0: Embree takes
+// all), for tests and benchmarks that compare the two.
 int max_own_quads();
 
 // Closest hits, as spheres_closest (sphere_lanes.h): where lane i (active[i]
@@ -50,10 +54,11 @@ int max_own_quads();
 // tested in: first_quad (when given) names the quad tested first, and is set
 // to the quad a lane of this packet met, the likeliest first hit of the next
 // packet of neighbouring rays (the floor of a room): it shortens the rays
-// before the other quads' plane culls, the same hits in fewer tests.
+// before the other quads' plane culls, the same hits in fewer tests. Only
+// the quads candidates names are tested (is_candidate, sphere_lanes.h).
 void quads_closest(SphereKernel kernel, const OwnQuad* quads, int n, const float* const origin[3],
                    const float* const direction[3], const int* active, float* t_far, int* index,
-                   float* const normal[3], int* first_quad = nullptr);
+                   float* const normal[3], int* first_quad = nullptr, uint64_t candidates = kAllCandidates);
 
 // Whether the segments t in [0, t_far[i]] cross some quad: blocked[i] = -1
 // where so (active lanes), else 0. Returns whether any lane is blocked. Shadow

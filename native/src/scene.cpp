@@ -181,20 +181,26 @@ Scene::Scene(const SceneArrays& a)
         if (ids.empty()) continue;
         // A few still parallelograms: the render's own test (quad_lanes.h), at
         // the place Embree would have had them; all of them or none.
-        if (!moving && int(ids.size()) <= max_own_quads()) {
+        // The limit counts the faces a ray may meet: a box's three.
+        std::vector<int32_t> solid(ids.size(), -1);
+        if (a.quad_solid)
+            for (size_t k = 0; k < ids.size(); ++k) solid[k] = a.quad_solid[ids[k]];
+        if (!moving && ids.size() <= 64 && SolidFaces::faces_met(solid.data(), int(ids.size())) <= max_own_quads()) {
             std::vector<OwnQuad> own(ids.size());
+            std::vector<float> corners(12 * ids.size());
             bool all_parallelograms = true;
             for (size_t k = 0; k < ids.size() && all_parallelograms; ++k) {
-                float corners[12];
                 for (size_t c = 0; c < 4; ++c) {
                     const float* src = a.quads + 12 * ids[k] + 3 * c;
-                    if (offset) moved(src, velocity_at(a.quad_velocity, ids[k]), open_s, corners + 3 * c);
-                    else std::copy(src, src + 3, corners + 3 * c);
+                    float* to = &corners[12 * k + 3 * c];
+                    if (offset) moved(src, velocity_at(a.quad_velocity, ids[k]), open_s, to);
+                    else std::copy(src, src + 3, to);
                 }
-                all_parallelograms = make_own_quad(corners, &own[k]);
+                all_parallelograms = make_own_quad(&corners[12 * k], &own[k]);
             }
             if (all_parallelograms) {
                 own_quads_ = std::move(own);
+                own_solids_ = SolidFaces(corners.data(), solid.data(), int(ids.size()));
                 for (size_t i : ids) {
                     own_quad_table.material.push_back(a.quad_material[i]);
                     if (a.quad_velocity) own_quad_table.velocity.push_back(velocity_at(a.quad_velocity, i));
@@ -296,8 +302,16 @@ Scene::Scene(const SceneArrays& a)
         if (id == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
         return id;
     };
-    own_columns_ = CullColumns::of_own(own_spheres_, own_quads_);
-    packet_cull_ = packet_cull_enabled() && own_columns_.count() > 0 && own_columns_.count() <= 64;
+    for (const PointLight& light : lights_) {
+        const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
+        const uint64_t blocking = own_solids_.blocking_toward(light_m);
+        LightOccluders o;
+        for (size_t k = 0; k < own_quads_.size(); ++k)
+            if (is_candidate(blocking, int(k))) o.quads.push_back(own_quads_[k]);
+        o.columns = CullColumns::of_own(own_spheres_, o.quads);
+        o.packet_cull = packet_cull_enabled() && o.columns.count() > 0 && o.columns.count() <= 64;
+        light_occluders_.push_back(std::move(o));
+    }
     if (!own_spheres_.empty()) own_spheres_id_ = own_id(own_table);
     if (!own_quads_.empty()) own_quads_id_ = own_id(own_quad_table);
     sphere_kernel_ = fastest_sphere_kernel();
@@ -345,9 +359,10 @@ void Scene::radiance(const RayBatch& rays, Vec3f* out) const {
     surface_lanes(shading_kernel_, hits.packet, hits.surface);
 
     // Shadow rays, one packet per light
-    for (const PointLight& light : lights_) {
+    for (size_t l = 0; l < lights_.size(); ++l) {
+        const PointLight& light = lights_[l];
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, hits, shadow)) continue;
+        if (!trace_shadow_rays(l, hits, shadow)) continue;
         const float intensity[3] = {light.intensity.x, light.intensity.y, light.intensity.z};
         add_light_lanes(shading_kernel_, intensity, hits.surface, shadow.lanes, shadow.packet.tfar, rgb);
     }

@@ -21,6 +21,7 @@
 #include "packet_bounds.h"
 #include "quad_lanes.h"
 #include "shading_lanes.h"
+#include "solid_faces.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
 #include "cameras/camera_ray.h"
@@ -67,6 +68,7 @@ struct SceneArrays {
     int n_spheres = 0;
     const float* quads = nullptr;    // n_quads x 4 corners x 3 (m), corners in order round the quad
     const int32_t* quad_material = nullptr;
+    const int32_t* quad_solid = nullptr;  // per quad, the box it is a face of, or -1; nullptr: no boxes
     int n_quads = 0;
     const float* triangle_vertices = nullptr;  // n_vertices x 3 (m): the meshes' vertices, all meshes in one
     int n_vertices = 0;
@@ -154,8 +156,8 @@ class Scene {
     // idle lane), and what surface_lanes needs of it and of the hit's motion;
     // rgb gets each lane's radiance before any light.
     void gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material, float (&rgb)[3][kPacketSize]) const;
-    // Shadow rays from the diffuse hits (surface_lanes done) toward light, traced; false when none was needed.
-    bool trace_shadow_rays(const PointLight& light, CameraHits& hits, ShadowRays& shadow) const;
+    // Shadow rays from the diffuse hits (surface_lanes done) toward lights_[light], traced; false when none was needed.
+    bool trace_shadow_rays(size_t light, CameraHits& hits, ShadowRays& shadow) const;
     // Whether lane i of hits shows a monochromatic emitter (spectral renders: its line alone).
     bool shows_line(const CameraHits& hits, const int* material, int i) const {
         return !hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
@@ -176,8 +178,17 @@ class Scene {
     // Still quads the render tests itself (quad_lanes.h), all or none; their hits carry own_quads_id_.
     std::vector<OwnQuad> own_quads_;
     unsigned own_quads_id_ = RTC_INVALID_GEOMETRY_ID;
-    CullColumns own_columns_;  // both again, as the per-packet cull takes them (packet_bounds.h)
-    bool packet_cull_ = true;
+    SolidFaces own_solids_;  // the own quads' boxes, whose hidden faces camera rays skip
+    // Per light, what its shadow rays test besides the own spheres: the own
+    // quads that may block them (not a box's faces the light is behind:
+    // solid_faces.h), and the spheres and those quads as the per-packet cull
+    // takes them (packet_bounds.h).
+    struct LightOccluders {
+        std::vector<OwnQuad> quads;
+        CullColumns columns;
+        bool packet_cull = false;
+    };
+    std::vector<LightOccluders> light_occluders_;
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry

@@ -57,9 +57,10 @@ LC_BUILT_PER_ISA void Scene::spectral_radiance(const RayBatch& rays, const HeroW
     }
 
     // Shadow rays, one packet per light
-    for (const PointLight& light : lights_) {
+    for (size_t l = 0; l < lights_.size(); ++l) {
+        const PointLight& light = lights_[l];
         ShadowRays shadow;
-        if (!trace_shadow_rays(light, hits, shadow)) continue;
+        if (!trace_shadow_rays(l, hits, shadow)) continue;
         for (int i = 0; i < rays.count; ++i) {
             // Reflectance spectrum times the light's spectrum, wavelength by wavelength.
             float emitted[kW];
@@ -98,7 +99,7 @@ LC_BUILT_PER_ISA void Scene::spectral_integrated_radiance(const RayBatch& rays, 
         const float white[3] = {1.0f, 1.0f, 1.0f};
         for (size_t l = 0; l < lights_.size(); ++l) {
             ShadowRays shadow;
-            if (!trace_shadow_rays(lights_[l], hits, shadow)) continue;
+            if (!trace_shadow_rays(l, hits, shadow)) continue;
             // The film's reading of this light off each albedo, then added as a white light's.
             map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
             add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);

@@ -95,8 +95,11 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
         // The quad the thread's last packet met is tested first (any order
         // gives the same hits: quads_closest).
         thread_local int first_quad = 0;
+        // Boxes' faces the packet's origins are behind: never a first hit (solid_faces.h).
+        thread_local OriginRegion region;
+        const uint64_t candidates = own_solids_.first_hits_from(origin, valid, &region);
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
-                      packet.ray.tfar, index, normal, &first_quad);
+                      packet.ray.tfar, index, normal, &first_quad, candidates);
         record_hits(own_quads_id_);
     }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
@@ -131,8 +134,8 @@ LC_BUILT_PER_ISA void Scene::gather_surfaces(const RayBatch& rays, CameraHits& h
     }
 }
 
-LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHits& hits,
-                                                ShadowRays& shadow) const {
+LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& hits, ShadowRays& shadow) const {
+    const PointLight& light = lights_[light_index];
     const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
     RTCRayPacket& packet = shadow.packet;
     const bool any = shadow_lanes(shading_kernel_, light_m, light.inverse_square, hits.surface, hits.packet.ray.time,
@@ -159,11 +162,14 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
     }
     // The own primitives some lane's segment may reach (packet_bounds.h); the
     // rest are not tested. Without the cull every primitive is a candidate.
+    // The own quads that may block this light (not the boxes' faces it is behind: solid_faces.h).
+    const LightOccluders& occluders = light_occluders_[light_index];
+    const std::vector<OwnQuad>& quads = occluders.quads;
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     SegmentCapsule capsule;
     const int n_spheres = int(own_spheres_.size() / 4);
-    if (packet_cull_ && capsule_of_segments(packet, valid, light_m, &capsule)) {
-        const uint64_t near = near_capsule(capsule, own_columns_);
+    if (occluders.packet_cull && capsule_of_segments(packet, valid, light_m, &capsule)) {
+        const uint64_t near = near_capsule(capsule, occluders.columns);
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
         near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
     }
@@ -188,10 +194,10 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(const PointLight& light, CameraHi
                          shadow.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
         any_open = close_blocked(blocked);
     }
-    if (any_open && !own_quads_.empty() && near_quads != 0) {
+    if (any_open && !quads.empty() && near_quads != 0) {
         int blocked[kPacketSize];
-        quads_occluded(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, packet.tfar,
-                       open, blocked, near_quads);
+        quads_occluded(sphere_kernel_, quads.data(), int(quads.size()), origin, direction, packet.tfar, open,
+                       blocked, near_quads);
         any_open = close_blocked(blocked);
     }
     if (embree_still_ && any_open) occluded_packet(open, scene_, &context, &packet);
