@@ -104,6 +104,12 @@ def test_origins_inside_touching_or_straddling_keep_what_they_may_hit():
     assert kept(diagnostics.solid_faces_first_hits(quads, solid, np.full((1, 3), np.nan, np.float32)), 6).all()
 
 
+def box_seen_from_outside():
+    """A random box (as quads, one solid) and a point outside it, 0.2 m clear of its planes."""
+    lo, hi = random_box()
+    return lo, hi, box(lo, hi), np.zeros(6, np.int32), point_outside(lo, hi, gap_m=0.2)
+
+
 def aimed_at_box(lo, hi, origin, n):
     """Unit directions from origin toward points on and about the box, many of them at its edges."""
     targets = RNG.uniform(lo - 0.1, hi + 0.1, (n, 3))
@@ -121,9 +127,7 @@ def aimed_at_box(lo, hi, origin, n):
 def test_no_skipped_face_is_nearer_than_the_first_hit_of_the_faces_kept():
     tested = hits = 0
     for _ in range(150):
-        lo, hi = random_box()
-        quads, solid = box(lo, hi), np.zeros(6, np.int32)
-        centre = point_outside(lo, hi, gap_m=0.2)
+        lo, hi, quads, solid, centre = box_seen_from_outside()
         # One packet: origins within 1 cm of one point (a lens aperture's spread)
         origin = (centre + RNG.uniform(-0.01, 0.01, (LANES, 3))).astype(np.float32)
         mask = kept(diagnostics.solid_faces_first_hits(quads, solid, origin), 6)
@@ -142,9 +146,7 @@ def test_no_skipped_face_is_nearer_than_the_first_hit_of_the_faces_kept():
 def test_no_skipped_face_blocks_a_segment_toward_the_light_that_the_kept_faces_do_not():
     blocked = total = 0
     for _ in range(150):
-        lo, hi = random_box()
-        quads, solid = box(lo, hi), np.zeros(6, np.int32)
-        light = point_outside(lo, hi, gap_m=0.2)
+        lo, hi, quads, solid, light = box_seen_from_outside()
         mask = kept(diagnostics.solid_faces_blocking(quads, solid, tuple(light.astype(np.float32))), 6)
         # Segments from points all round the box (some on its faces) to the light
         start = RNG.uniform(lo - 2.0, hi + 2.0, (64, 3))

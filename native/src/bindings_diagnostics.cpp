@@ -408,7 +408,8 @@ void bind_own_quads(nb::module_& m) {
           "index (-1: none), in place, as the render's camera rays get them; first_quad is tested first.");
 
     m.def("solid_faces_first_hits",
-          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid, CArray<const float, -1, 3> origin) {
+          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid,
+             CArray<const float, -1, 3> origin) {
               if (solid.shape(0) != corners.shape(0)) throw std::invalid_argument("one solid id per quad expected");
               const size_t n = origin.shape(0);
               if (n == 0 || n > size_t(kSphereLanes))
@@ -429,7 +430,8 @@ void bind_own_quads(nb::module_& m) {
           "from one of the origins (one packet); the render's camera-ray cull.");
 
     m.def("solid_faces_blocking",
-          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid, const std::array<double, 3>& light_m) {
+          [](CArray<const float, -1, 4, 3> corners, CArray<const int32_t, -1> solid,
+             const std::array<double, 3>& light_m) {
               if (solid.shape(0) != corners.shape(0)) throw std::invalid_argument("one solid id per quad expected");
               const SolidFaces faces(corners.data(), solid.data(), int(corners.shape(0)));
               const float light[3] = {float(light_m[0]), float(light_m[1]), float(light_m[2])};
