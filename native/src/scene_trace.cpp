@@ -160,11 +160,11 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
         shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
         self_blocked |= shadow.self_blocks[i];
     }
-    // The own primitives some lane's segment may reach (packet_bounds.h); the
-    // rest are not tested. Without the cull every primitive is a candidate.
     // The own quads that may block this light (not the boxes' faces it is behind: solid_faces.h).
     const LightOccluders& occluders = light_occluders_[light_index];
     const std::vector<OwnQuad>& quads = occluders.quads;
+    // The own primitives some lane's segment may reach (packet_bounds.h); the
+    // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     SegmentCapsule capsule;
     const int n_spheres = int(own_spheres_.size() / 4);

@@ -12,7 +12,6 @@
 namespace lc {
 
 SolidFaces::SolidFaces(const float* corners, const int32_t* solid, int n) {
-    if (!solid) return;
     // Solid ids as given -> indices into solids_, with each solid's corner sum.
     std::map<int32_t, int> index_of;
     std::vector<double> centroid_sum;  // 3 per solid
@@ -65,7 +64,6 @@ SolidFaces::SolidFaces(const float* corners, const int32_t* solid, int n) {
 }
 
 int SolidFaces::faces_met(const int32_t* solid, int n) {
-    if (!solid) return n;
     std::set<int32_t> solids;
     int lone = 0;
     for (int k = 0; k < n; ++k) {
