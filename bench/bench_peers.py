@@ -35,6 +35,13 @@ edge. Two more rows measure what each costs, with the work matched:
 - scene ``<name>_one_light`` (``--one-light``): the scene with its first light
   only, so that both renderers trace one shadow ray per diffuse hit.
 
+The samplers differ too: the scenes draw ``jittered`` samples (one per
+stratum of the film and of the lens, the lens strata shuffled), Mitsuba's
+export ``independent`` ones. Mitsuba's ``stratified`` sampler is the same
+construction as ``jittered``; the LLVM variant is timed with it as well
+(``mitsuba_llvm_ad_rgb_stratified_<model>``, when spp is a square), so that
+a ratio compares like samplers (``native_<model>_over_mitsuba_llvm_ad_rgb_stratified``).
+
 With ``--empty``, each scene is timed again with its objects removed (camera,
 lights and background kept; thin lens and pinhole only): every ray misses,
 so what is left per sample is the work around the rays (sampling, camera
@@ -60,6 +67,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import platform
 import subprocess
@@ -98,11 +106,11 @@ def log(*parts):
 class MitsubaRender:
     """One scene loaded once in one Mitsuba variant; ``seconds()`` times one render."""
 
-    def __init__(self, mi, variant, scene, model, spp, folder):
+    def __init__(self, mi, variant, scene, model, spp, folder, sampler="independent"):
         self.mi, self.variant = mi, variant
         mi.set_variant(variant)
-        path = Path(folder) / f"{scene.name}_{model}_{variant}.xml"
-        write_mitsuba(scene_to_mitsuba(scene, model=model, spp=spp, seed=0), path)
+        path = Path(folder) / f"{scene.name}_{model}_{variant}_{sampler}.xml"
+        write_mitsuba(scene_to_mitsuba(scene, model=model, spp=spp, seed=0, sampler=sampler), path)
         self.loaded = mi.load_file(str(path))
         self.seconds()  # JIT warm-up, not counted
 
@@ -229,6 +237,9 @@ def main() -> int:
                         log(f"{name}: loading Mitsuba {variant} {model} (and a warm-up render)")
                         timers[f"mitsuba_{variant}_{model}"] = MitsubaRender(mi, variant, scene, model, args.spp,
                                                                              folder).seconds
+                        if variant == "llvm_ad_rgb" and math.isqrt(args.spp) ** 2 == args.spp:
+                            timers[f"mitsuba_{variant}_stratified_{model}"] = MitsubaRender(
+                                mi, variant, scene, model, args.spp, folder, sampler="stratified").seconds
             if not args.no_povray and not empty:
                 timers["povray_thin"] = povray_timer(scene, args.spp, args.threads)
             best = {key: float("inf") for key in timers}
@@ -246,6 +257,9 @@ def main() -> int:
                     if f"mitsuba_{variant}_{model}" in sps:
                         ratios[f"native_{model}_over_mitsuba_{variant}"] = (
                             sps[f"native_{model}"] / sps[f"mitsuba_{variant}_{model}"])
+                if f"mitsuba_llvm_ad_rgb_stratified_{model}" in sps:
+                    ratios[f"native_{model}_over_mitsuba_llvm_ad_rgb_stratified"] = (
+                        sps[f"native_{model}"] / sps[f"mitsuba_llvm_ad_rgb_stratified_{model}"])
             if "mitsuba_llvm_ad_rgb_thin" in sps and "native_thin_not_robust" in sps:
                 ratios["native_thin_not_robust_over_mitsuba_llvm_ad_rgb"] = (
                     sps["native_thin_not_robust"] / sps["mitsuba_llvm_ad_rgb_thin"])

@@ -76,6 +76,11 @@ __all__ = ["MITSUBA_MODELS", "MAX_MITSUBA_SEED", "MitsubaScene", "scene_to_mitsu
 
 MITSUBA_MODELS = ("pinhole", "thin")
 MAX_MITSUBA_SEED = 2**32 - 1
+# Mitsuba's samplers the export writes: ``independent`` (a uniform point per
+# dimension, as the native ``random``) and ``stratified`` (one jittered point
+# per stratum, the strata shuffled between dimensions, as the native
+# ``jittered``; Mitsuba wants a square sample count for it).
+MITSUBA_SAMPLERS = ("independent", "stratified")
 """Mitsuba's ``independent`` sampler takes a 32-bit seed."""
 """Camera models Mitsuba renders here (``perspective`` and ``thinlens``)."""
 
@@ -139,7 +144,7 @@ def _check(scene: Scene, model: str) -> None:
                              "exactly on a sphere (flat faces only)", key=f"objects[{i}].material")
 
 
-def _sensor(root, camera: CameraModel, spp: int, seed: int) -> None:
+def _sensor(root, camera: CameraModel, spp: int, seed: int, sampler_type: str) -> None:
     sensor = ET.SubElement(root, "sensor", type="perspective" if camera.model == "pinhole" else "thinlens")
     half_w, _ = camera.screen_half_extent
     _sub(sensor, "float", "fov", math.degrees(2.0 * math.atan(half_w)))
@@ -156,7 +161,7 @@ def _sensor(root, camera: CameraModel, spp: int, seed: int) -> None:
     transform = ET.SubElement(sensor, "transform", name="to_world")
     transform.append(ET.Comment(" mirrored: our world is left-handed (POV-Ray's), Mitsuba's camera right-handed "))
     ET.SubElement(transform, "matrix", value=" ".join(_num(v) for v in matrix.reshape(-1)))
-    sampler = ET.SubElement(sensor, "sampler", type="independent")
+    sampler = ET.SubElement(sensor, "sampler", type=sampler_type)
     _sub(sampler, "integer", "sample_count", int(spp))
     _sub(sampler, "integer", "seed", int(seed))
     film = ET.SubElement(sensor, "film", type="hdrfilm")
@@ -211,7 +216,7 @@ def write_ply(path, triangles: np.ndarray) -> None:
 
 
 def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = None, seed: int | None = None,
-                     mesh_prefix: str = "meshes/") -> MitsubaScene:
+                     sampler: str = "independent", mesh_prefix: str = "meshes/") -> MitsubaScene:
     """A Mitsuba 3 scene for ``scene`` through the pinhole or the thin lens.
 
     Parameters
@@ -222,6 +227,8 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
         Camera model; default the scene's.
     spp, seed : int, optional
         Samples per pixel and sampler seed (default the scene's ``[render]``).
+    sampler : {'independent', 'stratified'}
+        Mitsuba's sampler (``stratified`` needs a square ``spp``).
     mesh_prefix : str
         Folder (relative to the XML) the PLY meshes are named in.
 
@@ -244,6 +251,10 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
     seed = scene.render.seed if seed is None else int(seed)
     if spp < 1:
         raise InputError("--spp", f"expected a positive integer, got {spp}")
+    if sampler not in MITSUBA_SAMPLERS:
+        raise ValueError(f"sampler must be one of {MITSUBA_SAMPLERS}, got {sampler!r}")
+    if sampler == "stratified" and math.isqrt(spp) ** 2 != spp:  # Mitsuba would round it up to a square
+        raise InputError("--spp", f"Mitsuba's stratified sampler takes a square sample count, got {spp}")
     if not 0 <= seed <= MAX_MITSUBA_SEED:  # Mitsuba's sampler seed is 32-bit
         raise InputError(scene.source, f"Mitsuba's seed is at most {MAX_MITSUBA_SEED:,} (2^32 - 1), got {seed:,}",
                          key="render.seed")
@@ -256,7 +267,7 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
     # One emitter sample: with bsdf_samples 0, Mitsuba 3.9 sums (not averages) several.
     _sub(integrator, "integer", "emitter_samples", 1)
     _sub(integrator, "integer", "bsdf_samples", 0)
-    _sensor(root, camera, spp, seed)
+    _sensor(root, camera, spp, seed, sampler)
 
     lit = any(isinstance(scene.materials[o.material], DiffuseMaterial) for o in scene.objects)
     for light in lights if lit else []:

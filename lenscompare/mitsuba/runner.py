@@ -82,7 +82,7 @@ def write_mitsuba(exported: MitsubaScene, path: str | os.PathLike) -> list[Path]
 
 
 def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = None, seed: int | None = None,
-                   variant: str = "scalar_rgb") -> Image:
+                   variant: str = "scalar_rgb", sampler: str = "independent") -> Image:
     """Render ``scene`` with Mitsuba 3 through the pinhole or the thin lens.
 
     Parameters
@@ -95,6 +95,8 @@ def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = 
         Samples per pixel and sampler seed (default the scene's ``[render]``).
     variant : {'scalar_rgb', 'llvm_ad_rgb'}
         Mitsuba variant.
+    sampler : {'independent', 'stratified'}
+        Mitsuba's sampler (``stratified``, the native ``jittered``, needs a square ``spp``).
 
     Returns
     -------
@@ -115,7 +117,7 @@ def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = 
         render the scene.
     """
     start = time.perf_counter()
-    exported = scene_to_mitsuba(scene, model=model, spp=spp, seed=seed)
+    exported = scene_to_mitsuba(scene, model=model, spp=spp, seed=seed, sampler=sampler)
     mi = load_mitsuba(variant)
     camera = exported.camera
     width, height = camera.film.resolution
