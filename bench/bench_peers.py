@@ -38,9 +38,12 @@ edge. Two more rows measure what each costs, with the work matched:
 The samplers differ too: the scenes draw ``jittered`` samples (one per
 stratum of the film and of the lens, the lens strata shuffled), Mitsuba's
 export ``independent`` ones. Mitsuba's ``stratified`` sampler is the same
-construction as ``jittered``; the LLVM variant is timed with it as well
-(``mitsuba_llvm_ad_rgb_stratified_<model>``, when spp is a square), so that
-a ratio compares like samplers (``native_<model>_over_mitsuba_llvm_ad_rgb_stratified``).
+construction as ``jittered``, and the native ``random`` sampler is
+``independent``'s. So the LLVM variant is timed with ``stratified`` as well
+(``mitsuba_llvm_ad_rgb_stratified_<model>``, when spp is a square) and the
+native tracer with ``random`` (``native_<model>_random``, full scenes), and
+two ratios compare like samplers: ``native_<model>_over_mitsuba_llvm_ad_rgb_stratified``
+and ``native_<model>_random_over_mitsuba_llvm_ad_rgb``.
 
 With ``--empty``, each scene is timed again with its objects removed (camera,
 lights and background kept; thin lens and pinhole only): every ray misses,
@@ -229,6 +232,9 @@ def main() -> int:
                 "native_pinhole": native_timer(scene, "pinhole", args.spp, args.threads),
             }
             if not empty:
+                for model in ("thin", "pinhole"):
+                    timers[f"native_{model}_random"] = native_timer(scene.with_render(sampler="random"), model,
+                                                                    args.spp, args.threads)
                 timers["native_thin_not_robust"] = native_timer(scene, "thin", args.spp, args.threads, robust=False)
                 timers["native_lens"] = native_timer(lens_scene, "lens", args.spp, args.threads)
             for variant, error in variants.items():
@@ -257,6 +263,9 @@ def main() -> int:
                     if f"mitsuba_{variant}_{model}" in sps:
                         ratios[f"native_{model}_over_mitsuba_{variant}"] = (
                             sps[f"native_{model}"] / sps[f"mitsuba_{variant}_{model}"])
+                if f"mitsuba_llvm_ad_rgb_{model}" in sps and f"native_{model}_random" in sps:
+                    ratios[f"native_{model}_random_over_mitsuba_llvm_ad_rgb"] = (
+                        sps[f"native_{model}_random"] / sps[f"mitsuba_llvm_ad_rgb_{model}"])
                 if f"mitsuba_llvm_ad_rgb_stratified_{model}" in sps:
                     ratios[f"native_{model}_over_mitsuba_llvm_ad_rgb_stratified"] = (
                         sps[f"native_{model}"] / sps[f"mitsuba_llvm_ad_rgb_stratified_{model}"])

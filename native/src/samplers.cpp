@@ -19,7 +19,7 @@ constexpr uint64_t kShuffleStream = 2;
 constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
 constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 
-// A thread's scratch for fill_jittered's and shuffle's random numbers.
+// A thread's scratch for fill_random's, fill_jittered's and shuffle's random numbers.
 // (fill_jittered is built per instruction set: its divisions run 16 wide on
 // AVX-512 and round as the baseline's do.)
 std::vector<uint32_t>& jittered_bits() {
@@ -27,8 +27,14 @@ std::vector<uint32_t>& jittered_bits() {
     return bits;
 }
 
+// The same numbers in the same order as next_float twice per point, drawn
+// first by Pcg32::fill_u32 (as fill_jittered's), not one multiplication chain.
 void fill_random(Pcg32& rng, int spp, Point2f* out) {
-    for (int i = 0; i < spp; ++i) out[i] = {rng.next_float(), rng.next_float()};
+    std::vector<uint32_t>& bits = jittered_bits();
+    bits.resize(size_t(2 * spp));
+    rng.fill_u32(bits.data(), 2 * spp);
+    for (int i = 0; i < spp; ++i)
+        out[i] = {Pcg32::to_float(bits[size_t(2 * i)]), Pcg32::to_float(bits[size_t(2 * i + 1)])};
 }
 
 LC_BUILT_PER_ISA void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
