@@ -11,8 +11,8 @@ measures each image's relative RMSE against one converged native render
 interpolates the render time at which each reaches ``--target``
 (log-log, as ``bench_povray.py``). Render time only, Mitsuba's JIT
 warm-up excluded (one untimed render per sample count), best of
-``--repeat``. The export writes Mitsuba's ``independent`` sampler; the
-sweep runs Mitsuba's stratified samplers as well (``--mitsuba-samplers``)
+``--repeat``. The export writes Mitsuba's ``independent`` sampler unless
+asked; the sweep asks for its stratified samplers too (``--mitsuba-samplers``)
 and compares native with the one that gets there first.
 
 Prints one JSON object; a ratio (Mitsuba's time over native's) > 1 means
@@ -57,10 +57,9 @@ def mitsuba_sweep(mi, scene, model, counts, repeat, reference, folder, sampler):
     """Per sample count: the fastest of ``repeat`` timed renders and its error."""
     points = []
     for spp in counts:
-        path = Path(folder) / f"{scene.name}_{model}_{spp}.xml"
-        write_mitsuba(scene_to_mitsuba(scene, model=model, spp=spp, seed=0), path)
-        # The export's sampler is Mitsuba's plain independent one; a stratified one is its best case.
-        path.write_text(path.read_text().replace('<sampler type="independent">', f'<sampler type="{sampler}">'))
+        path = Path(folder) / f"{scene.name}_{model}_{spp}_{sampler}.xml"
+        # The export's default sampler is Mitsuba's plain independent one; a stratified one is its best case.
+        write_mitsuba(scene_to_mitsuba(scene, model=model, spp=spp, seed=0, sampler=sampler), path)
         loaded = mi.load_file(str(path))
         used = int(loaded.sensors()[0].sampler().sample_count())  # ldsampler and multijitter round the count
         np.asarray(mi.render(loaded, seed=0))  # JIT warm-up, not counted
@@ -97,8 +96,8 @@ def main() -> int:
     parser.add_argument("--native-spp", type=spp_list, default=spp_list("4,8,16,32,64,128"))
     parser.add_argument("--mitsuba-spp", type=spp_list, default=spp_list("16,32,64,128,256,512,1024"))
     parser.add_argument("--mitsuba-samplers", default="independent,ldsampler,multijitter,orthogonal",
-                        help="Mitsuba sampler plugins to sweep, comma-separated (independent is what the export "
-                        "writes; stratified, multijitter, orthogonal, ldsampler)")
+                        help="Mitsuba sampler plugins to sweep, comma-separated (independent is the export's "
+                        "default; stratified, which takes square counts only, multijitter, orthogonal, ldsampler)")
     parser.add_argument("--sampler", default="sobol", help="native sampler of the sweep")
     parser.add_argument("--repeat", type=int, default=3, help="timed renders per point; the fastest counts")
     args = parser.parse_args()

@@ -76,11 +76,12 @@ __all__ = ["MITSUBA_MODELS", "MAX_MITSUBA_SEED", "MitsubaScene", "scene_to_mitsu
 
 MITSUBA_MODELS = ("pinhole", "thin")
 MAX_MITSUBA_SEED = 2**32 - 1
-# Mitsuba's samplers the export writes: ``independent`` (a uniform point per
-# dimension, as the native ``random``) and ``stratified`` (one jittered point
-# per stratum, the strata shuffled between dimensions, as the native
-# ``jittered``; Mitsuba wants a square sample count for it).
-MITSUBA_SAMPLERS = ("independent", "stratified")
+# Mitsuba's samplers the export may write: ``independent`` (a uniform point
+# per dimension, as the native ``random``; the default), ``stratified`` (one
+# jittered point per stratum, the strata shuffled between dimensions, as the
+# native ``jittered``; it takes a square sample count), and the stratified
+# ones that round the count themselves.
+MITSUBA_SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
 """Mitsuba's ``independent`` sampler takes a 32-bit seed."""
 """Camera models Mitsuba renders here (``perspective`` and ``thinlens``)."""
 
@@ -227,8 +228,9 @@ def scene_to_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None 
         Camera model; default the scene's.
     spp, seed : int, optional
         Samples per pixel and sampler seed (default the scene's ``[render]``).
-    sampler : {'independent', 'stratified'}
-        Mitsuba's sampler (``stratified`` needs a square ``spp``).
+    sampler : {'independent', 'stratified', 'multijitter', 'orthogonal', 'ldsampler'}
+        Mitsuba's sampler plugin (``stratified`` needs a square ``spp``; the
+        last three round ``spp`` to what they take).
     mesh_prefix : str
         Folder (relative to the XML) the PLY meshes are named in.
 

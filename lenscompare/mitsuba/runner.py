@@ -95,8 +95,9 @@ def render_mitsuba(scene: Scene, *, model: str | None = None, spp: int | None = 
         Samples per pixel and sampler seed (default the scene's ``[render]``).
     variant : {'scalar_rgb', 'llvm_ad_rgb'}
         Mitsuba variant.
-    sampler : {'independent', 'stratified'}
-        Mitsuba's sampler (``stratified``, the native ``jittered``, needs a square ``spp``).
+    sampler : str
+        Mitsuba's sampler plugin (:data:`~lenscompare.mitsuba.export.MITSUBA_SAMPLERS`;
+        ``stratified``, the native ``jittered``, needs a square ``spp``).
 
     Returns
     -------
