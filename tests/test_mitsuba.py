@@ -76,9 +76,14 @@ def test_stratified_sampler_is_unbiased_and_less_noisy():
     assert ratios["stratified"].std() < ratios["independent"].std()
 
 
-def test_stratified_sampler_refuses_a_sample_count_that_is_not_a_square():
+def test_stratified_sampler_refuses_a_sample_count_that_is_not_a_square(write_scene, minimal_scene_text):
+    """Mitsuba would round 32 up to 36 samples: exit 2 naming --spp, nothing written."""
     with pytest.raises(InputError, match="square sample count, got 32"):
         scene_to_mitsuba(lit_patch("inverse_square"), spp=32, sampler="stratified")
+    path = write_scene(minimal_scene_text + 'falloff = "inverse_square"\n')
+    result = run_cli("mitsuba", path, "-o", path.parent / "out.exr", "--spp", "32", "--sampler", "stratified")
+    assert result.returncode == 2 and "--spp" in result.stderr and "square" in result.stderr
+    assert "Traceback" not in result.stderr and not (path.parent / "out.exr").exists()
 
 
 def test_lit_showcase_agrees_with_native(tmp_path):

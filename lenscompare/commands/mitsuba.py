@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 from ..image import write_exr
-from ..mitsuba import MAX_MITSUBA_SEED, MITSUBA_VARIANTS, render_mitsuba
+from ..mitsuba import MAX_MITSUBA_SEED, MITSUBA_SAMPLERS, MITSUBA_VARIANTS, render_mitsuba
 from ..scene import MODELS, load_scene
 from ._options import SPP, check_output_suffix, integer_option, with_lens_option
 
@@ -33,6 +33,9 @@ def add_parser(subparsers) -> None:
                    help="sampler seed, 0 to 2^32 - 1 (default: the scene's render.seed)")
     p.add_argument("--variant", choices=MITSUBA_VARIANTS, default="scalar_rgb",
                    help="Mitsuba variant (default scalar_rgb; llvm_ad_rgb needs DRJIT_LIBLLVM_PATH)")
+    p.add_argument("--sampler", choices=MITSUBA_SAMPLERS, default="independent",
+                   help="Mitsuba's sampler (default independent; stratified is the native jittered's construction "
+                        "and takes a square --spp)")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")
     p.set_defaults(run=run)
 
@@ -40,7 +43,8 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # say so before a long render, not after
     scene = with_lens_option(load_scene(args.scene), args.lens)
-    image = render_mitsuba(scene, model=args.model, spp=args.spp, seed=args.seed, variant=args.variant)
+    image = render_mitsuba(scene, model=args.model, spp=args.spp, seed=args.seed, variant=args.variant,
+                           sampler=args.sampler)
     write_exr(output, image, final=True)
     if args.json:
         print(json.dumps({**image.metadata, "output": str(args.output)}))
