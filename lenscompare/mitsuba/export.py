@@ -72,18 +72,18 @@ from ..flat_geometry import flat_pieces
 from ..scene import DiffuseMaterial, EmissiveMaterial, Scene, Sphere
 from ..units import m_from_mm
 
-__all__ = ["MITSUBA_MODELS", "MAX_MITSUBA_SEED", "MitsubaScene", "scene_to_mitsuba", "write_ply"]
+__all__ = ["MITSUBA_MODELS", "MAX_MITSUBA_SEED", "MITSUBA_SAMPLERS", "MitsubaScene", "scene_to_mitsuba", "write_ply"]
 
 MITSUBA_MODELS = ("pinhole", "thin")
-MAX_MITSUBA_SEED = 2**32 - 1
-# Mitsuba's samplers the export may write: ``independent`` (a uniform point
-# per dimension, as the native ``random``; the default), ``stratified`` (one
-# jittered point per stratum, the strata shuffled between dimensions, as the
-# native ``jittered``; it takes a square sample count), and the stratified
-# ones that round the count themselves.
-MITSUBA_SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
-"""Mitsuba's ``independent`` sampler takes a 32-bit seed."""
 """Camera models Mitsuba renders here (``perspective`` and ``thinlens``)."""
+MAX_MITSUBA_SEED = 2**32 - 1
+"""Mitsuba's samplers take a 32-bit seed."""
+MITSUBA_SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
+"""Mitsuba's samplers the export may write: ``independent`` (a uniform point
+per dimension, as the native ``random``; the default), ``stratified`` (one
+jittered point per stratum, the strata shuffled between dimensions, as the
+native ``jittered``; it takes a square sample count), and the stratified ones
+that round the count themselves."""
 
 NEAR_CLIP_M, FAR_CLIP_M = 1e-5, 1e9  # Mitsuba's defaults (1 cm, 10 km) would clip scenes the native tracer shows
 

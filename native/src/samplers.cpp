@@ -19,35 +19,32 @@ constexpr uint64_t kShuffleStream = 2;
 constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
 constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 
-// A thread's scratch for fill_random's, fill_jittered's and shuffle's random numbers.
+// rng's next n outputs, drawn by Pcg32::fill_u32 (several states at a time,
+// not one chain of multiplications) into a thread's scratch, valid until the
+// next call: fill_random's, fill_jittered's and shuffle's random numbers.
 // (fill_jittered is built per instruction set: its divisions run 16 wide on
 // AVX-512 and round as the baseline's do.)
-std::vector<uint32_t>& jittered_bits() {
+const uint32_t* draw_u32(Pcg32& rng, int n) {
     thread_local std::vector<uint32_t> bits;
-    return bits;
+    bits.resize(size_t(n));
+    rng.fill_u32(bits.data(), n);
+    return bits.data();
 }
 
-// The same numbers in the same order as next_float twice per point, drawn
-// first by Pcg32::fill_u32 (as fill_jittered's), not one multiplication chain.
+// The same numbers in the same order as next_float twice per point.
 void fill_random(Pcg32& rng, int spp, Point2f* out) {
-    std::vector<uint32_t>& bits = jittered_bits();
-    bits.resize(size_t(2 * spp));
-    rng.fill_u32(bits.data(), 2 * spp);
-    for (int i = 0; i < spp; ++i)
-        out[i] = {Pcg32::to_float(bits[size_t(2 * i)]), Pcg32::to_float(bits[size_t(2 * i + 1)])};
+    const uint32_t* bits = draw_u32(rng, 2 * spp);
+    for (int i = 0; i < spp; ++i) out[i] = {Pcg32::to_float(bits[2 * i]), Pcg32::to_float(bits[2 * i + 1])};
 }
 
 LC_BUILT_PER_ISA void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
     int nx, ny;
     jittered_strata(spp, &nx, &ny);
-    // The random numbers first (Pcg32::fill_u32 breaks their chain of
-    // multiplications), then the arithmetic, which GCC runs in SIMD lanes:
-    // the same numbers in the same order as next_float per stratum.
-    std::vector<uint32_t>& bits = jittered_bits();
-    bits.resize(size_t(2 * spp));
-    rng.fill_u32(bits.data(), 2 * spp);
+    // The random numbers first, then the arithmetic, which GCC runs in SIMD
+    // lanes: the same numbers in the same order as next_float per stratum.
+    const uint32_t* bits = draw_u32(rng, 2 * spp);
     for (int iy = 0; iy < ny; ++iy) {
-        const uint32_t* row_bits = bits.data() + size_t(2 * iy) * size_t(nx);
+        const uint32_t* row_bits = bits + size_t(2 * iy) * size_t(nx);
         Point2f* row = out + size_t(iy) * size_t(nx);
         for (int ix = 0; ix < nx; ++ix) {
             // (ix + u) / nx stays below 1 because u <= 1 - 2^-24.
@@ -63,11 +60,8 @@ LC_BUILT_PER_ISA void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
 // The random numbers first, as fill_jittered's; next_below's bound per swap.
 void shuffle(Pcg32& rng, int n, Point2f* points) {
     if (n < 2) return;
-    std::vector<uint32_t>& bits = jittered_bits();
-    bits.resize(size_t(n - 1));
-    rng.fill_u32(bits.data(), n - 1);
-    for (int i = n - 1; i > 0; --i)
-        std::swap(points[i], points[Pcg32::below(bits[size_t(n - 1 - i)], uint32_t(i + 1))]);
+    const uint32_t* bits = draw_u32(rng, n - 1);
+    for (int i = n - 1; i > 0; --i) std::swap(points[i], points[Pcg32::below(bits[n - 1 - i], uint32_t(i + 1))]);
 }
 
 // The multiplier coprime to n nearest n / golden ratio: i -> a * i mod n is
