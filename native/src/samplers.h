@@ -99,36 +99,38 @@ void jittered_strata(int spp, int* nx, int* ny);
 // Unit-square sample -> point in the unit disk, area-preserving.
 Point2f map_to_disk(Point2f u, DiskMapping mapping);
 
-// sin and cos of phi in [-pi/4, pi/4] by their Taylor series to phi^13 and
-// phi^14 (the next terms are below 3e-14): no libm call, so a batch of lens
-// samples maps side by side in SIMD lanes (cameras/thin_lens_lanes.cpp) with
-// the same bits as one at a time, on every instruction set.
-[[gnu::always_inline]] inline void sin_cos_quarter_turn(double phi, double* sin_phi, double* cos_phi) {
-    const double p = phi * phi;
-    *sin_phi = phi * (1.0 + p * (-1.0 / 6.0 + p * (1.0 / 120.0 + p * (-1.0 / 5040.0 + p * (1.0 / 362880.0 +
-               p * (-1.0 / 39916800.0 + p * (1.0 / 6227020800.0)))))));
-    *cos_phi = 1.0 + p * (-1.0 / 2.0 + p * (1.0 / 24.0 + p * (-1.0 / 720.0 + p * (1.0 / 40320.0 +
-               p * (-1.0 / 3628800.0 + p * (1.0 / 479001600.0 + p * (-1.0 / 87178291200.0)))))));
+// sin and cos of phi in [-pi/4, pi/4] by their Taylor series to phi^9 and
+// phi^10 in single precision (the next terms are below 2e-9, a thirtieth of
+// a float's last bit at 1): no libm call, so a batch of lens samples maps
+// side by side in SIMD lanes (cameras/thin_lens_lanes.cpp) with the same bits
+// as one at a time, on every instruction set. In double to phi^14 this was a
+// tenth of an empty scene's thin-lens render (perf), and its result was
+// rounded to float anyway.
+[[gnu::always_inline]] inline void sin_cos_quarter_turn(float phi, float* sin_phi, float* cos_phi) {
+    const float p = phi * phi;
+    *sin_phi = phi * (1.0f + p * (-1.0f / 6.0f + p * (1.0f / 120.0f + p * (-1.0f / 5040.0f + p * (1.0f / 362880.0f)))));
+    *cos_phi = 1.0f + p * (-1.0f / 2.0f + p * (1.0f / 24.0f + p * (-1.0f / 720.0f + p * (1.0f / 40320.0f +
+               p * (-1.0f / 3628800.0f)))));
 }
 
 // Shirley & Chiu 1997 concentric mapping (map_to_disk's DiskMapping::Concentric),
-// rounded to float as map_to_disk returns it. Without branches, so that it
-// runs in SIMD lanes.
+// in single precision, as map_to_disk returns it. Without branches, so that
+// it runs in SIMD lanes.
 [[gnu::always_inline]] inline void concentric_disk(Point2f u, double* x, double* y) {
-    const double ox = 2.0 * double(u.x) - 1.0, oy = 2.0 * double(u.y) - 1.0;
+    const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     // The wider coordinate is the radius, the other over it the angle in
     // quarter turns: phi = pi/4 (oy/ox) from the x axis, or from the y axis.
     const bool from_x_axis = std::fabs(ox) > std::fabs(oy);
-    const double r = from_x_axis ? ox : oy, across = from_x_axis ? oy : ox;
-    const double phi = 0.78539816339744830962 * (across / (r != 0.0 ? r : 1.0));  // r = 0 only at the centre
-    double s, c;
+    const float r = from_x_axis ? ox : oy, across = from_x_axis ? oy : ox;
+    const float phi = 0.785398163f * (across / (r != 0.0f ? r : 1.0f));  // r = 0 only at the centre
+    float s, c;
     sin_cos_quarter_turn(phi, &s, &c);
     // Both selects as plain values: written inside the products, GCC kept a
     // branch and left the loop in concentric_disk_lanes scalar (8 % of a thin
     // lens render, perf).
-    const double along = from_x_axis ? c : s, side = from_x_axis ? s : c;
-    *x = double(float(r * along));
-    *y = double(float(r * side));
+    const float along = from_x_axis ? c : s, side = from_x_axis ? s : c;
+    *x = double(r * along);
+    *y = double(r * side);
 }
 
 // The same point as (r cos theta, r sin theta) before the last step; r may be

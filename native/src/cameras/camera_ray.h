@@ -90,6 +90,13 @@ struct FilmToScreen {
         double sy = (1.0 - 2.0 * raster_px.y / height_px) * screen_half_height;
         return {sx, sy, 1.0};
     }
+
+    // direction's x and y in single precision, as the thin lens and the
+    // pinhole find their rays (thin_lens_lanes.h): one rounding per step.
+    void screen_point(Point2f raster_px, float* x, float* y) const {
+        *x = (raster_px.x * float(2.0 / width_px) - 1.0f) * float(screen_half_width);
+        *y = (1.0f - raster_px.y * float(2.0 / height_px)) * float(screen_half_height);
+    }
 };
 
 }  // namespace lc

@@ -34,11 +34,12 @@ struct ThinLensCamera {
     }
 
     // A batch of n <= kCameraBatch samples (render_tile.h): the aperture's map
-    // sample by sample, the rest side by side (thin_lens_lanes.h); the same
-    // rays as generate_ray, bit for bit.
+    // sample by sample, the rest side by side (thin_lens_lanes.h), in single
+    // precision: generate_ray's rays to float rounding (the same lens points).
     void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                             CameraRayBatch* out) const {
-        double screen_x[kCameraBatch], screen_y[kCameraBatch], lens_x[kCameraBatch], lens_y[kCameraBatch];
+        float screen_x[kCameraBatch], screen_y[kCameraBatch];
+        double lens_x[kCameraBatch], lens_y[kCameraBatch];
         const bool concentric_circle = aperture.blades == 0 && disk_mapping == DiskMapping::Concentric;
         if (concentric_circle) concentric_disk_lanes(n, lens_sample, lens_x, lens_y);
         screen_points_lanes(n, film, raster_px, screen_x, screen_y);
@@ -48,8 +49,8 @@ struct ThinLensCamera {
         }
         double* const origin_rows[3] = {out->origin[0], out->origin[1], out->origin[2]};
         double* const direction_rows[3] = {out->direction[0], out->direction[1], out->direction[2]};
-        thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m, world_from_camera,
-                             origin_rows, direction_rows);
+        thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m,
+                             FrameF::of(world_from_camera), origin_rows, direction_rows);
         for (int i = 0; i < n; ++i) out->weight[i] = 1.0f, out->alive[i] = true;
     }
 
@@ -114,7 +115,8 @@ struct ThinLensCamera {
     }
 
     // The ray from lens point (x, y) (m, camera frame) through the film point's
-    // image on the plane of focus 1 / inverse_focus_per_m away.
+    // image on the plane of focus 1 / inverse_focus_per_m away. In double: the
+    // reference the batch's single-precision rays are tested against.
     MaybeRay ray_from_lens_point(Point2f raster_px, double lens_x_m, double lens_y_m,
                                  double inverse_focus_per_m) const {
         Vec3d p_lens{lens_x_m, lens_y_m, 0.0};

@@ -1,8 +1,13 @@
 // The thin lens's arithmetic for a whole batch of samples at once (the render
-// loop hands a camera kCameraBatch of them): one sample's ray is a chain of a
-// square root and three divisions in double precision, which leaves the core
-// waiting on their latency; side by side in SIMD lanes those overlap.
+// loop hands a camera kCameraBatch of them), side by side in SIMD lanes, in
+// single precision: the rays go to Embree as floats, and in double the
+// batch's square roots and divisions, with the concentric map's, were a fifth
+// of an empty scene's thin-lens render (perf). The cameras' one-ray
+// generate_ray stays in double: the reference the batch is tested against
+// (tests/test_camera_batches.py), as the lens system's trace is.
 #pragma once
+
+#include <cmath>
 
 #include "cameras/camera_ray.h"
 #include "samplers.h"
@@ -10,18 +15,46 @@
 
 namespace lc {
 
-// Lens points and film points (screen units, z = 1) to world rays, lane by
-// lane, with exactly the operations of ThinLensCamera::ray_from_lens_point in
-// its order (no fused multiply-adds): the same bits as one ray at a time, on
-// every instruction set. origin_m and direction are [3][n] (x, y, z rows).
-void thin_lens_rays_lanes(int n, const double* screen_x, const double* screen_y, const double* lens_x_m,
-                          const double* lens_y_m, double inverse_focus_per_m, const Frame& world_from_camera,
+// A camera frame's origin and axes rounded to float.
+struct FrameF {
+    float origin[3], right[3], up[3], forward[3];
+
+    static FrameF of(const Frame& f) {
+        return {{float(f.origin.x), float(f.origin.y), float(f.origin.z)},
+                {float(f.right.x), float(f.right.y), float(f.right.z)},
+                {float(f.up.x), float(f.up.y), float(f.up.z)},
+                {float(f.forward.x), float(f.forward.y), float(f.forward.z)}};
+    }
+};
+
+// The ray from lens point (lens_x_m, lens_y_m, 0) (camera frame) through the
+// image of screen point (screen_x, screen_y, 1) on the plane of focus, in
+// world space: ThinLensCamera::ray_from_lens_point in single precision (the
+// direction is screen point - lens point * inverse_focus, normalised, so that
+// any focus distance, 1e300 m too, stays finite). The pinhole is lens point 0.
+[[gnu::always_inline]] inline void thin_lens_ray(float screen_x, float screen_y, float lens_x_m, float lens_y_m,
+                                                 float inverse_focus_per_m, const FrameF& f, float origin_m[3],
+                                                 float direction[3]) {
+    const float dx = screen_x - lens_x_m * inverse_focus_per_m;
+    const float dy = screen_y - lens_y_m * inverse_focus_per_m;
+    const float inverse_length = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
+    const float ux = dx * inverse_length, uy = dy * inverse_length;
+    for (int k = 0; k < 3; ++k) {
+        origin_m[k] = f.origin[k] + f.right[k] * lens_x_m + f.up[k] * lens_y_m;
+        direction[k] = f.right[k] * ux + f.up[k] * uy + f.forward[k] * inverse_length;
+    }
+}
+
+// thin_lens_ray for lanes [0, n): screen points and lens points (their
+// double values rounded to float) to world rays; origin_m and direction are
+// [3][n] (x, y, z rows).
+void thin_lens_rays_lanes(int n, const float* screen_x, const float* screen_y, const double* lens_x_m,
+                          const double* lens_y_m, double inverse_focus_per_m, const FrameF& world_from_camera,
                           double* const origin_m[3], double* const direction[3]);
 
-// Raster points to screen points (z = 1), lane by lane: film.direction's x
-// and y for each, with its operations (two divisions each, in SIMD here).
-void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_px, double* screen_x,
-                         double* screen_y);
+// Raster points to screen points (z = 1), lane by lane: film.screen_point for each.
+void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_px, float* screen_x,
+                         float* screen_y);
 
 // Lens samples to points of the unit disk by the concentric map, lane by
 // lane: concentric_disk (samplers.h) for each, so the same bits as map_to_disk.
