@@ -8,7 +8,7 @@
 // Both tables are sampled evenly over film radii [0, max_radius_mm] and read
 // with linear interpolation; beyond max_radius_mm (the image circle, or where
 // the chief ray fails) no ray leaves. With both tables empty the composite is
-// the thin lens, bit for bit.
+// the thin lens, bit for bit (its double generate_ray, its single-precision batch).
 // In a spectral render two more parts make it a camera that disperses
 // (render_tile_spectral.h: disperses(), generate_rays_at):
 //   - lateral colour: the distortion table once per wavelength (a few rows,
@@ -56,13 +56,29 @@ struct CompositeCamera {
 
     bool disperses() const { return !color_nm.empty() || lens.disperses(); }
 
+    bool is_thin_lens() const { return screen_scale.empty() && illumination.empty() && std::isinf(max_radius_mm); }
+
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
-        if (screen_scale.empty() && illumination.empty() && std::isinf(max_radius_mm))
-            return lens.generate_ray(raster_px, lens_sample);  // the thin lens, bit for bit
+        if (is_thin_lens()) return lens.generate_ray(raster_px, lens_sample);  // the thin lens, bit for bit
         FilmSample film;
         if (!film_sample(raster_px, lens_sample, &film)) return std::nullopt;
         const double k = screen_scale.empty() ? 1.0 : screen_scale.at(film.r_mm);
         return ray_through(film, k, 1.0 / lens.focus_distance_m);
+    }
+
+    // The render loop's batch: without tables the thin lens's (single
+    // precision, as ray_through), otherwise ray by ray.
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                            CameraRayBatch* out) const {
+        if (is_thin_lens()) return lens.generate_ray_batch(raster_px, lens_sample, n, out);
+        for (int i = 0; i < n; ++i) {
+            const MaybeRay ray = generate_ray(raster_px[i], lens_sample[i]);
+            out->alive[i] = bool(ray);
+            if (!ray) continue;
+            out->origin[0][i] = ray->origin.x, out->origin[1][i] = ray->origin.y, out->origin[2][i] = ray->origin.z;
+            out->direction[0][i] = ray->direction.x, out->direction[1][i] = ray->direction.y;
+            out->direction[2][i] = ray->direction.z, out->weight[i] = ray->weight;
+        }
     }
 
     // The ray at wavelength nm: its screen point scaled by that wavelength's
@@ -91,11 +107,13 @@ struct CompositeCamera {
     }
 
   private:
+    // In single precision, as the thin lens's batch (thin_lens_lanes.h), so
+    // that without tables the composite's rays are the thin lens's.
     struct FilmSample {
-        Vec3d screen;   // paraxial screen point (tangents, z = 1)
-        Vec3d p_lens;   // point on the entrance pupil, m
-        double r_mm;    // film radius
-        float weight;   // relative illumination
+        float screen_x, screen_y;  // paraxial screen point (tangents, z = 1)
+        float lens_x_m, lens_y_m;  // point on the entrance pupil
+        double r_mm;               // film radius
+        float weight;              // relative illumination
     };
 
     // False when the sample lies outside the image circle or gets no light.
@@ -108,10 +126,10 @@ struct CompositeCamera {
         if (!(out->r_mm <= max_radius_mm)) return false;  // outside the image circle: black
         out->weight = illumination.empty() ? 1.0f : float(illumination.at(out->r_mm));
         if (!(out->weight > 0.0f)) return false;
-        out->screen = film.direction(raster_px);
+        film.screen_point(raster_px, &out->screen_x, &out->screen_y);
         double ax, ay;
         lens.aperture.sample(lens_sample, lens.disk_mapping, &ax, &ay);
-        out->p_lens = Vec3d{lens.lens_radius_m * ax, lens.lens_radius_m * ay, 0.0};
+        out->lens_x_m = float(ax * lens.lens_radius_m), out->lens_y_m = float(ay * lens.lens_radius_m);
         return true;
     }
 
@@ -127,14 +145,13 @@ struct CompositeCamera {
     }
 
     // The screen point pushed out or in by scale, the pupil point aimed through
-    // its image on the plane of focus (as ThinLensCamera, divided by the distance).
+    // its image on the plane of focus (thin_lens_ray, as the thin lens).
     MaybeRay ray_through(const FilmSample& film, double scale, double inverse_focus_per_m) const {
-        Vec3d screen = film.screen;
-        screen.x *= scale, screen.y *= scale;
-        Vec3d dir_camera = normalize(screen - film.p_lens * inverse_focus_per_m);
-        const Frame& frame = lens.world_from_camera;
-        return CameraRay{frame.world_from_camera_point(film.p_lens), frame.world_from_camera_vector(dir_camera),
-                         film.weight};
+        const float screen_x = float(double(film.screen_x) * scale), screen_y = float(double(film.screen_y) * scale);
+        float o[3], d[3];
+        thin_lens_ray(screen_x, screen_y, film.lens_x_m, film.lens_y_m, float(inverse_focus_per_m),
+                      FrameF::of(lens.world_from_camera), o, d);
+        return CameraRay{{o[0], o[1], o[2]}, {d[0], d[1], d[2]}, film.weight};
     }
 };
 
