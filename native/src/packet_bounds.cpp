@@ -103,7 +103,10 @@ LC_BUILT_PER_ISA uint64_t near_capsule(const SegmentCapsule& capsule, const Cull
         const float* ny = p.ny.data() + base;
         const float* nz = p.nz.data() + base;
         const float* offset = p.offset.data() + base;
-        int near[N];
+        // Each near primitive's bit ORed together in the lane loop: GCC reduces
+        // the lanes in a few shuffles, where a bit taken from each lane of a
+        // flag row cost sixteen extractions (half of this function, perf).
+        uint32_t near_bits = 0;
         for (int j = 0; j < N; ++j) {
             const float px = x[j] - ax, py = y[j] - ay, pz = z[j] - az, r = radius[j];
             const float along = (px * abx + py * aby + pz * abz) * inverse_ab2;
@@ -118,9 +121,9 @@ LC_BUILT_PER_ISA uint64_t near_capsule(const SegmentCapsule& capsule, const Cull
             const float side_b = nx[j] * bx + ny[j] * by + nz[j] * bz - offset[j];
             const float wide = capsule_radius + margin;
             const bool one_side = ((side_a > wide) & (side_b > wide)) | ((side_a < -wide) & (side_b < -wide));
-            near[j] = !(far_from_axis | one_side);  // NaN: near
+            near_bits |= !(far_from_axis | one_side) ? uint32_t(1) << j : 0u;  // NaN: near
         }
-        for (int j = 0; j < N; ++j) mask |= uint64_t(near[j] != 0) << (base + j);
+        mask |= uint64_t(near_bits) << base;
     }
     // Padding and primitives past 64 are no candidates of this mask (is_candidate tests those past 64).
     const int n = std::min(p.count(), 64);

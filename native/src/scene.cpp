@@ -310,6 +310,14 @@ Scene::Scene(const SceneArrays& a)
             if (is_candidate(blocking, int(k))) o.quads.push_back(own_quads_[k]);
         o.columns = CullColumns::of_own(own_spheres_, o.quads);
         o.packet_cull = packet_cull_enabled() && o.columns.count() > 0 && o.columns.count() <= 64;
+        for (size_t k = 0; k + 3 < own_spheres_.size(); k += 4) {
+            const float* c = &own_spheres_[k];
+            const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],
+                         lz = double(light.position_m.z) - c[2];
+            const bool outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
+            if (outside && k / 4 < 32) o.outside_bits |= uint32_t(1) << (k / 4);
+            o.outside_sphere.push_back(outside);
+        }
         light_occluders_.push_back(std::move(o));
     }
     if (!own_spheres_.empty()) own_spheres_id_ = own_id(own_table);

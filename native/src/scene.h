@@ -137,13 +137,18 @@ class Scene {
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
         SurfaceLanes surface;              // gathered by gather_surfaces, found by surface_lanes
+        // For the shadow rays, found with the first light's (sphere_starts):
+        // the own sphere each lane's hit is on (-1: none), and whether the
+        // hit is on its inner side (the shading normal turned to face the camera).
+        bool starts_found = false;
+        int start_sphere[kPacketSize];
+        int inner_side[kPacketSize];
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
         ShadowLanes lanes;  // valid, cos_theta, falloff
         alignas(kPacketAlignment) RTCRayPacket packet;
-        int start_sphere[kPacketSize];    // the own sphere the ray starts on, or -1
-        int self_blocks[kPacketSize];     // that sphere blocks it (it starts inside toward a light outside)
+        int self_blocks[kPacketSize];     // the sphere it starts on blocks it (from inside toward a light outside)
         // traced and not blocked (Embree's tfar of -inf)
         bool lit(int i) const { return lanes.valid[i] && packet.tfar[i] != -std::numeric_limits<float>::infinity(); }
     };
@@ -158,6 +163,8 @@ class Scene {
     void gather_surfaces(const RayBatch& rays, CameraHits& hits, int* material, float (&rgb)[3][kPacketSize]) const;
     // Shadow rays from the diffuse hits (surface_lanes done) toward lights_[light], traced; false when none was needed.
     bool trace_shadow_rays(size_t light, CameraHits& hits, ShadowRays& shadow) const;
+    // hits' start_sphere and inner_side, once per camera packet (the same for every light).
+    void sphere_starts(CameraHits& hits) const;
     // Whether lane i of hits shows a monochromatic emitter (spectral renders: its line alone).
     bool shows_line(const CameraHits& hits, const int* material, int i) const {
         return !hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
@@ -187,6 +194,11 @@ class Scene {
         std::vector<OwnQuad> quads;
         CullColumns columns;
         bool packet_cull = false;
+        // Per own sphere, whether the light is outside it (a ray from its
+        // inner side toward the light is then blocked by it); the first 32
+        // also as bits, which lanes read without a gather.
+        std::vector<int> outside_sphere;
+        uint32_t outside_bits = 0;
     };
     std::vector<LightOccluders> light_occluders_;
     SphereKernel sphere_kernel_ = SphereKernel::Default;

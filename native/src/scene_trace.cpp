@@ -143,31 +143,37 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     if (!any) return false;
     const int* valid = shadow.lanes.valid;
     RTCIntersectContext& context = hits.context;
+    const LightOccluders& occluders = light_occluders_[light_index];
+    const int n_spheres = int(own_spheres_.size() / 4);
+    // From an own sphere's surface: it blocks the ray exactly when the ray
+    // leaves its inner side toward a light outside it. Branch-free, so that
+    // the lanes run side by side (per lane with branches, this loop was half
+    // of this function, perf).
     int self_blocked = 0;  // some lane is blocked by the sphere it starts on
-    for (int i = 0; i < kPacketSize; ++i) {
-        shadow.start_sphere[i] = -1, shadow.self_blocks[i] = 0;
-        if (!valid[i] || hits.hit_mover[i] || hits.packet.hit.geomID[i] != own_spheres_id_) continue;
-        // From an own sphere's surface: it blocks the ray exactly when the ray
-        // leaves its inner side (a normal flipped to face the camera) toward a light outside it.
-        const int k = int(hits.packet.hit.primID[i]);
-        const float* c = &own_spheres_[4 * size_t(k)];
-        const Vec3f n{hits.surface.n[0][i], hits.surface.n[1][i], hits.surface.n[2][i]};
-        const Vec3f ng{hits.packet.hit.Ng_x[i], hits.packet.hit.Ng_y[i], hits.packet.hit.Ng_z[i]};
-        const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],
-                     lz = double(light.position_m.z) - c[2];
-        const bool light_outside = lx * lx + ly * ly + lz * lz > double(c[3]) * double(c[3]);
-        shadow.start_sphere[i] = k;
-        shadow.self_blocks[i] = dot(n, ng) < 0.0f && light_outside;
-        self_blocked |= shadow.self_blocks[i];
+    if (n_spheres > 0) {
+        if (!hits.starts_found) sphere_starts(hits);
+        const int* start = hits.start_sphere;
+        if (n_spheres <= 32) {
+            const uint32_t outside = occluders.outside_bits;
+            for (int i = 0; i < kPacketSize; ++i) {
+                const int on_sphere = (valid[i] != 0) & (start[i] >= 0) & (hits.inner_side[i] != 0);
+                shadow.self_blocks[i] = on_sphere & int((outside >> (start[i] & 31)) & 1u);
+                self_blocked |= shadow.self_blocks[i];
+            }
+        } else {
+            for (int i = 0; i < kPacketSize; ++i) {
+                shadow.self_blocks[i] = (valid[i] != 0) && start[i] >= 0 && hits.inner_side[i] != 0 &&
+                                        occluders.outside_sphere[size_t(start[i])] != 0;
+                self_blocked |= shadow.self_blocks[i];
+            }
+        }
     }
     // The own quads that may block this light (not the boxes' faces it is behind: solid_faces.h).
-    const LightOccluders& occluders = light_occluders_[light_index];
     const std::vector<OwnQuad>& quads = occluders.quads;
     // The own primitives some lane's segment may reach (packet_bounds.h); the
     // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     SegmentCapsule capsule;
-    const int n_spheres = int(own_spheres_.size() / 4);
     if (occluders.packet_cull && capsule_of_segments(packet, valid, light_m, &capsule)) {
         const uint64_t near = near_capsule(capsule, occluders.columns);
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
@@ -191,7 +197,7 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     if (n_spheres > 0 && (near_spheres != 0 || self_blocked)) {
         int blocked[kPacketSize];
         spheres_occluded(sphere_kernel_, own_spheres_.data(), n_spheres, origin, direction, packet.tfar,
-                         shadow.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
+                         hits.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
         any_open = close_blocked(blocked);
     }
     if (any_open && !quads.empty() && near_quads != 0) {
@@ -203,6 +209,19 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     if (embree_still_ && any_open) occluded_packet(open, scene_, &context, &packet);
     if (motion_scene_) occlude_by_movers(valid, context, packet);
     return true;
+}
+
+LC_BUILT_PER_ISA void Scene::sphere_starts(CameraHits& hits) const {
+    const RTCHit16& hit = hits.packet.hit;
+    const float* const n[3] = {hits.surface.n[0], hits.surface.n[1], hits.surface.n[2]};
+    for (int i = 0; i < kPacketSize; ++i) {
+        // A mover's geometry ID indexes the motion tables: never an own sphere.
+        const bool on_sphere = !hits.hit_mover[i] && hit.geomID[i] == own_spheres_id_;
+        hits.start_sphere[i] = on_sphere ? int(hit.primID[i]) : -1;
+        // As dot(n, ng) < 0, term by term: the same bits.
+        hits.inner_side[i] = n[0][i] * hit.Ng_x[i] + n[1][i] * hit.Ng_y[i] + n[2][i] * hit.Ng_z[i] < 0.0f;
+    }
+    hits.starts_found = true;
 }
 
 // The moving geometry for the rays of the packet that pass through its swept
