@@ -137,7 +137,8 @@ class Scene {
         alignas(kPacketAlignment) RTCRayHitPacket packet;
         bool hit_mover[kPacketSize] = {};  // whose tables the hit's geometry ID indexes
         SurfaceLanes surface;              // gathered by gather_surfaces, found by surface_lanes
-        // For the shadow rays, found with the first light's (sphere_starts):
+        // For the shadow rays, found once per camera packet, by its first
+        // light's shadow packet (sphere_starts):
         // the own sphere each lane's hit is on (-1: none), and whether the
         // hit is on its inner side (the shading normal turned to face the camera).
         bool starts_found = false;

@@ -153,6 +153,9 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     if (n_spheres > 0) {
         if (!hits.starts_found) sphere_starts(hits);
         const int* start = hits.start_sphere;
+        // The bits up to 32 spheres (the default cap); past that
+        // (LENSCOMPARE_MAX_OWN_SPHERES) the flags, looked up per lane. The
+        // look-up for every count was measured 3.5 % slower per sample.
         if (n_spheres <= 32) {
             const uint32_t outside = occluders.outside_bits;
             for (int i = 0; i < kPacketSize; ++i) {
