@@ -1,6 +1,7 @@
-"""The per-packet cull of shadow rays (native/src/packet_bounds.h) only skips primitives no lane can reach:
-renders with it and without it (LENSCOMPARE_PACKET_CULL=0) are the same bit for bit, on the reference scenes
-and on scenes built to sit at its edges."""
+"""The per-packet cull of shadow rays (native/src/packet_bounds.h) and the per-tile cull of camera rays
+(native/src/cameras/camera_pencil.h) only skip primitives no ray can reach: renders with them and without
+them (LENSCOMPARE_PACKET_CULL=0 turns both off) are the same bit for bit, on the reference scenes and on
+scenes built to sit at their edges."""
 import numpy as np
 import pytest
 
@@ -57,6 +58,45 @@ def edge_scenes():
         "touching_tiny_huge": HEADER + sphere((1.3, 2.3, 2.0), 0.3) + sphere((0.2, 0.5, 1.5), 1e-4)
         + sphere((0.0, -1e4 - 5.0, 0.0), 1e4) + light((1.0, 2.3, 2.0)),
     }
+
+
+def box(lo, hi):
+    return (f'[[objects]]\ntype = "box"\nmin = [{lo[0]!r}, {lo[1]!r}, {lo[2]!r}]\n'
+            f'max = [{hi[0]!r}, {hi[1]!r}, {hi[2]!r}]\nmaterial = "m"\n')
+
+
+def camera_edge_scenes():
+    """Scenes for the camera rays' per-tile cull: primitives straddling tiles, the lens and the camera."""
+    rng = np.random.default_rng(8)
+    # Small spheres and boxes over the whole view, many across a tile's edge (72 x 48 px, 16 px tiles)
+    strewn = "".join(sphere((float(x), float(y), float(z)), float(r)) for x, y, z, r in
+                     zip(rng.uniform(-2, 2, 20), rng.uniform(0, 2, 20), rng.uniform(0.5, 6, 20),
+                         rng.uniform(0.01, 0.15, 20)))
+    strewn += "".join(box((float(x), float(y), float(z)), (float(x + s), float(y + s), float(z + s))) for x, y, z, s in
+                      zip(rng.uniform(-2, 2, 6), rng.uniform(0, 1.5, 6), rng.uniform(1, 6, 6),
+                          rng.uniform(0.05, 0.4, 6)))
+    lamp = light((0.5, 3.0, 2.0))
+    wide = HEADER.replace("f_number = 2.0", "f_number = 1.0").replace("focus_distance = 4.0", "focus_distance = 0.6")
+    blades = wide.replace('resolution = [72, 48]', 'resolution = [72, 48]\naperture_blades = 5')
+    return {
+        "strewn_f2": HEADER + strewn + lamp,
+        "strewn_f1_focused_near": wide + strewn + lamp,
+        "strewn_five_blades": blades + strewn + lamp,
+        # The camera (at 0, 1, -2) inside a sphere and inside a box, lit from inside both
+        "camera_inside": HEADER + sphere((0.0, 1.0, -2.0), 0.5) + box((-6.0, -0.5, -3.0), (6.0, 6.0, 12.0))
+        + light((0.0, 1.5, -2.0)) + lamp,
+        # A sphere across the lens plane, and one just behind it
+        "across_the_lens": HEADER + sphere((0.3, 1.0, -2.0), 0.4) + sphere((0.0, 1.0, -2.6), 0.5) + lamp,
+    }
+
+
+@pytest.mark.parametrize("model", ["pinhole", "thin"])
+@pytest.mark.parametrize("name", list(camera_edge_scenes()))
+def test_the_camera_cull_changes_no_bit_at_its_edges(monkeypatch, name, model):
+    culled, tested = render_both(monkeypatch, parse_scene(camera_edge_scenes()[name]), model=model, spp=8,
+                                 threads=2)
+    assert np.isfinite(culled).all()
+    assert np.array_equal(culled, tested)
 
 
 def render_both(monkeypatch, scene, **options):

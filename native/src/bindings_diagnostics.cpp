@@ -462,7 +462,24 @@ void bind_own_quads(nb::module_& m) {
           "out[i]: whether segment i (t in [0, t_far]) crosses a parallelogram, as the render's shadow rays see it.");
 }
 
+// Whether each ball (rows: centre xyz, radius, m) may meet a ray the camera
+// sends through raster rectangle [x0, x1] x [y0, y1]: the render's per-tile cull.
+template <class Camera>
+void pencil_may_meet(const Camera& camera, double x0_px, double y0_px, double x1_px, double y1_px,
+                     CArray<const float, -1, 4> balls, CArray<bool, -1> out) {
+    if (out.shape(0) != balls.shape(0)) throw std::invalid_argument("out needs one entry per ball");
+    CameraPencil pencil;
+    const bool bounded = camera.pencil(x0_px, y0_px, x1_px, y1_px, &pencil);
+    for (size_t k = 0; k < balls.shape(0); ++k)
+        out(k) = !bounded || pencil.may_meet_ball(balls.data() + 4 * k, balls(k, 3));
+}
+
 void bind_batched_cameras(nb::module_& m) {
+    const char* pencil_doc = "Whether each ball may meet a camera ray through a raster rectangle (the per-tile cull).";
+    m.def("pencil_may_meet", &pencil_may_meet<PinholeCamera>, "camera"_a, "x0_px"_a, "y0_px"_a, "x1_px"_a,
+          "y1_px"_a, "balls"_a, "out"_a, pencil_doc);
+    m.def("pencil_may_meet", &pencil_may_meet<ThinLensCamera>, "camera"_a, "x0_px"_a, "y0_px"_a, "x1_px"_a,
+          "y1_px"_a, "balls"_a, "out"_a, pencil_doc);
     const char* doc = "The render loop's batch of camera rays (kCameraBatch at a time; the same bits as generate_rays).";
     m.def("generate_rays_batched", &generate_rays_batched<PinholeCamera>, "camera"_a, "raster_px"_a, "lens"_a,
           "origin"_a, "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(), doc);

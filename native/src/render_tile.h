@@ -71,6 +71,15 @@ template <class Camera>
 struct UsesLensSamples<Camera, std::void_t<decltype(Camera::kUsesLensSamples)>>
     : std::bool_constant<Camera::kUsesLensSamples> {};
 
+// Cameras whose rays through a film rectangle form a pencil (camera_pencil.h)
+// say so with pencil(x0, y0, x1, y1, out): a tile's camera rays then skip the
+// own primitives the pencil cannot reach.
+template <class Camera, class = void>
+struct HasPencil : std::false_type {};
+template <class Camera>
+struct HasPencil<Camera, std::void_t<decltype(std::declval<const Camera&>().pencil(
+                             0.0, 0.0, 0.0, 0.0, static_cast<CameraPencil*>(nullptr)))>> : std::true_type {};
+
 // Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
 class TileAccumulator {
   public:
@@ -169,6 +178,9 @@ class RayPacket {
     // disperse, shaded by Scene::spectral_integrated_radiance.
     RayPacket(const Scene& scene, TileAccumulator& sums, bool integrate_wavelengths = false)
         : scene_(scene), sums_(sums), integrate_wavelengths_(integrate_wavelengths) {}
+
+    // From now on the rays only test the own primitives some ray of pencil may meet.
+    void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {

@@ -302,6 +302,7 @@ Scene::Scene(const SceneArrays& a)
         if (id == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
         return id;
     };
+    tile_cull_ = packet_cull_enabled();
     for (const PointLight& light : lights_) {
         const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
         const uint64_t blocking = own_solids_.blocking_toward(light_m);

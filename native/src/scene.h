@@ -24,6 +24,7 @@
 #include "solid_faces.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
+#include "cameras/camera_pencil.h"
 #include "cameras/camera_ray.h"
 #include "vec.h"
 
@@ -46,6 +47,10 @@ struct RayBatch {
     float origin[3][kPacketSize] = {};
     float direction[3][kPacketSize] = {};
     float time[kPacketSize] = {};  // where in the shutter, [0, 1) (Embree's ray time); 0 for a static scene
+    // The own spheres and quads the rays may meet (is_candidate): a tile's
+    // camera rays skip those its pencil cannot reach (Scene::camera_candidates).
+    uint64_t sphere_candidates = kAllCandidates, quad_candidates = kAllCandidates;
+    bool faces_culled = false;  // quad_candidates leaves out the boxes' faces the origins are behind
 
     // Ray j = a camera ray, rounded to float.
     void set(int j, const CameraRay& ray) {
@@ -117,6 +122,10 @@ class Scene {
     // Nearest hit distance (m) or +inf; used by the raw-throughput benchmark.
     float first_hit_distance(const Vec3f& origin, const Vec3f& direction) const;
 
+
+    // The own spheres and quads some ray of the pencil may meet (bit k:
+    // primitive k, as is_candidate reads it), into a batch's candidates.
+    void camera_candidates(const CameraPencil& pencil, RayBatch* batch) const;
 
     // The shutter and what moves; the render loop draws sample times from it.
     const SceneMotion& motion() const { return motion_; }
@@ -205,6 +214,7 @@ class Scene {
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry
+    bool tile_cull_ = false;     // camera_candidates culls (packet_cull_enabled when built)
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;

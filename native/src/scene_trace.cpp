@@ -88,7 +88,7 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
     };
     if (!own_spheres_.empty()) {
         spheres_closest(sphere_kernel_, own_spheres_.data(), int(own_spheres_.size() / 4), origin, direction, valid,
-                        packet.ray.tfar, index, normal);
+                        packet.ray.tfar, index, normal, rays.sphere_candidates);
         record_hits(own_spheres_id_);
     }
     if (!own_quads_.empty()) {
@@ -97,13 +97,43 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
         thread_local int first_quad = 0;
         // Boxes' faces the packet's origins are behind: never a first hit (solid_faces.h).
         thread_local OriginRegion region;
-        const uint64_t candidates = own_solids_.first_hits_from(origin, valid, &region);
+        const uint64_t candidates =
+            rays.faces_culled ? rays.quad_candidates
+                              : own_solids_.first_hits_from(origin, valid, &region) & rays.quad_candidates;
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
                       packet.ray.tfar, index, normal, &first_quad, candidates);
         record_hits(own_quads_id_);
     }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
     if (motion_scene_) intersect_movers(rays, context, packet, hits.hit_mover);
+}
+
+void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const {
+    uint64_t spheres = kAllCandidates, quads = kAllCandidates;
+    if (!tile_cull_) return;
+    const int n_spheres = int(own_spheres_.size() / 4);
+    for (int k = 0; k < std::min(n_spheres, 64); ++k)
+        if (!pencil.may_meet_ball(&own_spheres_[4 * size_t(k)], own_spheres_[4 * size_t(k) + 3]))
+            spheres &= ~(uint64_t(1) << k);
+    for (int k = 0; k < std::min(int(own_quads_.size()), 64); ++k)
+        if (!pencil.may_meet_ball(own_quads_[size_t(k)].bound, own_quads_[size_t(k)].bound[3]))
+            quads &= ~(uint64_t(1) << k);
+    // The boxes' faces the whole aperture is behind (solid_faces.h): the
+    // lens disk's box, widened far past the origins' float rounding.
+    if (!own_solids_.empty()) {
+        const Frame& f = pencil.world_from_camera;
+        const double centre[3] = {f.origin.x, f.origin.y, f.origin.z};
+        const double right[3] = {f.right.x, f.right.y, f.right.z}, up[3] = {f.up.x, f.up.y, f.up.z};
+        const double margin_m =
+            1e-6 * (std::fabs(centre[0]) + std::fabs(centre[1]) + std::fabs(centre[2]) + pencil.lens_radius_m);
+        double lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            const double reach = pencil.lens_radius_m * std::sqrt(right[a] * right[a] + up[a] * up[a]) + margin_m;
+            lo[a] = centre[a] - reach, hi[a] = centre[a] + reach;
+        }
+        quads &= own_solids_.first_hits_from_box(lo, hi);
+    }
+    batch->sphere_candidates = spheres, batch->quad_candidates = quads, batch->faces_culled = true;
 }
 
 LC_BUILT_PER_ISA void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {

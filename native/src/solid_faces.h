@@ -47,6 +47,10 @@ class SolidFaces {
     // region: the thread's, grown to take these origins in.
     uint64_t first_hits_from(const float* const origin[3], const int* active, OriginRegion* region) const;
 
+    // Bit k set: quad k may be the first hit of a ray from some point of the
+    // box [lo_m, hi_m] (a camera's lens aperture, bounded once per tile).
+    uint64_t first_hits_from_box(const double lo_m[3], const double hi_m[3]) const { return facing(lo_m, hi_m); }
+
     // Bit k set: quad k may block a segment that ends at light_m.
     uint64_t blocking_toward(const float light_m[3]) const;
 

@@ -51,13 +51,14 @@ struct Roots {
 template <class Set>
 [[gnu::always_inline]] inline void closest_body(Set set, const float* spheres, int n, const float* const origin[3],
                                                 const float* const direction[3], const int* active, float* t_far,
-                                                int* index, float* const normal[3]) {
+                                                int* index, float* const normal[3], uint64_t candidates) {
     float inv_dd[N], origin_size[N];
     lanes::lane_scales<N>(origin, direction, inv_dd, origin_size);
     lanes::DoubleLanes<N> ray;
     double t_best[N] = {};
     for (int i = 0; i < N; ++i) index[i] = -1;
     for (int k = 0; k < n; ++k) {
+        if (!is_candidate(candidates, k)) continue;
         const float* c = spheres + 4 * k;
         if (!lanes::near_line<N>(set, c, origin, direction, inv_dd, origin_size, active)) continue;
         ray.load_once(origin, direction);
@@ -116,17 +117,18 @@ template <class Set>
 }
 
 void closest_default(const float* s, int n, const float* const o[3], const float* const d[3], const int* active,
-                     float* t_far, int* index, float* const normal[3]) {
-    closest_body(lanes::PortableSet{}, s, n, o, d, active, t_far, index, normal);
+                     float* t_far, int* index, float* const normal[3], uint64_t candidates) {
+    closest_body(lanes::PortableSet{}, s, n, o, d, active, t_far, index, normal, candidates);
 }
 [[gnu::target("avx2")]] void closest_avx2(const float* s, int n, const float* const o[3], const float* const d[3],
-                                          const int* active, float* t_far, int* index, float* const normal[3]) {
-    closest_body(lanes::Avx2Set{}, s, n, o, d, active, t_far, index, normal);
+                                          const int* active, float* t_far, int* index, float* const normal[3],
+                                          uint64_t candidates) {
+    closest_body(lanes::Avx2Set{}, s, n, o, d, active, t_far, index, normal, candidates);
 }
 [[gnu::target("avx512f")]] void closest_avx512(const float* s, int n, const float* const o[3],
                                                const float* const d[3], const int* active, float* t_far, int* index,
-                                               float* const normal[3]) {
-    closest_body(lanes::Avx512Set{}, s, n, o, d, active, t_far, index, normal);
+                                               float* const normal[3], uint64_t candidates) {
+    closest_body(lanes::Avx512Set{}, s, n, o, d, active, t_far, index, normal, candidates);
 }
 
 bool occluded_default(const float* s, int n, const float* const o[3], const float* const d[3], const float* t_far,
@@ -179,11 +181,13 @@ int max_own_spheres() {
 
 void spheres_closest(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
                      const float* const direction[3], const int* active, float* t_far, int* index,
-                     float* const normal[3]) {
+                     float* const normal[3], uint64_t candidates) {
     switch (kernel) {
-        case SphereKernel::Avx512: return closest_avx512(spheres, n, origin, direction, active, t_far, index, normal);
-        case SphereKernel::Avx2: return closest_avx2(spheres, n, origin, direction, active, t_far, index, normal);
-        default: return closest_default(spheres, n, origin, direction, active, t_far, index, normal);
+        case SphereKernel::Avx512:
+            return closest_avx512(spheres, n, origin, direction, active, t_far, index, normal, candidates);
+        case SphereKernel::Avx2:
+            return closest_avx2(spheres, n, origin, direction, active, t_far, index, normal, candidates);
+        default: return closest_default(spheres, n, origin, direction, active, t_far, index, normal, candidates);
     }
 }
 

@@ -46,10 +46,11 @@ int max_own_spheres();
 // spheres (centre xyz, radius, m, each) at t in [0, t_far[i]): where lane i
 // (active[i] set) meets a sphere nearer than t_far[i], t_far[i] becomes the
 // hit distance, index[i] the sphere and normal[.][i] its outward unit
-// normal there; other lanes keep t_far and get index -1.
+// normal there; other lanes keep t_far and get index -1. Only the spheres
+// candidates names are tested (is_candidate).
 void spheres_closest(SphereKernel kernel, const float* spheres, int n, const float* const origin[3],
                      const float* const direction[3], const int* active, float* t_far, int* index,
-                     float* const normal[3]);
+                     float* const normal[3], uint64_t candidates = kAllCandidates);
 
 // Whether the segments t in [0, t_far[i]] cross some sphere's surface:
 // blocked[i] = -1 where so (active lanes), else 0. A ray that starts on a

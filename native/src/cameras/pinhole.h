@@ -3,6 +3,7 @@
 // distance, so pinhole and thin-lens frames match (DESIGN.md).
 #pragma once
 
+#include "cameras/camera_pencil.h"
 #include "cameras/camera_ray.h"
 #include "cameras/thin_lens_lanes.h"
 
@@ -17,6 +18,12 @@ struct PinholeCamera {
     MaybeRay generate_ray(Point2f raster_px, Point2f /*lens_sample*/) const {
         Vec3d dir_camera = normalize(film.direction(raster_px));
         return CameraRay{world_from_camera.origin, world_from_camera.world_from_camera_vector(dir_camera), 1.0f};
+    }
+
+    // Its rays through raster rectangle [x0, x1] x [y0, y1] (camera_pencil.h): one point, no lens.
+    bool pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* out) const {
+        *out = pencil_of(world_from_camera, film, 0.0, 0.0, x0_px, y0_px, x1_px, y1_px);
+        return true;
     }
 
     // A batch of n <= kCameraBatch samples (render_tile.h), side by side: the

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "aperture.h"
+#include "cameras/camera_pencil.h"
 #include "cameras/camera_ray.h"
 #include "cameras/thin_lens_lanes.h"
 #include "samplers.h"
@@ -52,6 +53,16 @@ struct ThinLensCamera {
         thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m,
                              FrameF::of(world_from_camera), origin_rows, direction_rows);
         for (int i = 0; i < n; ++i) out->weight[i] = 1.0f, out->alive[i] = true;
+    }
+
+    // Its rays through raster rectangle [x0, x1] x [y0, y1] (camera_pencil.h);
+    // false for a lens that disperses (each wavelength has its own focus).
+    bool pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* out) const {
+        if (disperses()) return false;
+        const double reach = aperture.blades == 0 ? 1.0 : polygon_circumradius_same_area(aperture.blades);
+        *out = pencil_of(world_from_camera, film, lens_radius_m * reach, 1.0 / focus_distance_m, x0_px, y0_px,
+                         x1_px, y1_px);
+        return true;
     }
 
     // The ray at wavelength nm: a thin lens of focal length f(λ) keeps the
