@@ -73,7 +73,10 @@ template <int N>
         inv_dd[i] = 1.0f / (direction[0][i] * direction[0][i] + direction[1][i] * direction[1][i] +
                             direction[2][i] * direction[2][i]);
         const float x = std::fabs(origin[0][i]), y = std::fabs(origin[1][i]), z = std::fabs(origin[2][i]);
-        origin_size[i] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+        // Two plain selects, the same result as x > y ? (x > z ? x : z) :
+        // (y > z ? y : z) for every input: nested, GCC left them scalar.
+        const float xy = x > y ? x : y;
+        origin_size[i] = xy > z ? xy : z;
     }
 }
 
