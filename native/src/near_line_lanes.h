@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include <immintrin.h>
 
@@ -42,6 +43,29 @@ template <int N>
     __m512i any = _mm512_loadu_si512(flags);
     for (int i = 16; i < N; i += 16) any = _mm512_or_si512(any, _mm512_loadu_si512(flags + i));
     return _mm512_test_epi32_mask(any, any) != 0;
+}
+
+// Bit i set where flags[i] (i < 16) is nonzero. As a loop of (flag << i)
+// ORed together GCC built a vector of bits and reduced it with shuffles (a
+// third of near_capsule, perf); AVX-512 compares straight into a bit mask.
+[[gnu::always_inline]] inline uint32_t bits_set(PortableSet, const int* flags) {
+    uint32_t bits = 0;
+    for (int i = 0; i < 16; ++i) bits |= flags[i] != 0 ? uint32_t(1) << i : 0u;
+    return bits;
+}
+[[gnu::target("avx2")]] inline uint32_t bits_set(Avx2Set, const int* flags) {
+    const __m256i zero = _mm256_setzero_si256();
+    uint32_t bits = 0;
+    for (int h = 0; h < 2; ++h) {
+        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(flags + 8 * h));
+        const __m256i is_zero = _mm256_cmpeq_epi32(v, zero);
+        bits |= uint32_t(~_mm256_movemask_ps(_mm256_castsi256_ps(is_zero)) & 0xff) << (8 * h);
+    }
+    return bits;
+}
+[[gnu::target("avx512f")]] inline uint32_t bits_set(Avx512Set, const int* flags) {
+    const __m512i v = _mm512_loadu_si512(flags);
+    return uint32_t(_mm512_test_epi32_mask(v, v));
 }
 
 // Whether a lane may meet the sphere c (centre xyz, radius) anywhere on its

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "cpu_kernels.h"
+#include "near_line_lanes.h"
 
 namespace lc {
 namespace {
@@ -85,7 +86,11 @@ void CullColumns::pad() {
     for (std::vector<float>* column : {&x, &y, &z, &radius, &nx, &ny, &nz, &offset}) column->resize(padded, 0.0f);
 }
 
-LC_BUILT_PER_ISA uint64_t near_capsule(const SegmentCapsule& capsule, const CullColumns& p) {
+namespace {
+
+template <class Set>
+[[gnu::always_inline]] inline uint64_t near_capsule_body(Set set, const SegmentCapsule& capsule,
+                                                         const CullColumns& p) {
     const float ax = capsule.a[0], ay = capsule.a[1], az = capsule.a[2];
     const float bx = capsule.b[0], by = capsule.b[1], bz = capsule.b[2];
     const float abx = bx - ax, aby = by - ay, abz = bz - az;
@@ -103,10 +108,7 @@ LC_BUILT_PER_ISA uint64_t near_capsule(const SegmentCapsule& capsule, const Cull
         const float* ny = p.ny.data() + base;
         const float* nz = p.nz.data() + base;
         const float* offset = p.offset.data() + base;
-        // Each near primitive's bit ORed together in the lane loop: GCC reduces
-        // the lanes in a few shuffles, where a bit taken from each lane of a
-        // flag row cost sixteen extractions (half of this function, perf).
-        uint32_t near_bits = 0;
+        alignas(64) int near[N];
         for (int j = 0; j < N; ++j) {
             const float px = x[j] - ax, py = y[j] - ay, pz = z[j] - az, r = radius[j];
             const float along = (px * abx + py * aby + pz * abz) * inverse_ab2;
@@ -121,13 +123,33 @@ LC_BUILT_PER_ISA uint64_t near_capsule(const SegmentCapsule& capsule, const Cull
             const float side_b = nx[j] * bx + ny[j] * by + nz[j] * bz - offset[j];
             const float wide = capsule_radius + margin;
             const bool one_side = ((side_a > wide) & (side_b > wide)) | ((side_a < -wide) & (side_b < -wide));
-            near_bits |= !(far_from_axis | one_side) ? uint32_t(1) << j : 0u;  // NaN: near
+            near[j] = -int(!(far_from_axis | one_side));  // NaN: near
         }
-        mask |= uint64_t(near_bits) << base;
+        mask |= uint64_t(lanes::bits_set(set, near)) << base;
     }
     // Padding and primitives past 64 are no candidates of this mask (is_candidate tests those past 64).
     const int n = std::min(p.count(), 64);
     return n == 64 ? mask : mask & ((uint64_t(1) << n) - 1);
+}
+
+uint64_t near_capsule_default(const SegmentCapsule& c, const CullColumns& p) {
+    return near_capsule_body(lanes::PortableSet{}, c, p);
+}
+[[gnu::target("avx2")]] uint64_t near_capsule_avx2(const SegmentCapsule& c, const CullColumns& p) {
+    return near_capsule_body(lanes::Avx2Set{}, c, p);
+}
+[[gnu::target("avx512f")]] uint64_t near_capsule_avx512(const SegmentCapsule& c, const CullColumns& p) {
+    return near_capsule_body(lanes::Avx512Set{}, c, p);
+}
+
+}  // namespace
+
+uint64_t near_capsule(ShadingKernel kernel, const SegmentCapsule& capsule, const CullColumns& primitives) {
+    switch (kernel) {
+        case ShadingKernel::Avx512: return near_capsule_avx512(capsule, primitives);
+        case ShadingKernel::Avx2: return near_capsule_avx2(capsule, primitives);
+        default: return near_capsule_default(capsule, primitives);
+    }
 }
 
 }  // namespace lc

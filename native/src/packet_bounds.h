@@ -19,6 +19,7 @@
 
 #include "embree_packet.h"
 #include "quad_lanes.h"
+#include "shading_lanes.h"
 
 namespace lc {
 
@@ -58,6 +59,8 @@ struct CullColumns {
 // Bit k set: primitive k (k < 64) may meet a segment within the capsule (for
 // of_own's columns: the spheres' candidates from bit 0, the quads' after them;
 // is_candidate, sphere_lanes.h).
-uint64_t near_capsule(const SegmentCapsule& capsule, const CullColumns& primitives);
+// Built per instruction set, run on the shading kernel's (shading_lanes.h;
+// the same bits on each, as LENSCOMPARE_SHADING_KERNEL's test shows).
+uint64_t near_capsule(ShadingKernel kernel, const SegmentCapsule& capsule, const CullColumns& primitives);
 
 }  // namespace lc

@@ -208,7 +208,7 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     SegmentCapsule capsule;
     if (occluders.packet_cull && capsule_of_segments(packet, valid, light_m, &capsule)) {
-        const uint64_t near = near_capsule(capsule, occluders.columns);
+        const uint64_t near = near_capsule(shading_kernel_, capsule, occluders.columns);
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
         near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
     }
