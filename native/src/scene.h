@@ -153,6 +153,7 @@ class Scene {
         bool starts_found = false;
         int start_sphere[kPacketSize];
         int inner_side[kPacketSize];
+        bool any_inner_start = false;  // some lane's start sphere and inner side both set
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced

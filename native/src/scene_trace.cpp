@@ -179,7 +179,10 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     // leaves its inner side toward a light outside it. Branch-free, so that
     // the lanes run side by side (per lane with branches, this loop was half
     // of this function, perf).
-    int self_blocked = 0;  // some lane is blocked by the sphere it starts on
+    // Some lane may be blocked by the sphere it starts on: a lane starts on
+    // a sphere's inner side (found once per packet, not reduced per light;
+    // the sphere test then reads each lane's own answer in self_blocks).
+    bool self_blocked = false;
     if (n_spheres > 0) {
         if (!hits.starts_found) sphere_starts(hits);
         const int* start = hits.start_sphere;
@@ -191,15 +194,14 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
             for (int i = 0; i < kPacketSize; ++i) {
                 const int on_sphere = (valid[i] != 0) & (start[i] >= 0) & (hits.inner_side[i] != 0);
                 shadow.self_blocks[i] = on_sphere & int((outside >> (start[i] & 31)) & 1u);
-                self_blocked |= shadow.self_blocks[i];
             }
         } else {
             for (int i = 0; i < kPacketSize; ++i) {
                 shadow.self_blocks[i] = (valid[i] != 0) && start[i] >= 0 && hits.inner_side[i] != 0 &&
                                         occluders.outside_sphere[size_t(start[i])] != 0;
-                self_blocked |= shadow.self_blocks[i];
             }
         }
+        self_blocked = hits.any_inner_start;
     }
     // The own quads that may block this light (not the boxes' faces it is behind: solid_faces.h).
     const std::vector<OwnQuad>& quads = occluders.quads;
@@ -217,6 +219,8 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     const float* origin[3] = {packet.org_x, packet.org_y, packet.org_z};
     const float* direction[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
     // Blocked lanes get tfar -inf, as Embree marks them; returns whether any lane is left open.
+    // Called only when the kernel blocked some lane: otherwise every open
+    // lane stays open, and the OR over the lanes (a chain of shuffles) is not needed.
     auto close_blocked = [&](const int* blocked) {
         int left = 0;
         for (int i = 0; i < kPacketSize; ++i) {
@@ -229,15 +233,15 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     bool any_open = true;
     if (n_spheres > 0 && (near_spheres != 0 || self_blocked)) {
         int blocked[kPacketSize];
-        spheres_occluded(sphere_kernel_, own_spheres_.data(), n_spheres, origin, direction, packet.tfar,
-                         hits.start_sphere, shadow.self_blocks, open, blocked, near_spheres);
-        any_open = close_blocked(blocked);
+        if (spheres_occluded(sphere_kernel_, own_spheres_.data(), n_spheres, origin, direction, packet.tfar,
+                             hits.start_sphere, shadow.self_blocks, open, blocked, near_spheres))
+            any_open = close_blocked(blocked);
     }
     if (any_open && !quads.empty() && near_quads != 0) {
         int blocked[kPacketSize];
-        quads_occluded(sphere_kernel_, quads.data(), int(quads.size()), origin, direction, packet.tfar, open,
-                       blocked, near_quads);
-        any_open = close_blocked(blocked);
+        if (quads_occluded(sphere_kernel_, quads.data(), int(quads.size()), origin, direction, packet.tfar, open,
+                           blocked, near_quads))
+            any_open = close_blocked(blocked);
     }
     if (embree_still_ && any_open) occluded_packet(open, scene_, &context, &packet);
     if (motion_scene_) occlude_by_movers(valid, context, packet);
@@ -254,6 +258,9 @@ LC_BUILT_PER_ISA void Scene::sphere_starts(CameraHits& hits) const {
         // As dot(n, ng) < 0, term by term: the same bits.
         hits.inner_side[i] = n[0][i] * hit.Ng_x[i] + n[1][i] * hit.Ng_y[i] + n[2][i] * hit.Ng_z[i] < 0.0f;
     }
+    int any_inner = 0;
+    for (int i = 0; i < kPacketSize; ++i) any_inner |= (hits.start_sphere[i] >= 0) & (hits.inner_side[i] != 0);
+    hits.any_inner_start = any_inner != 0;
     hits.starts_found = true;
 }
 
