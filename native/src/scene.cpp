@@ -302,7 +302,7 @@ Scene::Scene(const SceneArrays& a)
         if (id == RTC_INVALID_GEOMETRY_ID) throw std::runtime_error("too many geometries");
         return id;
     };
-    tile_cull_ = packet_cull_enabled();
+    culls_ = packet_cull_enabled();
     for (const PointLight& light : lights_) {
         const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
         const uint64_t blocking = own_solids_.blocking_toward(light_m);
@@ -310,7 +310,7 @@ Scene::Scene(const SceneArrays& a)
         for (size_t k = 0; k < own_quads_.size(); ++k)
             if (is_candidate(blocking, int(k))) o.quads.push_back(own_quads_[k]);
         o.columns = CullColumns::of_own(own_spheres_, o.quads);
-        o.packet_cull = packet_cull_enabled() && o.columns.count() > 0 && o.columns.count() <= 64;
+        o.packet_cull = culls_ && o.columns.count() > 0 && o.columns.count() <= 64;
         for (size_t k = 0; k + 3 < own_spheres_.size(); k += 4) {
             const float* c = &own_spheres_[k];
             const double lx = double(light.position_m.x) - c[0], ly = double(light.position_m.y) - c[1],

@@ -215,7 +215,9 @@ class Scene {
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry
-    bool tile_cull_ = false;     // camera_candidates culls (packet_cull_enabled when built)
+    // packet_cull_enabled, read once when built: the shadow packets' cull
+    // (LightOccluders::packet_cull) and the camera tiles' (camera_candidates).
+    bool culls_ = false;
     SweptBounds movers_;               // where motion_scene_'s geometry can be during the shutter
     SceneMotion motion_;
     std::vector<Material> materials_;

@@ -109,8 +109,8 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
 }
 
 void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const {
+    if (!culls_) return;
     uint64_t spheres = kAllCandidates, quads = kAllCandidates;
-    if (!tile_cull_) return;
     const int n_spheres = int(own_spheres_.size() / 4);
     for (int k = 0; k < std::min(n_spheres, 64); ++k)
         if (!pencil.may_meet_ball(&own_spheres_[4 * size_t(k)], own_spheres_[4 * size_t(k) + 3]))
@@ -178,10 +178,9 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     // From an own sphere's surface: it blocks the ray exactly when the ray
     // leaves its inner side toward a light outside it. Branch-free, so that
     // the lanes run side by side (per lane with branches, this loop was half
-    // of this function, perf).
-    // Some lane may be blocked by the sphere it starts on: a lane starts on
-    // a sphere's inner side (found once per packet, not reduced per light;
-    // the sphere test then reads each lane's own answer in self_blocks).
+    // of this function, perf). self_blocked: some lane may be so blocked (one
+    // starts on a sphere's inner side, found once per camera packet, not ORed
+    // over the lanes per light); the sphere test reads each lane's self_blocks.
     bool self_blocked = false;
     if (n_spheres > 0) {
         if (!hits.starts_found) sphere_starts(hits);
