@@ -154,21 +154,12 @@ inline bool all_alive(const bool* alive) {
 }
 
 // A camera batch's rays rounded to float row by row (whole vectors), as
-// the packets take them: origin x, y, z, then direction.
-struct RoundedRays {
-    float row[6][kCameraBatch];
-
-    void round(const CameraRayBatch& rays, int n) {
-        for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < n; ++i)
-                row[a][i] = float(rays.origin[a][i]), row[3 + a][i] = float(rays.direction[a][i]);
-    }
-
-    // Ray i into lane j of batch.
-    void copy_to(RayBatch* batch, int j, int i) const {
-        for (int a = 0; a < 3; ++a) batch->origin[a][j] = row[a][i], batch->direction[a][j] = row[3 + a][i];
-    }
-};
+// the packets take them.
+inline void round_rows(const CameraRayBatch& rays, int n, CameraRayRows* rows) {
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i < n; ++i)
+            rows->origin[a][i] = float(rays.origin[a][i]), rows->direction[a][i] = float(rays.direction[a][i]);
+}
 
 // Rays waiting for the scene: Embree traces a full 8-wide packet faster than
 // its rays one at a time, camera rays and shadow rays alike.
@@ -194,31 +185,40 @@ class RayPacket {
     // Queues rays [0, n) of a camera batch (those alive), ray i at shutter
     // time time_u[i] for the pixel at slot[i]: as add, without a CameraRay between.
     void add_batch(const CameraRayBatch& rays, int n, const float* time_u, const size_t* slot) {
-        // Rounded to float first, then queued: a run of a packet's worth of
-        // live rays into an empty packet as row copies (every run, for
-        // cameras that vignette nothing), others one by one.
-        rounded_.round(rays, n);
+        round_rows(rays, n, &rounded_);
+        add_rows(rounded_, n, time_u, slot, rays.alive, rays.weight);
+    }
+
+    // As add_batch for rays found in float (GeneratesRayRows), every one
+    // alive with weight 1 (alive and weight nullptr), or as alive and weight say.
+    void add_rows(const CameraRayRows& rows, int n, const float* time_u, const size_t* slot,
+                  const bool* alive = nullptr, const float* weight = nullptr) {
+        // A run of a packet's worth of live rays into an empty packet goes
+        // as row copies (every run, for cameras that vignette nothing),
+        // others one by one.
         for (int i = 0; i < n;) {
-            if (batch_.count == 0 && i + kPacketSize <= n && all_alive(rays.alive + i)) {
+            if (batch_.count == 0 && i + kPacketSize <= n && (!alive || all_alive(alive + i))) {
                 // memcpy, not std::copy_n: GCC inlines a fixed-size memcpy but
                 // called memmove for copy_n's (under perf, 9 % of an empty scene's render).
                 for (int a = 0; a < 3; ++a) {
-                    std::memcpy(batch_.origin[a], rounded_.row[a] + i, sizeof(batch_.origin[a]));
-                    std::memcpy(batch_.direction[a], rounded_.row[3 + a] + i, sizeof(batch_.direction[a]));
+                    std::memcpy(batch_.origin[a], rows.origin[a] + i, sizeof(batch_.origin[a]));
+                    std::memcpy(batch_.direction[a], rows.direction[a] + i, sizeof(batch_.direction[a]));
                 }
                 std::memcpy(batch_.time, time_u + i, sizeof(batch_.time));
-                std::memcpy(weight_, rays.weight + i, sizeof(weight_));
+                if (weight) std::memcpy(weight_, weight + i, sizeof(weight_));
+                else std::fill_n(weight_, kPacketSize, 1.0f);
                 std::memcpy(slot_, slot + i, sizeof(slot_));
                 batch_.count = kPacketSize;
                 flush();
                 i += kPacketSize;
                 continue;
             }
-            if (rays.alive[i]) {  // else vignetted: contributes nothing
+            if (!alive || alive[i]) {  // else vignetted: contributes nothing
                 const int j = batch_.count;
-                rounded_.copy_to(&batch_, j, i);
+                for (int a = 0; a < 3; ++a)
+                    batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
                 batch_.time[j] = time_u[i];
-                weight_[j] = rays.weight[i];
+                weight_[j] = weight ? weight[i] : 1.0f;
                 slot_[j] = slot[i];
                 if (++batch_.count == kPacketSize) flush();
             }
@@ -248,7 +248,7 @@ class RayPacket {
     // Members rather than locals of flush: a local array of these was zeroed
     // (rep stos) at every flush, a few per cent of render_tile under perf.
     Vec3f radiance_[kPacketSize];
-    RoundedRays rounded_;  // add_batch's rays in float
+    CameraRayRows rounded_;  // add_batch's rays in float
     uint64_t rays_shaded_ = 0;
 };
 
@@ -299,7 +299,15 @@ class CameraSampleBatcher {
 
     // Turns the queued samples into rays for the packet, in queue order.
     void flush() {
-        if constexpr (GeneratesRayBatches<Camera>::value) {
+        if constexpr (GeneratesRayRows<Camera>::value) {
+            // In float straight to the packet (a moving camera's offset goes below, in double).
+            if (!moves_camera_) {
+                camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
+                packet_.add_rows(rows_, pending_, staged_.time, staged_.slot);
+                pending_ = 0;
+                return;
+            }
+        } else if constexpr (GeneratesRayBatches<Camera>::value) {
             // In columns straight to the packet; a moving camera's offset (in
             // double, before rounding) goes through the rays one at a time below.
             if (!moves_camera_) {
@@ -326,6 +334,7 @@ class CameraSampleBatcher {
     SampleColumns staged_;
     MaybeRay rays_[kCameraBatch];  // a member, not a local of flush: see RayPacket::radiance_
     CameraRayBatch columns_;
+    CameraRayRows rows_;
     int pending_ = 0;
 };
 

@@ -146,7 +146,7 @@ class SpectralRayPacket {
     // between: the rows rounded to float first, as RayPacket::add_batch.
     void add_batch(const CameraRayBatch* rays, int traced, int stride, bool carries_all, int n,
                    const HeroWavelengths* w, const float* time_u, const size_t* slot) {
-        for (int k = 0; k < traced; ++k) rounded_[k].round(rays[k], n);
+        for (int k = 0; k < traced; ++k) round_rows(rays[k], n, &rounded_[k]);
         // 1 / (1, 2 or 4): the product is the quotient, exactly.
         const float share = 1.0f / float(carries_all ? kHeroWavelengths : traced);
         for (int i = 0; i < n; ++i) {
@@ -156,7 +156,8 @@ class SpectralRayPacket {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[k].alive[i]) continue;  // vignetted, or blocked at this wavelength
                 const int j = batch_.count;
-                rounded_[k].copy_to(&batch_, j, i);
+                for (int a = 0; a < 3; ++a)
+                    batch_.origin[a][j] = rounded_[k].origin[a][i], batch_.direction[a][j] = rounded_[k].direction[a][i];
                 batch_.time[j] = time_u[i];
                 const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
                 queue(&w[i], rays[k].weight[i] * share, lanes, k == last, slot[i]);
@@ -231,7 +232,7 @@ class SpectralRayPacket {
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
-    RoundedRays rounded_[kHeroWavelengths];  // add_batch's rays in float, per traced wavelength
+    CameraRayRows rounded_[kHeroWavelengths];  // add_batch's rays in float, per traced wavelength
     uint64_t samples_shaded_ = 0;
 };
 

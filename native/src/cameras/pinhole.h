@@ -29,22 +29,27 @@ struct PinholeCamera {
     // A batch of n <= kCameraBatch samples (render_tile.h), side by side: the
     // thin lens's lanes with every lens point at the centre, in single
     // precision (generate_ray's directions to float rounding; the origin
-    // exactly). One at a time, the ray's three divisions and square root
+    // rounded once). One at a time, the ray's three divisions and square root
     // left the core waiting (12 % of a pinhole render under perf).
-    void generate_ray_batch(const Point2f* raster_px, const Point2f* /*lens_sample*/, int n,
-                            CameraRayBatch* out) const {
+    void generate_ray_rows(const Point2f* raster_px, const Point2f* /*lens_sample*/, int n,
+                           CameraRayRows* out) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
-        double centre[kCameraBatch] = {};
+        const float centre[kCameraBatch] = {};
         screen_points_lanes(n, film, raster_px, screen_x, screen_y);
-        double* const origin_rows[3] = {out->origin[0], out->origin[1], out->origin[2]};
-        double* const direction_rows[3] = {out->direction[0], out->direction[1], out->direction[2]};
-        thin_lens_rays_lanes(n, screen_x, screen_y, centre, centre, 0.0, FrameF::of(world_from_camera),
-                             origin_rows, direction_rows);
-        const Vec3d& o = world_from_camera.origin;  // the centre exactly, as generate_ray has it
-        for (int i = 0; i < n; ++i) {
-            out->origin[0][i] = o.x, out->origin[1][i] = o.y, out->origin[2][i] = o.z;
-            out->weight[i] = 1.0f, out->alive[i] = true;
-        }
+        thin_lens_rays_lanes(n, screen_x, screen_y, centre, centre, 0.0, FrameF::of(world_from_camera), out);
+        const Vec3d& o = world_from_camera.origin;  // the centre rounded once, as generate_ray_batch's
+        for (int i = 0; i < n; ++i)
+            out->origin[0][i] = float(o.x), out->origin[1][i] = float(o.y), out->origin[2][i] = float(o.z);
+    }
+
+    // generate_ray_rows' rays in double, the origin exactly.
+    void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                            CameraRayBatch* out) const {
+        CameraRayRows rows;
+        generate_ray_rows(raster_px, lens_sample, n, &rows);
+        widen_rows(rows, n, out);
+        const Vec3d& o = world_from_camera.origin;
+        for (int i = 0; i < n; ++i) out->origin[0][i] = o.x, out->origin[1][i] = o.y, out->origin[2][i] = o.z;
     }
 };
 

@@ -27,6 +27,13 @@ struct ThickLensCamera {
                             CameraRayBatch* out) const {
         at_front_principal_plane.generate_ray_batch(raster_px, lens_sample, n, out);
     }
+    void generate_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* out) const {
+        at_front_principal_plane.generate_ray_rows(raster_px, lens_sample, n, out);
+    }
+    // Its rays are the thin lens's at H: so is their pencil (camera_pencil.h).
+    bool pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* out) const {
+        return at_front_principal_plane.pencil(x0_px, y0_px, x1_px, y1_px, out);
+    }
 
     // Spectral renders: the thin lens at H with the focal length at λ (H itself stays put).
     bool disperses() const { return at_front_principal_plane.disperses(); }

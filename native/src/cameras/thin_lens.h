@@ -37,22 +37,29 @@ struct ThinLensCamera {
     // A batch of n <= kCameraBatch samples (render_tile.h): the aperture's map
     // sample by sample, the rest side by side (thin_lens_lanes.h), in single
     // precision: generate_ray's rays to float rounding (the same lens points).
+    void generate_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* out) const {
+        float screen_x[kCameraBatch], screen_y[kCameraBatch];
+        float lens_x_m[kCameraBatch], lens_y_m[kCameraBatch];
+        if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric) {
+            concentric_disk_lanes(n, lens_sample, lens_radius_m, lens_x_m, lens_y_m);
+        } else {
+            for (int i = 0; i < n; ++i) {
+                double x, y;
+                aperture.sample(lens_sample[i], disk_mapping, &x, &y);
+                lens_x_m[i] = float(x * lens_radius_m), lens_y_m[i] = float(y * lens_radius_m);
+            }
+        }
+        screen_points_lanes(n, film, raster_px, screen_x, screen_y);
+        thin_lens_rays_lanes(n, screen_x, screen_y, lens_x_m, lens_y_m, 1.0 / focus_distance_m,
+                             FrameF::of(world_from_camera), out);
+    }
+
+    // generate_ray_rows' rays widened to double, for the callers that take a CameraRayBatch.
     void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                             CameraRayBatch* out) const {
-        float screen_x[kCameraBatch], screen_y[kCameraBatch];
-        double lens_x[kCameraBatch], lens_y[kCameraBatch];
-        const bool concentric_circle = aperture.blades == 0 && disk_mapping == DiskMapping::Concentric;
-        if (concentric_circle) concentric_disk_lanes(n, lens_sample, lens_x, lens_y);
-        screen_points_lanes(n, film, raster_px, screen_x, screen_y);
-        for (int i = 0; i < n; ++i) {
-            if (!concentric_circle) aperture.sample(lens_sample[i], disk_mapping, &lens_x[i], &lens_y[i]);
-            lens_x[i] *= lens_radius_m, lens_y[i] *= lens_radius_m;
-        }
-        double* const origin_rows[3] = {out->origin[0], out->origin[1], out->origin[2]};
-        double* const direction_rows[3] = {out->direction[0], out->direction[1], out->direction[2]};
-        thin_lens_rays_lanes(n, screen_x, screen_y, lens_x, lens_y, 1.0 / focus_distance_m,
-                             FrameF::of(world_from_camera), origin_rows, direction_rows);
-        for (int i = 0; i < n; ++i) out->weight[i] = 1.0f, out->alive[i] = true;
+        CameraRayRows rows;
+        generate_ray_rows(raster_px, lens_sample, n, &rows);
+        widen_rows(rows, n, out);
     }
 
     // Its rays through raster rectangle [x0, x1] x [y0, y1] (camera_pencil.h);

@@ -45,19 +45,19 @@ struct FrameF {
     }
 }
 
-// thin_lens_ray for lanes [0, n): screen points and lens points (their
-// double values rounded to float) to world rays; origin_m and direction are
-// [3][n] (x, y, z rows).
-void thin_lens_rays_lanes(int n, const float* screen_x, const float* screen_y, const double* lens_x_m,
-                          const double* lens_y_m, double inverse_focus_per_m, const FrameF& world_from_camera,
-                          double* const origin_m[3], double* const direction[3]);
+// thin_lens_ray for lanes [0, n): screen points and lens points (metres)
+// to world rays, into rows [0, n) of out.
+void thin_lens_rays_lanes(int n, const float* screen_x, const float* screen_y, const float* lens_x_m,
+                          const float* lens_y_m, double inverse_focus_per_m, const FrameF& world_from_camera,
+                          CameraRayRows* out);
 
 // Raster points to screen points (z = 1), lane by lane: film.screen_point for each.
 void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_px, float* screen_x,
                          float* screen_y);
 
-// Lens samples to points of the unit disk by the concentric map, lane by
-// lane: concentric_disk (samplers.h) for each, so the same bits as map_to_disk.
-void concentric_disk_lanes(int n, const Point2f* lens_sample, double* disk_x, double* disk_y);
+// Lens samples to points of the disk of radius radius_m by the concentric
+// map, lane by lane: concentric_disk (samplers.h) for each, scaled in double
+// and rounded to float, so the same bits as map_to_disk times the radius.
+void concentric_disk_lanes(int n, const Point2f* lens_sample, double radius_m, float* disk_x_m, float* disk_y_m);
 
 }  // namespace lc
