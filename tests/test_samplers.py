@@ -61,15 +61,20 @@ class _Pcg32:
 def test_every_rng_kernel_draws_pcg32_one_step_at_a_time(kernel):
     """Each kernel steps several PCG states side by side (rng_lanes.cpp); every
     one must give PCG32's own outputs in order, for any count (whole leaps,
-    a remainder, fewer than one leap)."""
-    for n in (1, 3, 7, 8, 9, 63, 64, 129):
+    a remainder, fewer than one leap; AVX-512 and AVX2 step two registers of
+    eight, so 8, 15, 16, 17, 24 and 31 to 33 take each of its branches)."""
+    for n in (1, 3, 7, 8, 9, 15, 16, 17, 24, 31, 32, 33, 63, 64, 129):
         out = np.zeros(n, np.uint32)
         diagnostics.pcg32_draws(11, 4242, 3, out, kernel)
         rng = _Pcg32(11, 4242, 3)
         assert out.tolist() == [rng.next_u32() for _ in range(n)]
 
 
-@pytest.mark.parametrize("spp, nx, ny", [(64, 8, 8), (12, 4, 3), (7, 7, 1), (2, 2, 1)])
+# The strata: the largest divisor of spp not above its square root (searched
+# downward from the root natively), primes and near-squares too.
+@pytest.mark.parametrize("spp, nx, ny", [(64, 8, 8), (12, 4, 3), (7, 7, 1), (2, 2, 1), (1, 1, 1), (48, 8, 6),
+                                         (97, 97, 1), (120, 12, 10), (1000, 40, 25), (1023, 33, 31),
+                                         (1024, 32, 32)])
 def test_jittered_draws_pcg32_one_step_at_a_time(spp, nx, ny):
     """The render draws its random numbers four PCG states at a time
     (Pcg32::fill_u32, a leap of four steps per state); the numbers must be

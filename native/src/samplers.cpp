@@ -140,9 +140,13 @@ void fill_time(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp, f
 }  // namespace
 
 void jittered_strata(int spp, int* nx, int* ny) {
-    int best = 1;
-    for (int d = 1; d * d <= spp; ++d)
-        if (spp % d == 0) best = d;
+    // The largest divisor d with d * d <= spp, searched downward from the
+    // square root: one division at a square spp, where the upward search's
+    // divisions were an eighth of fill_jittered's time (perf).
+    int best = std::max(int(std::sqrt(double(spp))), 1);
+    while (best > 1 && best * best > spp) --best;  // the square root's rounding, either way
+    while ((best + 1) * (best + 1) <= spp) ++best;
+    while (best > 1 && spp % best != 0) --best;
     *ny = best;
     *nx = spp / best;
 }
