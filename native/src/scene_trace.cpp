@@ -154,6 +154,7 @@ LC_BUILT_PER_ISA void Scene::gather_surfaces(const RayBatch& rays, CameraHits& h
         material[i] = i < rays.count && !hits.missed(i) ? material_of(hits, i) : miss;
     SurfaceLanes& s = hits.surface;
     gather_lanes(shading_kernel_, material_columns_, material, s, rgb);
+    for (int i = 0; i < kPacketSize; ++i) s.moving[i] = 0, s.shift_m[0][i] = s.shift_m[1][i] = s.shift_m[2][i] = 0.0f;
     if (!any_velocity_) return;
     // A moving object carries its checker: read it where the point was at t = 0.
     for (int i = 0; i < rays.count; ++i) {

@@ -44,8 +44,11 @@ struct SurfaceLanes {
     float checker_size_m[kPacketSize];
     // Set per lane, only where the hit object moves (zero elsewhere): the
     // checker is read where the point was at t = 0.
-    int moving[kPacketSize] = {};          // -1: the hit object moves
-    float shift_m[3][kPacketSize] = {};    // velocity x shutter time: how far it moved since t = 0
+    // (Zeroed by Scene::gather_surfaces, not here: as member initialisers
+    // GCC zeroed them by a rep stos per camera packet, a third of
+    // Scene::radiance's own time under perf.)
+    int moving[kPacketSize];          // -1: the hit object moves
+    float shift_m[3][kPacketSize];    // velocity x shutter time: how far it moved since t = 0
     // Found by surface_lanes
     float p[3][kPacketSize];       // point (m)
     float n[3][kPacketSize];       // unit normal facing the ray
