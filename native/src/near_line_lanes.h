@@ -68,6 +68,22 @@ template <int N>
     return uint32_t(_mm512_test_epi32_mask(v, v));
 }
 
+// out[i] = flags[i] for i < 16, in one or two widening loads (as a loop GCC
+// wrote sixteen narrow stores, which the next wide load waited on).
+[[gnu::always_inline]] inline void widen_flags(PortableSet, const bool* flags, int* out) {
+    for (int i = 0; i < 16; ++i) out[i] = flags[i];
+}
+[[gnu::target("avx2")]] inline void widen_flags(Avx2Set, const bool* flags, int* out) {
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flags));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_cvtepu8_epi32(bytes));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 8), _mm256_cvtepu8_epi32(_mm_srli_si128(bytes, 8)));
+}
+[[gnu::target("avx512f")]] inline void widen_flags(Avx512Set, const bool* flags, int* out) {
+    // maskz: the plain form trips GCC 12's -Wuninitialized in its own header
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flags));
+    _mm512_storeu_si512(out, _mm512_maskz_cvtepu8_epi32(__mmask16(0xffff), bytes));
+}
+
 // Whether a lane may meet the sphere c (centre xyz, radius) anywhere on its
 // line; NaN keeps the lane. Returns whether any lane may.
 template <int N, class Set>

@@ -17,37 +17,9 @@ namespace {
 
 uint64_t step(uint64_t state, uint64_t inc) { return state * kPcg32Multiplier + inc; }
 
-// A and C of the LCG's k-step map.
-void leap(uint64_t inc, int k, uint64_t* a, uint64_t* c) {
-    *a = 1, *c = 0;
-    for (int j = 0; j < k; ++j) *a *= kPcg32Multiplier, *c = *c * kPcg32Multiplier + inc;
-}
-
-// The rest one step at a time, from the state after the leaps.
-void finish(uint64_t* state, uint64_t inc, uint32_t* out, int first, int n) {
-    for (int i = first; i < n; ++i) out[i] = pcg32_output(*state), *state = step(*state, inc);
-}
-
-void fill_portable(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
-    constexpr int kLanes = 4;
-    uint64_t lane[kLanes], a, c;
-    lane[0] = *state;
-    for (int j = 1; j < kLanes; ++j) lane[j] = step(lane[j - 1], inc);
-    leap(inc, kLanes, &a, &c);
-    int i = 0;
-    for (; i + kLanes <= n; i += kLanes)
-        for (int j = 0; j < kLanes; ++j) out[i + j] = pcg32_output(lane[j]), lane[j] = lane[j] * a + c;
-    *state = lane[0];  // the state after i steps
-    finish(state, inc, out, i, n);
-}
-
-// Eight states in a vector (GCC's vector extension: one zmm register, or two ymm).
-typedef uint64_t States8 __attribute__((vector_size(64)));
-typedef uint32_t Outputs8 __attribute__((vector_size(32)));
-
-// M^j and M^(j-1) + ... + M + 1 for j = 0..kSteps: lane j of a register
-// starts at M^j s + S_j inc, all eight at once instead of a chain of seven
-// steps, and the leap's A and C are M^8 (or M^16) and S_8 inc (S_16 inc).
+// M^j and S_j = M^(j-1) + ... + M + 1 for j = 0..kSteps: lane j starts at
+// M^j s + S_j inc, all lanes at once instead of a chain of steps, and a
+// leap of k steps is A = M^k, C = S_k inc (every kernel's).
 // Set-up was most of a call's time at a pixel's 64 to 128 numbers (perf).
 constexpr int kSteps = 16;
 struct StepPowers {
@@ -61,6 +33,27 @@ constexpr StepPowers step_powers() {
     return p;
 }
 constexpr StepPowers kStepPowers = step_powers();
+
+// The rest one step at a time, from the state after the leaps.
+void finish(uint64_t* state, uint64_t inc, uint32_t* out, int first, int n) {
+    for (int i = first; i < n; ++i) out[i] = pcg32_output(*state), *state = step(*state, inc);
+}
+
+void fill_portable(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
+    constexpr int kLanes = 4;
+    uint64_t lane[kLanes];
+    for (int j = 0; j < kLanes; ++j) lane[j] = *state * kStepPowers.power[j] + inc * kStepPowers.sum[j];
+    const uint64_t a = kStepPowers.power[kLanes], c = inc * kStepPowers.sum[kLanes];
+    int i = 0;
+    for (; i + kLanes <= n; i += kLanes)
+        for (int j = 0; j < kLanes; ++j) out[i + j] = pcg32_output(lane[j]), lane[j] = lane[j] * a + c;
+    *state = lane[0];  // the state after i steps
+    finish(state, inc, out, i, n);
+}
+
+// Eight states in a vector (GCC's vector extension: one zmm register, or two ymm).
+typedef uint64_t States8 __attribute__((vector_size(64)));
+typedef uint32_t Outputs8 __attribute__((vector_size(32)));
 
 [[gnu::always_inline]] inline Outputs8 outputs8(States8 lane) {
     const Outputs8 xorshifted = __builtin_convertvector(((lane >> 18) ^ lane) >> 27, Outputs8);

@@ -8,7 +8,6 @@
 // cpu_kernels.h): their lane loops then run 16 wide on AVX-512 (4-6 % of a
 // lit_showcase render), with the same bits.
 #include <algorithm>
-#include <cstring>
 #include <cmath>
 #include <limits>
 
@@ -252,22 +251,6 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
 
 namespace {
 
-// out[i] = flags[i] for i < 16, in one or two widening loads (a loop of them
-// GCC wrote as sixteen narrow stores, which the next wide load waited on).
-[[gnu::always_inline]] inline void widen_flags(lanes::PortableSet, const bool* flags, int* out) {
-    for (int i = 0; i < kPacketSize; ++i) out[i] = flags[i];
-}
-[[gnu::target("avx2")]] inline void widen_flags(lanes::Avx2Set, const bool* flags, int* out) {
-    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flags));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_cvtepu8_epi32(bytes));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 8), _mm256_cvtepu8_epi32(_mm_srli_si128(bytes, 8)));
-}
-[[gnu::target("avx512f")]] inline void widen_flags(lanes::Avx512Set, const bool* flags, int* out) {
-    // maskz: the plain form trips GCC 12's -Wuninitialized in its own header
-    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flags));
-    _mm512_storeu_si512(out, _mm512_maskz_cvtepu8_epi32(__mmask16(0xffff), bytes));
-}
-
 // Scene::sphere_starts' lanes, per instruction set. Returns whether some lane
 // starts on an own sphere's inner side.
 template <class Set>
@@ -277,7 +260,7 @@ template <class Set>
     // The flags widened first: with a bool load in the loop below GCC tried
     // only byte-sized vector modes and found none for the floats.
     alignas(64) int mover[kPacketSize], both[kPacketSize];
-    widen_flags(set, hit_mover, mover);
+    lanes::widen_flags(set, hit_mover, mover);
     for (int i = 0; i < kPacketSize; ++i) {
         // A mover's geometry ID indexes the motion tables: never an own sphere.
         const int on_sphere = int(mover[i] == 0) & int(hit.geomID[i] == spheres_id);

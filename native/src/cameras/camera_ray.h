@@ -80,7 +80,7 @@ struct GeneratesRayBatches<Camera, std::void_t<decltype(std::declval<const Camer
     : std::true_type {};
 
 // Cameras whose rays are found in single precision and all pass with weight 1
-// (the thin lens, the pinhole) say so with generate_ray_rows(raster, lens, n,
+// (the thin lens, the pinhole, the thick lens) say so with generate_ray_rows(raster, lens, n,
 // out) (CameraRayRows): the render loop then takes them straight into its
 // packets, with no double batch between (its stores and reloads, and the
 // rounding back to float, were a fifth of an empty scene's render_tile).
