@@ -213,15 +213,17 @@ class RayPacket {
                 i += kPacketSize;
                 continue;
             }
-            if (!alive || alive[i]) {  // else vignetted: contributes nothing
-                const int j = batch_.count;
-                for (int a = 0; a < 3; ++a)
-                    batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
-                batch_.time[j] = time_u[i];
-                weight_[j] = weight ? weight[i] : 1.0f;
-                slot_[j] = slot[i];
-                if (++batch_.count == kPacketSize) flush();
-            }
+            // Written whether alive or not, the count moving only for a live
+            // ray (a vignetted one contributes nothing; the next overwrites
+            // it): no branch on the vignetting for the predictor to miss.
+            const int j = batch_.count;
+            for (int a = 0; a < 3; ++a)
+                batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
+            batch_.time[j] = time_u[i];
+            weight_[j] = weight ? weight[i] : 1.0f;
+            slot_[j] = slot[i];
+            batch_.count += alive ? int(alive[i]) : 1;
+            if (batch_.count == kPacketSize) flush();
             ++i;
         }
     }
@@ -307,6 +309,14 @@ class CameraSampleBatcher {
                 pending_ = 0;
                 return;
             }
+        } else if constexpr (GeneratesWeightedRayRows<Camera>::value) {
+            if (!moves_camera_) {
+                camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
+                                                   alive_);
+                packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
+                pending_ = 0;
+                return;
+            }
         } else if constexpr (GeneratesRayBatches<Camera>::value) {
             // In columns straight to the packet; a moving camera's offset (in
             // double, before rounding) goes through the rays one at a time below.
@@ -335,6 +345,8 @@ class CameraSampleBatcher {
     MaybeRay rays_[kCameraBatch];  // a member, not a local of flush: see RayPacket::radiance_
     CameraRayBatch columns_;
     CameraRayRows rows_;
+    float weight_[kCameraBatch];  // generate_weighted_ray_rows' weights and vignetting
+    bool alive_[kCameraBatch];
     int pending_ = 0;
 };
 

@@ -90,6 +90,18 @@ template <class Camera>
 struct GeneratesRayRows<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_rows(
                                     nullptr, nullptr, 0, static_cast<CameraRayRows*>(nullptr)))>> : std::true_type {};
 
+// Cameras whose rays are found in float rows but may be vignetted and carry
+// a weight (the lens system) say so with generate_weighted_ray_rows(raster,
+// lens, n, rows, weight, alive): the render loop takes those rows straight
+// into its packets too.
+template <class Camera, class = void>
+struct GeneratesWeightedRayRows : std::false_type {};
+template <class Camera>
+struct GeneratesWeightedRayRows<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_weighted_ray_rows(
+                                            nullptr, nullptr, 0, static_cast<CameraRayRows*>(nullptr),
+                                            static_cast<float*>(nullptr), static_cast<bool*>(nullptr)))>>
+    : std::true_type {};
+
 // Rays for n <= kCameraBatch samples, one MaybeRay each: through the
 // camera's batch (the same bits as generate_ray) where it has one.
 template <class Camera>

@@ -196,6 +196,20 @@ struct LensSystemCamera {
         to_columns(lens_to_world(), batch, cos_theta, area_mm2, n, out);
     }
 
+    // generate_ray_batch's rays rounded to float, as the render loop's packets
+    // take them (GeneratesWeightedRayRows): no double columns between.
+    void generate_weighted_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
+                                    float* weight, bool* alive) const {
+        LensRayBatch batch;
+        double area_mm2[kLensBatch];
+        sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
+        double cos_theta[kLensBatch];
+        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
+        trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
+        lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, rows, weight);
+        for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && batch.alive[i];
+    }
+
     // Traced lanes -> camera rays in world space with their weights; lanes
     // from n on and those the lens blocked are not alive.
     static void to_columns(const LensToWorld& to_world, const LensRayBatch& traced, const double* cos_theta,

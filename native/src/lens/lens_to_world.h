@@ -3,6 +3,7 @@
 // arithmetic as LensSystemCamera::camera_ray, lane by lane.
 #pragma once
 
+#include "cameras/camera_ray.h"
 #include "lens/lens_trace.h"
 #include "vec.h"
 
@@ -24,5 +25,11 @@ struct WorldRayBatch {
 
 void lens_to_world_batch(const LensToWorld& t, const LensRayBatch& lens, const double* cos_theta,
                          const double* area_mm2, WorldRayBatch* out);
+
+// The same rays rounded to float, straight into the render loop's rows, with
+// their weights (the same bits as lens_to_world_batch's, rounded once at the
+// end): no double columns between the trace and the packet.
+void lens_to_world_rows(const LensToWorld& t, const LensRayBatch& lens, const double* cos_theta,
+                        const double* area_mm2, CameraRayRows* rows, float* weight);
 
 }  // namespace lc
