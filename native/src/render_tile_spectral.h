@@ -165,6 +165,21 @@ class SpectralRayPacket {
         }
     }
 
+    // Queues samples [0, n)'s rays found in float, each carrying all four
+    // wavelengths with weight 1 (GeneratesRayRows): as add_batch with
+    // carries_all, no double columns between.
+    void add_rows(const CameraRayRows& rows, int n, const HeroWavelengths* w, const float* time_u,
+                  const size_t* slot) {
+        const float share = 1.0f / float(kHeroWavelengths);
+        for (int i = 0; i < n; ++i) {
+            const int j = batch_.count;
+            for (int a = 0; a < 3; ++a)
+                batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
+            batch_.time[j] = time_u[i];
+            queue(&w[i], share, 0xfu, true, slot[i]);
+        }
+    }
+
     // Shades the queued rays now if any holds wavelengths in [first, end),
     // which the caller is about to overwrite.
     void release(const HeroWavelengths* first, const HeroWavelengths* end) {
@@ -298,7 +313,13 @@ class SpectralCameraSampleBatcher {
   private:
     // One ray per sample, carrying all four wavelengths.
     void flush_shared() {
-        if constexpr (GeneratesRayBatches<Camera>::value) {
+        if constexpr (GeneratesRayRows<Camera>::value) {
+            if (!moves_camera_) {  // in float straight to the packet
+                camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
+                packet_.add_rows(rows_, pending_, wavelengths_, staged_.time, staged_.slot);
+                return;
+            }
+        } else if constexpr (GeneratesRayBatches<Camera>::value) {
             if (!moves_camera_) {  // in columns (a moving camera's offset: below, ray by ray)
                 camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_[0]);
                 packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, staged_.time, staged_.slot);
@@ -381,6 +402,7 @@ class SpectralCameraSampleBatcher {
     MaybeRay shared_rays_[kCameraBatch];
     MaybeRay dispersed_rays_[kCameraBatch][kHeroWavelengths];
     CameraRayBatch columns_[kHeroWavelengths];  // a batch's rays at each traced wavelength
+    CameraRayRows rows_;  // flush_shared's rays, for cameras that find them in float
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;
