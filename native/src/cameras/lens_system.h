@@ -183,16 +183,22 @@ struct LensSystemCamera {
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                       double* area_mm2) const;
 
+    // Samples [0, n) aimed and traced in lockstep, with each lane's cos theta
+    // at the film and pupil area: what both batch forms below start from.
+    void trace_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
+                     double* area_mm2, double* cos_theta) const {
+        sample_batch(raster_px, lens_sample, n, batch, area_mm2);
+        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch->dz[i];
+        trace_from_film_batch(elements, batch, trace_kernel, trace_precision);
+    }
+
     // The same as generate_ray for up to kLensBatch samples at once, traced in
-    // lockstep (the render loop uses this; results equal generate_ray's).
+    // lockstep (results equal generate_ray's).
     void generate_ray_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                             CameraRayBatch* out) const {
         LensRayBatch batch;
-        double area_mm2[kLensBatch];
-        sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
-        double cos_theta[kLensBatch];
-        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
-        trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
+        double area_mm2[kLensBatch], cos_theta[kLensBatch];
+        trace_batch(raster_px, lens_sample, n, &batch, area_mm2, cos_theta);
         to_columns(lens_to_world(), batch, cos_theta, area_mm2, n, out);
     }
 
@@ -201,11 +207,8 @@ struct LensSystemCamera {
     void generate_weighted_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
                                     float* weight, bool* alive) const {
         LensRayBatch batch;
-        double area_mm2[kLensBatch];
-        sample_batch(raster_px, lens_sample, n, &batch, area_mm2);
-        double cos_theta[kLensBatch];
-        for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch.dz[i];
-        trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
+        double area_mm2[kLensBatch], cos_theta[kLensBatch];
+        trace_batch(raster_px, lens_sample, n, &batch, area_mm2, cos_theta);
         lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, rows, weight);
         for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && batch.alive[i];
     }
