@@ -217,8 +217,7 @@ class RayPacket {
             // ray (a vignetted one contributes nothing; the next overwrites
             // it): no branch on the vignetting for the predictor to miss.
             const int j = batch_.count;
-            for (int a = 0; a < 3; ++a)
-                batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
+            batch_.set(j, rows, i);
             batch_.time[j] = time_u[i];
             weight_[j] = weight ? weight[i] : 1.0f;
             slot_[j] = slot[i];

@@ -156,8 +156,7 @@ class SpectralRayPacket {
             for (int k = 0; k <= last; ++k) {
                 if (!rays[k].alive[i]) continue;  // vignetted, or blocked at this wavelength
                 const int j = batch_.count;
-                for (int a = 0; a < 3; ++a)
-                    batch_.origin[a][j] = rounded_[k].origin[a][i], batch_.direction[a][j] = rounded_[k].direction[a][i];
+                batch_.set(j, rounded_[k], i);
                 batch_.time[j] = time_u[i];
                 const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
                 queue(&w[i], rays[k].weight[i] * share, lanes, k == last, slot[i]);
@@ -173,8 +172,7 @@ class SpectralRayPacket {
         const float share = 1.0f / float(kHeroWavelengths);
         for (int i = 0; i < n; ++i) {
             const int j = batch_.count;
-            for (int a = 0; a < 3; ++a)
-                batch_.origin[a][j] = rows.origin[a][i], batch_.direction[a][j] = rows.direction[a][i];
+            batch_.set(j, rows, i);
             batch_.time[j] = time_u[i];
             queue(&w[i], share, 0xfu, true, slot[i]);
         }

@@ -53,7 +53,8 @@ void fill_portable(uint64_t* state, uint64_t inc, uint32_t* out, int n) {
     finish(state, inc, out, i, n);
 }
 
-// Eight states in a vector (GCC's vector extension: one zmm register, or two ymm).
+// Eight states in a vector (GCC's vector extension: one zmm register), for the
+// AVX-512 kernel; the AVX2 kernel below has its own registers of four.
 typedef uint64_t States8 __attribute__((vector_size(64)));
 typedef uint32_t Outputs8 __attribute__((vector_size(32)));
 

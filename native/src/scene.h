@@ -58,6 +58,11 @@ struct RayBatch {
         direction[0][j] = float(ray.direction.x), direction[1][j] = float(ray.direction.y),
         direction[2][j] = float(ray.direction.z);
     }
+
+    // Ray j = ray i of a camera batch's float rows.
+    void set(int j, const CameraRayRows& rows, int i) {
+        for (int a = 0; a < 3; ++a) origin[a][j] = rows.origin[a][i], direction[a][j] = rows.direction[a][i];
+    }
 };
 
 struct PointLight {
