@@ -417,6 +417,7 @@ NB_MODULE(_native, m) {
                                              entrance_pupil_z_mm, film_width_mm, film_height_mm, width_px,
                                              height_px, std::move(pupil)};
                  calibrate_centre_irradiance(self);
+                 self->pencils = LensPencils::of(*self);
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,

@@ -207,6 +207,59 @@ void bind_lens(nb::module_& m) {
           "Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), by the scalar per-wavelength "
           "trace or (batched) the lockstep trace of spectral renders.");
 
+    m.def("lens_pencil",
+          [](const LensSystemCamera& camera, double x0_px, double y0_px, double x1_px, double y1_px)
+              -> std::optional<std::tuple<std::array<double, 2>, std::array<double, 2>, double, double>> {
+              CameraPencil pencil;
+              LensPencilCheck check;
+              if (!camera.checked_pencil(x0_px, y0_px, x1_px, y1_px, &pencil, &check)) return std::nullopt;
+              return std::make_tuple(std::array<double, 2>{pencil.screen_lo[0], pencil.screen_lo[1]},
+                                     std::array<double, 2>{pencil.screen_hi[0], pencil.screen_hi[1]},
+                                     pencil.lens_radius_m, pencil.inverse_focus_per_m);
+          },
+          "camera"_a, "x0_px"_a, "y0_px"_a, "x1_px"_a, "y1_px"_a,
+          "The measured pencil of the rays through a raster rectangle (lens_pencil.h) as (screen_lo, screen_hi, "
+          "lens_radius_m, inverse_focus_per_m), or None where the camera has none.");
+
+    m.def("set_lens_pencils",
+          [](LensSystemCamera& camera, const std::string& mode) {
+              if (mode == "none") camera.pencils = nullptr;
+              else if (mode == "measured") camera.pencils = LensPencils::of(camera);
+              else if (mode == "collapsed") camera.pencils = LensPencils::of(camera)->collapsed();
+              else throw std::invalid_argument("pencils: \"measured\", \"collapsed\" or \"none\", not " + mode);
+          },
+          "camera"_a, "mode"_a,
+          "The camera's per-tile pencils (lens_pencil.h): \"measured\" (the render's), \"collapsed\" (every "
+          "screen range shrunk to a point, so the render's check falls back nearly everywhere) or \"none\".");
+
+    m.def("lens_rays_within_pencil",
+          [](const LensSystemCamera& camera, double x0_px, double y0_px, double x1_px, double y1_px,
+             CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
+              CameraPencil pencil;
+              LensPencilCheck check;
+              if (!camera.checked_pencil(x0_px, y0_px, x1_px, y1_px, &pencil, &check))
+                  throw std::invalid_argument("no pencil for this rectangle");
+              const size_t count = raster_px.shape(0);
+              if (lens.shape(0) != count) throw std::invalid_argument("one lens sample per raster sample");
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              // Batch by batch, as the render checks them: the batches whose rays all lie within.
+              size_t within = 0, batches = 0;
+              for (size_t first = 0; first < count; first += kLensBatch, ++batches) {
+                  const int n = int(std::min<size_t>(kLensBatch, count - first));
+                  CameraRayRows rows;
+                  float weight[kLensBatch];
+                  bool alive[kLensBatch];
+                  within += camera.generate_weighted_ray_rows(raster + first, u + first, n, &rows, weight, alive,
+                                                              &check);
+              }
+              return std::make_tuple(within, batches);
+          },
+          "camera"_a, "x0_px"_a, "y0_px"_a, "x1_px"_a, "y1_px"_a, "raster_px"_a, "lens"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "(batches whose rays all lie within the rectangle's pencil, batches) for these samples, "
+          "kLensBatch at a time, as the render checks them.");
+
     m.def("with_brute_force_pupil", &with_brute_force_pupil, "camera"_a, nb::call_guard<nb::gil_scoped_release>(),
           "A copy of camera that aims at a disk 1.5x the rear element: the pupil sampler's reference.");
 }

@@ -39,6 +39,16 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
             packet.cull_by(pencil);
     }
     CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
+    if constexpr (HasCheckedPencil<Camera>::value) {
+        CameraPencil pencil;
+        LensPencilCheck check;
+        if (!scene.motion().moves_camera() && camera.checked_pencil(tile.cols().begin(), tile.rows().begin(),
+                                                                    tile.cols().end(), tile.rows().end(), &pencil,
+                                                                    &check)) {
+            packet.cull_by(pencil);
+            batcher.check_by(check);
+        }
+    }
     PixelSamples samples(s.spp, scene.motion().samples_time(), false, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {

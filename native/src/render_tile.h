@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cameras/camera_ray.h"
+#include "cameras/lens_pencil.h"
 #include "motion.h"
 #include "render_settings.h"
 #include "samplers.h"
@@ -79,6 +80,16 @@ struct HasPencil : std::false_type {};
 template <class Camera>
 struct HasPencil<Camera, std::void_t<decltype(std::declval<const Camera&>().pencil(
                              0.0, 0.0, 0.0, 0.0, static_cast<CameraPencil*>(nullptr)))>> : std::true_type {};
+
+// Cameras whose pencil is measured rather than derived (the lens system:
+// lens_pencil.h) say so with checked_pencil(x0, y0, x1, y1, pencil, check):
+// their tiles cull as HasPencil's do while every traced batch passes check.
+template <class Camera, class = void>
+struct HasCheckedPencil : std::false_type {};
+template <class Camera>
+struct HasCheckedPencil<Camera, std::void_t<decltype(std::declval<const Camera&>().checked_pencil(
+                                    0.0, 0.0, 0.0, 0.0, static_cast<CameraPencil*>(nullptr),
+                                    static_cast<LensPencilCheck*>(nullptr)))>> : std::true_type {};
 
 // Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
 class TileAccumulator {
@@ -172,6 +183,8 @@ class RayPacket {
 
     // From now on the rays only test the own primitives some ray of pencil may meet.
     void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
+    // From now on the rays test every own primitive again (a ray left the pencil).
+    void uncull() { batch_.sphere_candidates = batch_.quad_candidates = kAllCandidates, batch_.faces_culled = false; }
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {
@@ -298,6 +311,11 @@ class CameraSampleBatcher {
         }
     }
 
+    // From now on each batch's rays are checked against check (the packet
+    // culled by its pencil); the first that is not within makes the packet
+    // test every primitive again.
+    void check_by(const LensPencilCheck& check) { check_ = check, checking_ = true; }
+
     // Turns the queued samples into rays for the packet, in queue order.
     void flush() {
         if constexpr (GeneratesRayRows<Camera>::value) {
@@ -310,8 +328,16 @@ class CameraSampleBatcher {
             }
         } else if constexpr (GeneratesWeightedRayRows<Camera>::value) {
             if (!moves_camera_) {
-                camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
-                                                   alive_);
+                if constexpr (HasCheckedPencil<Camera>::value) {
+                    if (!camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_,
+                                                            weight_, alive_, checking_ ? &check_ : nullptr)) {
+                        packet_.uncull();
+                        checking_ = false;
+                    }
+                } else {
+                    camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
+                                                       alive_);
+                }
                 packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
                 pending_ = 0;
                 return;
@@ -346,6 +372,8 @@ class CameraSampleBatcher {
     CameraRayRows rows_;
     float weight_[kCameraBatch];  // generate_weighted_ray_rows' weights and vignetting
     bool alive_[kCameraBatch];
+    LensPencilCheck check_{};  // check_by's, while checking_
+    bool checking_ = false;
     int pending_ = 0;
 };
 

@@ -121,7 +121,7 @@ void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const
             quads &= ~(uint64_t(1) << k);
     // The boxes' faces the whole aperture is behind (solid_faces.h): the
     // lens disk's box, widened far past the origins' float rounding.
-    if (!own_solids_.empty()) {
+    if (!own_solids_.empty() && pencil.origins_on_lens_disk) {
         const Frame& f = pencil.world_from_camera;
         const double centre[3] = {f.origin.x, f.origin.y, f.origin.z};
         const double right[3] = {f.right.x, f.right.y, f.right.z}, up[3] = {f.up.x, f.up.y, f.up.z};
@@ -134,7 +134,8 @@ void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const
         }
         quads &= own_solids_.first_hits_from_box(lo, hi);
     }
-    batch->sphere_candidates = spheres, batch->quad_candidates = quads, batch->faces_culled = true;
+    batch->sphere_candidates = spheres, batch->quad_candidates = quads;
+    batch->faces_culled = pencil.origins_on_lens_disk || own_solids_.empty();
 }
 
 LC_BUILT_PER_ISA void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {

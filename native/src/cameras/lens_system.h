@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cameras/camera_ray.h"
+#include "cameras/lens_pencil.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
 #include "lens/lens_to_world.h"
@@ -52,6 +53,9 @@ struct LensSystemCamera {
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
     std::vector<std::vector<LensElement>> elements_by_nm;
     LensDispersion dispersion;  // the same indices as eta tables, for the batch trace (set_dispersion)
+    // The measured bounds of its rays per film cell (lens_pencil.h; set by
+    // set_pencils): null, the render's tiles test every own primitive.
+    std::shared_ptr<const LensPencils> pencils;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -204,13 +208,26 @@ struct LensSystemCamera {
 
     // generate_ray_batch's rays rounded to float, as the render loop's packets
     // take them (GeneratesWeightedRayRows): no double columns between.
-    void generate_weighted_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
-                                    float* weight, bool* alive) const {
+    // Given a tile's check (checked_pencil), whether every ray lies within
+    // its pencil; true without one.
+    bool generate_weighted_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
+                                    float* weight, bool* alive, const LensPencilCheck* check = nullptr) const {
         LensRayBatch batch;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         trace_batch(raster_px, lens_sample, n, &batch, area_mm2, cos_theta);
         lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, rows, weight);
         for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && batch.alive[i];
+        return !check || lens_rays_within(*check, batch, alive);
+    }
+
+    // The pencil of the rays through raster rectangle [x0, x1] x [y0, y1]
+    // (camera_pencil.h), measured, so with the check each traced batch must
+    // pass for the cull to hold (render_tile, lens_pencil.h). False: no
+    // pencil (none measured, or a cell of the rectangle has none).
+    bool checked_pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* pencil,
+                        LensPencilCheck* check) const {
+        return pencils && pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px, y0_px, x1_px, y1_px, pencil,
+                                        check);
     }
 
     // Traced lanes -> camera rays in world space with their weights; lanes

@@ -1,0 +1,185 @@
+#include "cameras/lens_pencil.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "cameras/lens_system.h"
+#include "cpu_kernels.h"
+
+namespace lc {
+namespace {
+
+// Film points per cell side at most (cells of 8 pixels or more): a render
+// tile (16 pixels) then spans two or three cells each way.
+constexpr int kMaxCells = 64;
+constexpr int kMinCellPx = 8;
+// Pupil samples per film point: rings at these radial samples (1: the
+// polygon's edge), kAngles points round each, and the centre.
+constexpr double kRings[] = {1.0, 0.95, 0.9, 0.8, 0.5};
+constexpr int kAngles = 16;
+// A cell's measured screen range is widened by this fraction of its extent
+// each way (what lies between the sampled film and pupil points), and by
+// kScreenPad; the rays' lateral reach by kRadiusMargin.
+constexpr double kScreenWiden = 0.5, kScreenPad = 2e-4, kRadiusMargin = 0.05;
+
+struct SampledRay {
+    double l_mm[2], slope[2];
+};
+
+}  // namespace
+
+LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRayBatch& b, const bool* alive) {
+    // The flags as wide as the doubles, so that one loop of both vectorises.
+    int64_t checked[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) checked[i] = alive[i];
+    // Division-free: each test multiplied through by w = -dz > 0.
+    int64_t outside = 0;
+    for (int i = 0; i < kLensBatch; ++i) {
+        const double w = -b.dz[i], z_mm = c.pencil_z_mm - b.oz[i];
+        const double lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
+        const double sw_x = b.dx[i] + c.k_per_mm * lw_x, sw_y = b.dy[i] + c.k_per_mm * lw_y;
+        const double rw = c.radius_mm * w;
+        // & rather than &&: no branches, so the loop vectorises
+        const bool within = (w > 0.0) & (z_mm >= 0.0) & (z_mm <= c.depth_mm) &
+                            (std::fabs(b.ox[i]) <= c.reach_mm) & (std::fabs(b.oy[i]) <= c.reach_mm) &
+                            (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) & (sw_x >= c.screen_lo[0] * w) &
+                            (sw_x <= c.screen_hi[0] * w) & (sw_y >= c.screen_lo[1] * w) &
+                            (sw_y <= c.screen_hi[1] * w);
+        outside |= checked[i] & int64_t(!within);
+    }
+    return outside == 0;
+}
+
+std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera) {
+    auto p = std::make_shared<LensPencils>();
+    // Every ray leaves from the front surface, within its semi-aperture: the
+    // pencil plane a micron behind its cap (toward the film).
+    const LensElement& front = camera.elements.front();
+    const double h = front.semi_aperture_mm, c = front.curvature_per_mm;
+    const double sag_mm = c == 0.0 ? 0.0 : std::fabs(c) * h >= 1.0 ? 1.0 / c : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
+    p->pencil_z_mm_ = front.vertex_z_mm + std::max(sag_mm, 0.0) + 1e-3;
+    p->depth_mm_ = std::fabs(sag_mm) + 2e-3;
+    p->reach_mm_ = h + 1e-3;
+
+    p->columns_ = std::clamp(camera.width_px / kMinCellPx, 1, kMaxCells);
+    p->rows_ = std::clamp(camera.height_px / kMinCellPx, 1, kMaxCells);
+    p->cells_per_px_x_ = double(p->columns_) / camera.width_px;
+    p->cells_per_px_y_ = double(p->rows_) / camera.height_px;
+
+    // The pupil samples of one film point
+    std::vector<Point2f> u;
+    for (const double ring : kRings)
+        for (int a = 0; a < kAngles; ++a) u.push_back({float(ring), (a + 0.5f) / kAngles});
+    u.push_back({0.0f, 0.5f});
+
+    // Each grid corner's rays that pass, as lateral point and slope on the pencil plane
+    const int corners_x = p->columns_ + 1, corners_y = p->rows_ + 1;
+    std::vector<std::vector<SampledRay>> rays(size_t(corners_x * corners_y));
+    std::vector<bool> turns_back(rays.size(), false);
+    Point2f raster[kLensBatch], lens[kLensBatch];
+    for (int j = 0; j < corners_y; ++j)
+        for (int i = 0; i < corners_x; ++i) {
+            const size_t corner = size_t(j * corners_x + i);
+            const Point2f film{float(i / p->cells_per_px_x_), float(j / p->cells_per_px_y_)};
+            for (size_t first = 0; first < u.size(); first += kLensBatch) {
+                const int n = int(std::min<size_t>(kLensBatch, u.size() - first));
+                for (int k = 0; k < n; ++k) raster[k] = film, lens[k] = u[first + size_t(k)];
+                LensRayBatch b;
+                double area_mm2[kLensBatch], cos_theta[kLensBatch];
+                camera.trace_batch(raster, lens, n, &b, area_mm2, cos_theta);
+                for (int k = 0; k < n; ++k) {
+                    if (!b.alive[k]) continue;
+                    const double w = -b.dz[k];
+                    if (!(w > 0.0)) {
+                        turns_back[corner] = true;
+                        continue;
+                    }
+                    const double z_mm = p->pencil_z_mm_ - b.oz[k];
+                    SampledRay r;
+                    r.slope[0] = b.dx[k] / w, r.slope[1] = b.dy[k] / w;
+                    r.l_mm[0] = b.ox[k] - z_mm * r.slope[0], r.l_mm[1] = b.oy[k] - z_mm * r.slope[1];
+                    rays[corner].push_back(r);
+                }
+            }
+        }
+
+    // k: the rays of the corner nearest the film centre most nearly share s
+    // (least squares: their l against their slope).
+    const std::vector<SampledRay>& centre = rays[size_t((corners_y / 2) * corners_x + corners_x / 2)];
+    double l_slope = 0.0, l2 = 0.0;
+    for (const SampledRay& r : centre)
+        for (int a = 0; a < 2; ++a) l_slope += r.l_mm[a] * r.slope[a], l2 += r.l_mm[a] * r.l_mm[a];
+    p->k_per_mm_ = l2 > 0.0 ? -l_slope / l2 : 0.0;
+
+    double radius_mm = 0.0;
+    for (const auto& corner_rays : rays)
+        for (const SampledRay& r : corner_rays) radius_mm = std::max({radius_mm, std::fabs(r.l_mm[0]), std::fabs(r.l_mm[1])});
+    p->radius_mm_ = radius_mm * (1.0 + kRadiusMargin) + 1e-3;
+
+    // Each cell: the union of its four corners' screen points, widened
+    p->cells_.resize(size_t(p->columns_ * p->rows_));
+    for (int j = 0; j < p->rows_; ++j)
+        for (int i = 0; i < p->columns_; ++i) {
+            Cell& cell = p->cells_[size_t(j * p->columns_ + i)];
+            cell.bounded = true;
+            for (const int corner : {j * corners_x + i, j * corners_x + i + 1, (j + 1) * corners_x + i,
+                                     (j + 1) * corners_x + i + 1}) {
+                cell.bounded &= !turns_back[size_t(corner)];
+                for (const SampledRay& r : rays[size_t(corner)])
+                    for (int a = 0; a < 2; ++a) {
+                        const double s = r.slope[a] + p->k_per_mm_ * r.l_mm[a];
+                        cell.screen_lo[a] = std::min(cell.screen_lo[a], s);
+                        cell.screen_hi[a] = std::max(cell.screen_hi[a], s);
+                    }
+            }
+            for (int a = 0; a < 2; ++a) {
+                if (cell.screen_lo[a] > cell.screen_hi[a]) continue;  // no corner ray passes: stays empty
+                const double widen = kScreenWiden * (cell.screen_hi[a] - cell.screen_lo[a]) + kScreenPad;
+                cell.screen_lo[a] -= widen, cell.screen_hi[a] += widen;
+            }
+        }
+    return p;
+}
+
+std::shared_ptr<const LensPencils> LensPencils::collapsed() const {
+    auto p = std::make_shared<LensPencils>(*this);
+    for (Cell& cell : p->cells_)
+        for (int a = 0; a < 2; ++a)
+            if (cell.screen_lo[a] <= cell.screen_hi[a])
+                cell.screen_lo[a] = cell.screen_hi[a] = 0.5 * (cell.screen_lo[a] + cell.screen_hi[a]);
+    return p;
+}
+
+bool LensPencils::tile(const Frame& world_from_camera, double entrance_pupil_z_mm, double x0_px, double y0_px,
+                       double x1_px, double y1_px, CameraPencil* pencil, LensPencilCheck* check) const {
+    if (cells_.empty()) return false;
+    const int i0 = std::clamp(int(std::floor(x0_px * cells_per_px_x_)), 0, columns_ - 1);
+    const int i1 = std::clamp(int(std::ceil(x1_px * cells_per_px_x_)) - 1, i0, columns_ - 1);
+    const int j0 = std::clamp(int(std::floor(y0_px * cells_per_px_y_)), 0, rows_ - 1);
+    const int j1 = std::clamp(int(std::ceil(y1_px * cells_per_px_y_)) - 1, j0, rows_ - 1);
+    LensPencilCheck c{pencil_z_mm_, depth_mm_, reach_mm_, radius_mm_, k_per_mm_, {INFINITY, INFINITY},
+                      {-INFINITY, -INFINITY}};
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+            const Cell& cell = cells_[size_t(j * columns_ + i)];
+            if (!cell.bounded) return false;
+            for (int a = 0; a < 2; ++a)
+                c.screen_lo[a] = std::min(c.screen_lo[a], cell.screen_lo[a]),
+                c.screen_hi[a] = std::max(c.screen_hi[a], cell.screen_hi[a]);
+        }
+    // No sampled ray passes anywhere in the tile: nothing to bound it by.
+    if (!(c.screen_lo[0] <= c.screen_hi[0] && c.screen_lo[1] <= c.screen_hi[1])) return false;
+    *check = c;
+    CameraPencil& out = *pencil;
+    out.world_from_camera = world_from_camera;
+    out.world_from_camera.origin =
+        world_from_camera.world_from_camera_point({0.0, 0.0, (entrance_pupil_z_mm - pencil_z_mm_) * 1e-3});
+    out.lens_radius_m = radius_mm_ * 1e-3;
+    out.inverse_focus_per_m = k_per_mm_ * 1e3;
+    for (int a = 0; a < 2; ++a) out.screen_lo[a] = c.screen_lo[a], out.screen_hi[a] = c.screen_hi[a];
+    out.origins_on_lens_disk = false;
+    return true;
+}
+
+}  // namespace lc
