@@ -328,15 +328,10 @@ class CameraSampleBatcher {
             }
         } else if constexpr (GeneratesWeightedRayRows<Camera>::value) {
             if (!moves_camera_) {
-                if constexpr (HasCheckedPencil<Camera>::value) {
-                    if (!camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_,
-                                                            weight_, alive_, checking_ ? &check_ : nullptr)) {
-                        packet_.uncull();
-                        checking_ = false;
-                    }
-                } else {
-                    camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
-                                                       alive_);
+                if (!camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
+                                                        alive_, checking_ ? &check_ : nullptr)) {
+                    packet_.uncull();
+                    checking_ = false;
                 }
                 packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
                 pending_ = 0;

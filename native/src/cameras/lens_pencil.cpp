@@ -41,11 +41,9 @@ LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRayBa
         const double sw_x = b.dx[i] + c.k_per_mm * lw_x, sw_y = b.dy[i] + c.k_per_mm * lw_y;
         const double rw = c.radius_mm * w;
         // & rather than &&: no branches, so the loop vectorises
-        const bool within = (w > 0.0) & (z_mm >= 0.0) & (z_mm <= c.depth_mm) &
-                            (std::fabs(b.ox[i]) <= c.reach_mm) & (std::fabs(b.oy[i]) <= c.reach_mm) &
-                            (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) & (sw_x >= c.screen_lo[0] * w) &
-                            (sw_x <= c.screen_hi[0] * w) & (sw_y >= c.screen_lo[1] * w) &
-                            (sw_y <= c.screen_hi[1] * w);
+        const bool within = (w > 0.0) & (z_mm >= 0.0) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
+                            (sw_x >= c.screen_lo[0] * w) & (sw_x <= c.screen_hi[0] * w) &
+                            (sw_y >= c.screen_lo[1] * w) & (sw_y <= c.screen_hi[1] * w);
         outside |= checked[i] & int64_t(!within);
     }
     return outside == 0;
@@ -57,10 +55,10 @@ std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camer
     // pencil plane a micron behind its cap (toward the film).
     const LensElement& front = camera.elements.front();
     const double h = front.semi_aperture_mm, c = front.curvature_per_mm;
-    const double sag_mm = c == 0.0 ? 0.0 : std::fabs(c) * h >= 1.0 ? 1.0 / c : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
+    const double sag_mm = c == 0.0               ? 0.0
+                          : std::fabs(c) * h >= 1.0 ? 1.0 / c
+                                                    : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
     p->pencil_z_mm_ = front.vertex_z_mm + std::max(sag_mm, 0.0) + 1e-3;
-    p->depth_mm_ = std::fabs(sag_mm) + 2e-3;
-    p->reach_mm_ = h + 1e-3;
 
     p->columns_ = std::clamp(camera.width_px / kMinCellPx, 1, kMaxCells);
     p->rows_ = std::clamp(camera.height_px / kMinCellPx, 1, kMaxCells);
@@ -114,7 +112,8 @@ std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camer
 
     double radius_mm = 0.0;
     for (const auto& corner_rays : rays)
-        for (const SampledRay& r : corner_rays) radius_mm = std::max({radius_mm, std::fabs(r.l_mm[0]), std::fabs(r.l_mm[1])});
+        for (const SampledRay& r : corner_rays)
+            radius_mm = std::max({radius_mm, std::fabs(r.l_mm[0]), std::fabs(r.l_mm[1])});
     p->radius_mm_ = radius_mm * (1.0 + kRadiusMargin) + 1e-3;
 
     // Each cell: the union of its four corners' screen points, widened
@@ -158,8 +157,7 @@ bool LensPencils::tile(const Frame& world_from_camera, double entrance_pupil_z_m
     const int i1 = std::clamp(int(std::ceil(x1_px * cells_per_px_x_)) - 1, i0, columns_ - 1);
     const int j0 = std::clamp(int(std::floor(y0_px * cells_per_px_y_)), 0, rows_ - 1);
     const int j1 = std::clamp(int(std::ceil(y1_px * cells_per_px_y_)) - 1, j0, rows_ - 1);
-    LensPencilCheck c{pencil_z_mm_, depth_mm_, reach_mm_, radius_mm_, k_per_mm_, {INFINITY, INFINITY},
-                      {-INFINITY, -INFINITY}};
+    LensPencilCheck c{pencil_z_mm_, radius_mm_, k_per_mm_, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
     for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
             const Cell& cell = cells_[size_t(j * columns_ + i)];

@@ -29,12 +29,12 @@ namespace lc {
 struct LensSystemCamera;
 
 // One tile's bound in the lens frame (mm, +z toward the film), as the check
-// reads it: a ray passes when its origin lies between the pencil plane
-// (lens-frame z pencil_z_mm) and depth_mm in front of it, within reach_mm of
-// the axis, it heads toward the scene, and its l and s lie within radius_mm
-// and [screen_lo, screen_hi] per axis (k_per_mm: k per mm).
+// reads it: a ray passes when its origin is not behind the pencil plane
+// (lens-frame z pencil_z_mm; the pencil holds its line in front of that
+// plane), it heads toward the scene, and its l and s lie within radius_mm and
+// [screen_lo, screen_hi] per axis (k_per_mm: k per mm).
 struct LensPencilCheck {
-    double pencil_z_mm, depth_mm, reach_mm, radius_mm, k_per_mm;
+    double pencil_z_mm, radius_mm, k_per_mm;
     double screen_lo[2], screen_hi[2];
 };
 
@@ -68,7 +68,7 @@ class LensPencils {
 
     int columns_ = 0, rows_ = 0;              // grid cells over the film
     double cells_per_px_x_ = 0.0, cells_per_px_y_ = 0.0;
-    double pencil_z_mm_ = 0.0, depth_mm_ = 0.0, reach_mm_ = 0.0, radius_mm_ = 0.0, k_per_mm_ = 0.0;
+    double pencil_z_mm_ = 0.0, radius_mm_ = 0.0, k_per_mm_ = 0.0;
     std::vector<Cell> cells_;
 };
 

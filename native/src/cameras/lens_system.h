@@ -53,8 +53,8 @@ struct LensSystemCamera {
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
     std::vector<std::vector<LensElement>> elements_by_nm;
     LensDispersion dispersion;  // the same indices as eta tables, for the batch trace (set_dispersion)
-    // The measured bounds of its rays per film cell (lens_pencil.h; set by
-    // set_pencils): null, the render's tiles test every own primitive.
+    // The measured bounds of its rays per film cell (lens_pencil.h; set
+    // after calibration): null, the render's tiles test every own primitive.
     std::shared_ptr<const LensPencils> pencils;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
