@@ -20,6 +20,7 @@ from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
 from lenscompare.native_scene import build_native_scene
 from lenscompare.render import SAMPLER_CODES
+from lenscompare.render_spectral import make_spectral
 from lenscompare.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -35,11 +36,12 @@ def lens_camera_scene(lens: str, *, resolution=(96, 64)):
     return scene, camera_for(scene, "lens").native()
 
 
-def render_native(scene, camera, *, spp=4, seed=5, threads=2):
+def render_native(scene, camera, *, spp=4, seed=5, threads=2, native_scene=None):
     width, height = scene.camera.resolution
+    native_scene = build_native_scene(scene) if native_scene is None else native_scene
     pixels = np.zeros((height, width, 3), dtype=np.float32)
     variance = np.zeros((height, width), dtype=np.float32)
-    _native.render_rows(build_native_scene(scene), camera, spp, SAMPLER_CODES["jittered"], seed, threads, 0, height,
+    _native.render_rows(native_scene, camera, spp, SAMPLER_CODES["jittered"], seed, threads, 0, height,
                         pixels, variance)
     return pixels
 
@@ -56,6 +58,25 @@ def test_image_same_with_and_without_pencils(lens):
     assert measured.mean() > 0.0
     np.testing.assert_array_equal(measured, without)
     np.testing.assert_array_equal(collapsed, without)
+
+
+@pytest.mark.parametrize("traced", [1, 2, 4])
+def test_spectral_image_same_with_and_without_pencils(traced):
+    """Through a dispersive lens each traced wavelength has a ray of its own, off
+    the d-line rays the pencils were measured with: every one is checked."""
+    scene = load_scene(PEERS).with_camera(lens=str(TEST_LENSES / "dgauss_abbe.dat"), f_number=None,
+                                          resolution=(96, 64), focal_length_mm=None)
+    camera = camera_for(scene, "lens")
+    native_scene, native_camera = build_native_scene(scene), camera.native()
+    assert make_spectral(native_scene, native_camera, scene, camera, traced_wavelengths=traced)["camera_disperses"]
+    images = {}
+    for mode in ("measured", "none", "collapsed"):
+        diagnostics.set_lens_pencils(native_camera, mode)
+        images[mode] = render_native(scene, native_camera, native_scene=native_scene)
+    assert np.isfinite(images["measured"]).all()
+    assert images["measured"].mean() > 0.0
+    np.testing.assert_array_equal(images["measured"], images["none"])
+    np.testing.assert_array_equal(images["collapsed"], images["none"])
 
 
 def tile_samples(x0, y0, size_px, n, rng):

@@ -120,3 +120,14 @@ def test_the_cull_changes_no_bit_on_lit_showcase(monkeypatch, model):
     culled, tested = render_both(monkeypatch, scene, model=model, spp=16, threads=2)
     assert culled.mean() > 0.01  # lit, with shadows to cull for
     assert np.array_equal(culled, tested)
+
+
+@pytest.mark.parametrize("model", ["pinhole", "thin"])
+@pytest.mark.parametrize("name", ["strewn_f2", "strewn_f1_focused_near", "camera_inside"])
+def test_the_camera_cull_changes_no_bit_with_drawn_wavelengths(monkeypatch, name, model):
+    """A spectral render whose four wavelengths share one ray (drawn, not integrated) culls its tiles too."""
+    culled, tested = render_both(monkeypatch, parse_scene(camera_edge_scenes()[name]), model=model, spp=8,
+                                 threads=2, spectral=True, sample_wavelengths=True)
+    assert np.isfinite(culled).all()
+    assert culled.mean() > 0.0
+    assert np.array_equal(culled, tested)

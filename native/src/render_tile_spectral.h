@@ -129,6 +129,11 @@ class SpectralRayPacket {
   public:
     SpectralRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
 
+    // As RayPacket's: from now on the rays only test the own primitives some
+    // ray of pencil may meet, or (uncull) every one again.
+    void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
+    void uncull() { batch_.sphere_candidates = batch_.quad_candidates = kAllCandidates, batch_.faces_culled = false; }
+
     // Queues a ray carrying the lanes of *w in lanes (bit m: lane m), each
     // weighted by s (the ray's weight over the sample's traced wavelength
     // count); last: the sample's last ray.
@@ -295,6 +300,12 @@ class SpectralCameraSampleBatcher {
         }
     }
 
+    // As CameraSampleBatcher's: from now on each batch's rays, at every
+    // traced wavelength, are checked against check (the packet culled by its
+    // pencil); the first that is not within makes the packet test every
+    // primitive again.
+    void check_by(const LensPencilCheck& check) { check_ = check, checking_ = true; }
+
     void flush() {
         if (pending_ == 0) return;
         switch (path_) {
@@ -371,11 +382,17 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
         if constexpr (HasWavelengthRayBatches<Camera>::value) {
             if (!moves_camera_) {  // in columns, as flush_shared
-                camera_.generate_ray_batches_at(staged_.raster_px, staged_.lens, nm, pending_, traced, columns_);
+                if (!camera_.generate_ray_batches_at(staged_.raster_px, staged_.lens, nm, pending_, traced, columns_,
+                                                     checking_ ? &check_ : nullptr)) {
+                    packet_.uncull();
+                    checking_ = false;
+                }
                 packet_.add_batch(columns_, traced, stride, false, pending_, wavelengths_, staged_.time, staged_.slot);
                 return;
             }
         }
+        // (Only the columns above are checked: a camera with a checked pencil
+        // makes them, and render_tile_spectral culls only a still camera's tiles.)
         MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
         wavelength_rays(camera_, staged_.raster_px, staged_.lens, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -413,8 +430,34 @@ class SpectralCameraSampleBatcher {
     HeroWavelengths wavelength_buffers_[2][kCameraBatch];
     HeroWavelengths* wavelengths_ = wavelength_buffers_[0];
     HeroWavelengths* other_wavelengths_ = wavelength_buffers_[1];
+    LensPencilCheck check_{};  // check_by's, while checking_
+    bool checking_ = false;
     int pending_ = 0;
 };
+
+// Culls the tile's packet by its camera's pencil where the pencil holds the
+// rays this path makes: a derived pencil (HasPencil) holds a camera's rays
+// when they carry every wavelength (OneRay), not when each wavelength bends
+// its own way (a dispersive thin or thick lens's focus moves with it); a
+// measured one (HasCheckedPencil, the lens system) holds its dispersed rays
+// as long as each traced batch passes the check. A moving camera: no cull.
+template <class Camera>
+void cull_spectral_tile(const Camera& camera, const SceneMotion& motion, const Tile& tile, SpectralPath path,
+                        SpectralRayPacket* packet, SpectralCameraSampleBatcher<Camera>* batcher) {
+    if (motion.moves_camera()) return;
+    const int x0 = tile.cols().begin(), y0 = tile.rows().begin(), x1 = tile.cols().end(), y1 = tile.rows().end();
+    CameraPencil pencil;
+    if constexpr (HasPencil<Camera>::value) {
+        if (path == SpectralPath::OneRay && camera.pencil(x0, y0, x1, y1, &pencil)) packet->cull_by(pencil);
+    }
+    if constexpr (HasCheckedPencil<Camera>::value) {
+        LensPencilCheck check;
+        if (path == SpectralPath::RayPerWavelength && camera.checked_pencil(x0, y0, x1, y1, &pencil, &check)) {
+            packet->cull_by(pencil);
+            batcher->check_by(check);
+        }
+    }
+}
 
 // render_tile (render.h) for a spectral render. The pixel loop is written out
 // again on purpose: one walker shared through a callback made the RGB thin
@@ -427,6 +470,7 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
+    cull_spectral_tile(camera, scene.motion(), tile, path, &packet, &batcher);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {

@@ -157,10 +157,14 @@ struct LensSystemCamera {
     // The same rays in columns: out[k] holds each sample's ray at its
     // wavelength nm[i][k], k < traced. The samples are aimed once, in
     // lockstep, then traced once per k, every lane through the glass at its
-    // own wavelength, like generate_ray_batch's RGB trace.
-    void generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
-                                 const float (*nm)[kHeroWavelengths], int n, int traced,
-                                 CameraRayBatch* out) const {
+    // own wavelength, like generate_ray_batch's RGB trace. Given a tile's
+    // check (checked_pencil), whether every traced wavelength's rays lie
+    // within its pencil (dispersion moves them off the d-line rays it was
+    // measured with); true without one.
+    bool generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
+                                 const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayBatch* out,
+                                 const LensPencilCheck* check = nullptr) const {
+        bool within = true;
         LensRayBatch aimed;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         sample_batch(raster_px, lens_sample, n, &aimed, area_mm2);
@@ -176,7 +180,9 @@ struct LensSystemCamera {
                 trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
             }
             to_columns(to_world, batch, cos_theta, area_mm2, n, &out[k]);
+            if (check && within) within = lens_rays_within(*check, batch, out[k].alive);
         }
+        return within;
     }
 
     // Lanes [0, n) of a batch set up for the trace, as sample_lens_ray does one
