@@ -82,14 +82,19 @@ struct HasWavelengthBatches<Camera, std::void_t<decltype(std::declval<const Came
                                         static_cast<MaybeRay(*)[kHeroWavelengths]>(nullptr)))>>
     : std::true_type {};
 
-// Cameras that find those rays in columns, a CameraRayBatch per traced
-// wavelength, say so with generate_ray_batches_at(raster, lens, nm, n, traced, out).
+// Cameras that find those rays in float, a CameraRayRows per traced
+// wavelength with their weights and vignetting (the lens system), say so with
+// generate_weighted_ray_rows_at(raster, lens, nm, n, traced, rows, weight, alive, check).
 template <class Camera, class = void>
-struct HasWavelengthRayBatches : std::false_type {};
+struct HasWavelengthRayRows : std::false_type {};
 template <class Camera>
-struct HasWavelengthRayBatches<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_ray_batches_at(
-                                           nullptr, nullptr, nullptr, 0, 0, static_cast<CameraRayBatch*>(nullptr)))>>
-    : std::true_type {};
+struct HasWavelengthRayRows<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_weighted_ray_rows_at(
+                                        static_cast<const Point2f*>(nullptr), static_cast<const Point2f*>(nullptr),
+                                        static_cast<const float (*)[kHeroWavelengths]>(nullptr), 0, 0,
+                                        static_cast<CameraRayRows*>(nullptr),
+                                        static_cast<float (*)[kCameraBatch]>(nullptr),
+                                        static_cast<bool (*)[kCameraBatch]>(nullptr),
+                                        static_cast<const LensPencilCheck*>(nullptr)))>> : std::true_type {};
 
 // Rays for n <= kCameraBatch samples, sample i at wavelengths nm[i][0, traced).
 template <class Camera>
@@ -151,20 +156,33 @@ class SpectralRayPacket {
     // between: the rows rounded to float first, as RayPacket::add_batch.
     void add_batch(const CameraRayBatch* rays, int traced, int stride, bool carries_all, int n,
                    const HeroWavelengths* w, const float* time_u, const size_t* slot) {
-        for (int k = 0; k < traced; ++k) round_rows(rays[k], n, &rounded_[k]);
+        const float* weight[kHeroWavelengths];
+        const bool* alive[kHeroWavelengths];
+        for (int k = 0; k < traced; ++k) {
+            round_rows(rays[k], n, &rounded_[k]);
+            weight[k] = rays[k].weight, alive[k] = rays[k].alive;
+        }
+        add_rows(rounded_, weight, alive, traced, stride, carries_all, n, w, time_u, slot);
+    }
+
+    // As add_batch for rays found in float: rows[k], weight[k] and alive[k]
+    // the k-th traced wavelength's.
+    void add_rows(const CameraRayRows* rows, const float* const* weight, const bool* const* alive, int traced,
+                  int stride, bool carries_all, int n, const HeroWavelengths* w, const float* time_u,
+                  const size_t* slot) {
         // 1 / (1, 2 or 4): the product is the quotient, exactly.
         const float share = 1.0f / float(carries_all ? kHeroWavelengths : traced);
         for (int i = 0; i < n; ++i) {
             int last = -1;
             for (int k = 0; k < traced; ++k)
-                if (rays[k].alive[i]) last = k;
+                if (alive[k][i]) last = k;
             for (int k = 0; k <= last; ++k) {
-                if (!rays[k].alive[i]) continue;  // vignetted, or blocked at this wavelength
+                if (!alive[k][i]) continue;  // vignetted, or blocked at this wavelength
                 const int j = batch_.count;
-                batch_.set(j, rounded_[k], i);
+                batch_.set(j, rows[k], i);
                 batch_.time[j] = time_u[i];
                 const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
-                queue(&w[i], rays[k].weight[i] * share, lanes, k == last, slot[i]);
+                queue(&w[i], weight[k][i] * share, lanes, k == last, slot[i]);
             }
         }
     }
@@ -380,14 +398,19 @@ class SpectralCameraSampleBatcher {
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
-        if constexpr (HasWavelengthRayBatches<Camera>::value) {
-            if (!moves_camera_) {  // in columns, as flush_shared
-                if (!camera_.generate_ray_batches_at(staged_.raster_px, staged_.lens, nm, pending_, traced, columns_,
-                                                     checking_ ? &check_ : nullptr)) {
+        if constexpr (HasWavelengthRayRows<Camera>::value) {
+            if (!moves_camera_) {  // in float straight to the packet
+                if (!camera_.generate_weighted_ray_rows_at(staged_.raster_px, staged_.lens, nm, pending_, traced,
+                                                           dispersed_rows_, dispersed_weight_, dispersed_alive_,
+                                                           checking_ ? &check_ : nullptr)) {
                     packet_.uncull();
                     checking_ = false;
                 }
-                packet_.add_batch(columns_, traced, stride, false, pending_, wavelengths_, staged_.time, staged_.slot);
+                const float* weight[kHeroWavelengths];
+                const bool* alive[kHeroWavelengths];
+                for (int k = 0; k < traced; ++k) weight[k] = dispersed_weight_[k], alive[k] = dispersed_alive_[k];
+                packet_.add_rows(dispersed_rows_, weight, alive, traced, stride, false, pending_, wavelengths_,
+                                 staged_.time, staged_.slot);
                 return;
             }
         }
@@ -417,6 +440,9 @@ class SpectralCameraSampleBatcher {
     MaybeRay shared_rays_[kCameraBatch];
     MaybeRay dispersed_rays_[kCameraBatch][kHeroWavelengths];
     CameraRayBatch columns_[kHeroWavelengths];  // a batch's rays at each traced wavelength
+    CameraRayRows dispersed_rows_[kHeroWavelengths];  // the same in float (HasWavelengthRayRows)
+    float dispersed_weight_[kHeroWavelengths][kCameraBatch];
+    bool dispersed_alive_[kHeroWavelengths][kCameraBatch];
     CameraRayRows rows_;  // flush_shared's rays, for cameras that find them in float
     const Camera& camera_;
     const SceneMotion& motion_;

@@ -157,19 +157,49 @@ struct LensSystemCamera {
     // The same rays in columns: out[k] holds each sample's ray at its
     // wavelength nm[i][k], k < traced. The samples are aimed once, in
     // lockstep, then traced once per k, every lane through the glass at its
-    // own wavelength, like generate_ray_batch's RGB trace. Given a tile's
-    // check (checked_pencil), whether every traced wavelength's rays lie
-    // within its pencil (dispersion moves them off the d-line rays it was
-    // measured with); true without one.
-    bool generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
-                                 const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayBatch* out,
-                                 const LensPencilCheck* check = nullptr) const {
+    // own wavelength, like generate_ray_batch's RGB trace.
+    void generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
+                                 const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayBatch* out) const {
+        trace_each_wavelength(raster_px, lens_sample, nm, n, traced, nullptr,
+                                     [&](int k, const LensRayBatch& batch, const double* cos_theta,
+                                         const double* area_mm2) {
+                                         to_columns(lens_to_world(), batch, cos_theta, area_mm2, n, &out[k]);
+                                         return out[k].alive;
+                                     });
+    }
+
+    // generate_ray_batches_at's rays rounded to float, as the spectral render
+    // loop's packets take them: rows[k], weight[k] and alive[k] for the k-th
+    // traced wavelength (no double columns between, as generate_weighted_ray_rows).
+    // Given a tile's check (checked_pencil), whether every traced
+    // wavelength's rays lie within its pencil (dispersion moves them off the
+    // d-line rays it was measured with); true without one.
+    bool generate_weighted_ray_rows_at(const Point2f* raster_px, const Point2f* lens_sample,
+                                       const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayRows* rows,
+                                       float (*weight)[kCameraBatch], bool (*alive)[kCameraBatch],
+                                       const LensPencilCheck* check = nullptr) const {
+        return trace_each_wavelength(raster_px, lens_sample, nm, n, traced, check,
+                                     [&](int k, const LensRayBatch& batch, const double* cos_theta,
+                                         const double* area_mm2) {
+                                         lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, &rows[k],
+                                                            weight[k]);
+                                         for (int i = 0; i < kLensBatch; ++i) alive[k][i] = i < n && batch.alive[i];
+                                         return static_cast<const bool*>(alive[k]);
+                                     });
+    }
+
+    // Both forms above: the samples aimed once, then traced per wavelength k
+    // and handed to emit(k, traced batch, cos theta, pupil area), which
+    // returns the lanes alive; whether each k's lanes passed the check.
+    template <class Emit>
+    bool trace_each_wavelength(const Point2f* raster_px, const Point2f* lens_sample,
+                               const float (*nm)[kHeroWavelengths], int n, int traced, const LensPencilCheck* check,
+                               Emit emit) const {
         bool within = true;
         LensRayBatch aimed;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         sample_batch(raster_px, lens_sample, n, &aimed, area_mm2);
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -aimed.dz[i];
-        const LensToWorld to_world = lens_to_world();
         for (int k = 0; k < traced; ++k) {
             LensRayBatch batch = aimed;
             if (disperses()) {
@@ -179,8 +209,8 @@ struct LensSystemCamera {
             } else {
                 trace_from_film_batch(elements, &batch, trace_kernel, trace_precision);
             }
-            to_columns(to_world, batch, cos_theta, area_mm2, n, &out[k]);
-            if (check && within) within = lens_rays_within(*check, batch, out[k].alive);
+            const bool* alive = emit(k, batch, cos_theta, area_mm2);
+            if (check && within) within = lens_rays_within(*check, batch, alive);
         }
         return within;
     }
