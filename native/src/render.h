@@ -31,24 +31,8 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
                         float* rgb, bool integrate_wavelengths = false) {
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     RayPacket packet(scene, sums, integrate_wavelengths);
-    if constexpr (HasPencil<Camera>::value) {
-        // A moving camera's rays shift over the shutter: the pencil would not hold them.
-        CameraPencil pencil;
-        if (!scene.motion().moves_camera() &&
-            camera.pencil(tile.cols().begin(), tile.rows().begin(), tile.cols().end(), tile.rows().end(), &pencil))
-            packet.cull_by(pencil);
-    }
     CameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
-    if constexpr (HasCheckedPencil<Camera>::value) {
-        CameraPencil pencil;
-        LensPencilCheck check;
-        if (!scene.motion().moves_camera() && camera.checked_pencil(tile.cols().begin(), tile.rows().begin(),
-                                                                    tile.cols().end(), tile.rows().end(), &pencil,
-                                                                    &check)) {
-            packet.cull_by(pencil);
-            batcher.check_by(check);
-        }
-    }
+    cull_tile(camera, scene.motion(), tile, &packet, &batcher);
     PixelSamples samples(s.spp, scene.motion().samples_time(), false, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {

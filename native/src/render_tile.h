@@ -91,6 +91,25 @@ struct HasCheckedPencil<Camera, std::void_t<decltype(std::declval<const Camera&>
                                     0.0, 0.0, 0.0, 0.0, static_cast<CameraPencil*>(nullptr),
                                     static_cast<LensPencilCheck*>(nullptr)))>> : std::true_type {};
 
+// A tile's measured-pencil check as a batcher holds it (check_by): each
+// traced batch is checked while it lasts; the first batch outside the pencil
+// makes the packet test every primitive again, and the checking stops.
+class TileCheck {
+  public:
+    void start(const LensPencilCheck& check) { check_ = check, checking_ = true; }
+    // The check for the next traced batch; null once it has been left.
+    const LensPencilCheck* active() const { return checking_ ? &check_ : nullptr; }
+    // within: whether the batch just traced lay within the pencil.
+    template <class Packet>
+    void passed(bool within, Packet& packet) {
+        if (!within) packet.uncull(), checking_ = false;
+    }
+
+  private:
+    LensPencilCheck check_{};
+    bool checking_ = false;
+};
+
 // Per-pixel sums of one tile, in double: 1024 spp of float radiance would lose bits.
 class TileAccumulator {
   public:
@@ -184,7 +203,7 @@ class RayPacket {
     // From now on the rays only test the own primitives some ray of pencil may meet.
     void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
     // From now on the rays test every own primitive again (a ray left the pencil).
-    void uncull() { batch_.sphere_candidates = batch_.quad_candidates = kAllCandidates, batch_.faces_culled = false; }
+    void uncull() { batch_.uncull(); }
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {
@@ -314,7 +333,7 @@ class CameraSampleBatcher {
     // From now on each batch's rays are checked against check (the packet
     // culled by its pencil); the first that is not within makes the packet
     // test every primitive again.
-    void check_by(const LensPencilCheck& check) { check_ = check, checking_ = true; }
+    void check_by(const LensPencilCheck& check) { check_.start(check); }
 
     // Turns the queued samples into rays for the packet, in queue order.
     void flush() {
@@ -328,11 +347,9 @@ class CameraSampleBatcher {
             }
         } else if constexpr (GeneratesWeightedRayRows<Camera>::value) {
             if (!moves_camera_) {
-                if (!camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_, weight_,
-                                                        alive_, checking_ ? &check_ : nullptr)) {
-                    packet_.uncull();
-                    checking_ = false;
-                }
+                check_.passed(camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_,
+                                                                 weight_, alive_, check_.active()),
+                              packet_);
                 packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
                 pending_ = 0;
                 return;
@@ -367,9 +384,31 @@ class CameraSampleBatcher {
     CameraRayRows rows_;
     float weight_[kCameraBatch];  // generate_weighted_ray_rows' weights and vignetting
     bool alive_[kCameraBatch];
-    LensPencilCheck check_{};  // check_by's, while checking_
-    bool checking_ = false;
+    TileCheck check_;
     int pending_ = 0;
 };
+
+// Culls a still camera's tile (a moving one's rays shift over the shutter):
+// packet tests only the own primitives some ray of the camera's pencil may
+// meet. A derived pencil (HasPencil) where derived_holds, i.e. it holds the
+// rays the render makes; a measured one (HasCheckedPencil) where
+// measured_holds, batcher then checking every traced batch against it.
+template <class Camera, class Packet, class Batcher>
+void cull_tile(const Camera& camera, const SceneMotion& motion, const Tile& tile, Packet* packet, Batcher* batcher,
+               bool derived_holds = true, bool measured_holds = true) {
+    if (motion.moves_camera()) return;
+    const int x0 = tile.cols().begin(), y0 = tile.rows().begin(), x1 = tile.cols().end(), y1 = tile.rows().end();
+    CameraPencil pencil;
+    if constexpr (HasPencil<Camera>::value) {
+        if (derived_holds && camera.pencil(x0, y0, x1, y1, &pencil)) packet->cull_by(pencil);
+    }
+    if constexpr (HasCheckedPencil<Camera>::value) {
+        LensPencilCheck check;
+        if (measured_holds && camera.checked_pencil(x0, y0, x1, y1, &pencil, &check)) {
+            packet->cull_by(pencil);
+            batcher->check_by(check);
+        }
+    }
+}
 
 }  // namespace lc

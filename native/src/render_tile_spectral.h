@@ -137,7 +137,7 @@ class SpectralRayPacket {
     // As RayPacket's: from now on the rays only test the own primitives some
     // ray of pencil may meet, or (uncull) every one again.
     void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
-    void uncull() { batch_.sphere_candidates = batch_.quad_candidates = kAllCandidates, batch_.faces_culled = false; }
+    void uncull() { batch_.uncull(); }
 
     // Queues a ray carrying the lanes of *w in lanes (bit m: lane m), each
     // weighted by s (the ray's weight over the sample's traced wavelength
@@ -322,7 +322,7 @@ class SpectralCameraSampleBatcher {
     // traced wavelength, are checked against check (the packet culled by its
     // pencil); the first that is not within makes the packet test every
     // primitive again.
-    void check_by(const LensPencilCheck& check) { check_ = check, checking_ = true; }
+    void check_by(const LensPencilCheck& check) { check_.start(check); }
 
     void flush() {
         if (pending_ == 0) return;
@@ -400,12 +400,10 @@ class SpectralCameraSampleBatcher {
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
         if constexpr (HasWavelengthRayRows<Camera>::value) {
             if (!moves_camera_) {  // in float straight to the packet
-                if (!camera_.generate_weighted_ray_rows_at(staged_.raster_px, staged_.lens, nm, pending_, traced,
-                                                           dispersed_rows_, dispersed_weight_, dispersed_alive_,
-                                                           checking_ ? &check_ : nullptr)) {
-                    packet_.uncull();
-                    checking_ = false;
-                }
+                check_.passed(camera_.generate_weighted_ray_rows_at(staged_.raster_px, staged_.lens, nm, pending_,
+                                                                    traced, dispersed_rows_, dispersed_weight_,
+                                                                    dispersed_alive_, check_.active()),
+                              packet_);
                 const float* weight[kHeroWavelengths];
                 const bool* alive[kHeroWavelengths];
                 for (int k = 0; k < traced; ++k) weight[k] = dispersed_weight_[k], alive[k] = dispersed_alive_[k];
@@ -414,8 +412,8 @@ class SpectralCameraSampleBatcher {
                 return;
             }
         }
-        // (Only the columns above are checked: a camera with a checked pencil
-        // makes them, and render_tile_spectral culls only a still camera's tiles.)
+        // (Only the rows above are checked: a camera with a checked pencil
+        // makes them, and cull_tile culls only a still camera's tiles.)
         MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
         wavelength_rays(camera_, staged_.raster_px, staged_.lens, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {
@@ -456,34 +454,9 @@ class SpectralCameraSampleBatcher {
     HeroWavelengths wavelength_buffers_[2][kCameraBatch];
     HeroWavelengths* wavelengths_ = wavelength_buffers_[0];
     HeroWavelengths* other_wavelengths_ = wavelength_buffers_[1];
-    LensPencilCheck check_{};  // check_by's, while checking_
-    bool checking_ = false;
+    TileCheck check_;
     int pending_ = 0;
 };
-
-// Culls the tile's packet by its camera's pencil where the pencil holds the
-// rays this path makes: a derived pencil (HasPencil) holds a camera's rays
-// when they carry every wavelength (OneRay), not when each wavelength bends
-// its own way (a dispersive thin or thick lens's focus moves with it); a
-// measured one (HasCheckedPencil, the lens system) holds its dispersed rays
-// as long as each traced batch passes the check. A moving camera: no cull.
-template <class Camera>
-void cull_spectral_tile(const Camera& camera, const SceneMotion& motion, const Tile& tile, SpectralPath path,
-                        SpectralRayPacket* packet, SpectralCameraSampleBatcher<Camera>* batcher) {
-    if (motion.moves_camera()) return;
-    const int x0 = tile.cols().begin(), y0 = tile.rows().begin(), x1 = tile.cols().end(), y1 = tile.rows().end();
-    CameraPencil pencil;
-    if constexpr (HasPencil<Camera>::value) {
-        if (path == SpectralPath::OneRay && camera.pencil(x0, y0, x1, y1, &pencil)) packet->cull_by(pencil);
-    }
-    if constexpr (HasCheckedPencil<Camera>::value) {
-        LensPencilCheck check;
-        if (path == SpectralPath::RayPerWavelength && camera.checked_pencil(x0, y0, x1, y1, &pencil, &check)) {
-            packet->cull_by(pencil);
-            batcher->check_by(check);
-        }
-    }
-}
 
 // render_tile (render.h) for a spectral render. The pixel loop is written out
 // again on purpose: one walker shared through a callback made the RGB thin
@@ -496,7 +469,12 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
-    cull_spectral_tile(camera, scene.motion(), tile, path, &packet, &batcher);
+    // A derived pencil holds a ray carrying every wavelength, not rays that
+    // each bend their own way (a dispersive thin or thick lens's focus moves
+    // with the wavelength); a measured one holds dispersed rays as long as
+    // each traced batch passes its check.
+    cull_tile(camera, scene.motion(), tile, &packet, &batcher, path == SpectralPath::OneRay,
+              path == SpectralPath::RayPerWavelength);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {

@@ -52,6 +52,9 @@ struct RayBatch {
     uint64_t sphere_candidates = kAllCandidates, quad_candidates = kAllCandidates;
     bool faces_culled = false;  // quad_candidates leaves out the boxes' faces the origins are behind
 
+    // The rays test every own primitive again (their tile's cull no longer holds).
+    void uncull() { sphere_candidates = quad_candidates = kAllCandidates, faces_culled = false; }
+
     // Ray j = a camera ray, rounded to float.
     void set(int j, const CameraRay& ray) {
         origin[0][j] = float(ray.origin.x), origin[1][j] = float(ray.origin.y), origin[2][j] = float(ray.origin.z);

@@ -160,12 +160,12 @@ struct LensSystemCamera {
     // own wavelength, like generate_ray_batch's RGB trace.
     void generate_ray_batches_at(const Point2f* raster_px, const Point2f* lens_sample,
                                  const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayBatch* out) const {
+        const LensToWorld to_world = lens_to_world();
         trace_each_wavelength(raster_px, lens_sample, nm, n, traced, nullptr,
-                                     [&](int k, const LensRayBatch& batch, const double* cos_theta,
-                                         const double* area_mm2) {
-                                         to_columns(lens_to_world(), batch, cos_theta, area_mm2, n, &out[k]);
-                                         return out[k].alive;
-                                     });
+                              [&](int k, const LensRayBatch& batch, const double* cos_theta, const double* area_mm2) {
+                                  to_columns(to_world, batch, cos_theta, area_mm2, n, &out[k]);
+                                  return static_cast<const bool*>(out[k].alive);
+                              });
     }
 
     // generate_ray_batches_at's rays rounded to float, as the spectral render
@@ -178,12 +178,12 @@ struct LensSystemCamera {
                                        const float (*nm)[kHeroWavelengths], int n, int traced, CameraRayRows* rows,
                                        float (*weight)[kCameraBatch], bool (*alive)[kCameraBatch],
                                        const LensPencilCheck* check = nullptr) const {
+        const LensToWorld to_world = lens_to_world();
         return trace_each_wavelength(raster_px, lens_sample, nm, n, traced, check,
                                      [&](int k, const LensRayBatch& batch, const double* cos_theta,
                                          const double* area_mm2) {
-                                         lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, &rows[k],
-                                                            weight[k]);
-                                         for (int i = 0; i < kLensBatch; ++i) alive[k][i] = i < n && batch.alive[i];
+                                         to_rows(to_world, batch, cos_theta, area_mm2, n, &rows[k], weight[k],
+                                                 alive[k]);
                                          return static_cast<const bool*>(alive[k]);
                                      });
     }
@@ -251,8 +251,7 @@ struct LensSystemCamera {
         LensRayBatch batch;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         trace_batch(raster_px, lens_sample, n, &batch, area_mm2, cos_theta);
-        lens_to_world_rows(lens_to_world(), batch, cos_theta, area_mm2, rows, weight);
-        for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && batch.alive[i];
+        to_rows(lens_to_world(), batch, cos_theta, area_mm2, n, rows, weight, alive);
         return !check || lens_rays_within(*check, batch, alive);
     }
 
@@ -279,6 +278,14 @@ struct LensSystemCamera {
             out->weight[i] = float(world.weight[i]);
             out->alive[i] = i < n && traced.alive[i];
         }
+    }
+
+    // The same in float rows, as the packets take them: to_columns' rays and
+    // weights rounded to float (the same bits), and which lanes are alive.
+    static void to_rows(const LensToWorld& to_world, const LensRayBatch& traced, const double* cos_theta,
+                        const double* area_mm2, int n, CameraRayRows* rows, float* weight, bool* alive) {
+        lens_to_world_rows(to_world, traced, cos_theta, area_mm2, rows, weight);
+        for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && traced.alive[i];
     }
 
     LensToWorld lens_to_world() const {
