@@ -17,6 +17,7 @@
 #include <utility>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <stdexcept>
 #include <vector>
@@ -48,6 +49,13 @@ Vec3f vecf(const float* p) { return {p[0], p[1], p[2]}; }
 
 Frame make_frame(const Triple& origin, const Triple& right, const Triple& up, const Triple& forward) {
     return Frame{vec(origin), vec(right), vec(up), vec(forward)};
+}
+
+// LENSCOMPARE_LENS_MIRRORS=1: new lens systems mirror their rays wherever
+// their stop is symmetric (render_mirrored.h); otherwise only when asked.
+bool mirrors_enabled() {
+    const char* text = std::getenv("LENSCOMPARE_LENS_MIRRORS");
+    return text && std::string(text) == "1";
 }
 
 FilmToScreen make_film(int width_px, int height_px, double screen_half_width, double screen_half_height) {
@@ -139,7 +147,8 @@ template <class Camera>
 std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& camera, int spp, int sampler,
                                               uint64_t seed, int threads, int row_begin, int row_end,
                                               CArray<float, -1, -1, 3> out,
-                                              std::optional<CArray<float, -1, -1>> variance_of_mean) {
+                                              std::optional<CArray<float, -1, -1>> variance_of_mean,
+                                              bool mirror_rows) {
     RenderSettings s = checked_settings(camera, out, sampler, seed, threads, row_begin, row_end);
     s.spp = spp;
     if (variance_of_mean) {
@@ -147,7 +156,7 @@ std::tuple<uint64_t, uint64_t> render_rows_py(const Scene& scene, const Camera& 
             throw std::invalid_argument("variances must have the image's shape");
         s.variance_of_mean = variance_of_mean->data();
     }
-    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
+    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data(), mirror_rows);
     return {stats.samples, stats.rays_passed};
 }
 
@@ -158,7 +167,8 @@ std::tuple<uint64_t, uint64_t> render_rows_adaptive_py(const Scene& scene, const
                                                        CArray<const uint32_t, -1, -1> sample_end, int first_sample,
                                                        int sampler, uint64_t seed, int threads, int row_begin,
                                                        int row_end, CArray<float, -1, -1, 3> out,
-                                                       CArray<float, -1, -1> variance_of_mean) {
+                                                       CArray<float, -1, -1> variance_of_mean,
+                                                       bool mirror_rows) {
     RenderSettings s = checked_settings(camera, out, sampler, seed, threads, row_begin, row_end);
     if (sample_end.shape(0) != out.shape(0) || sample_end.shape(1) != out.shape(1) ||
         variance_of_mean.shape(0) != out.shape(0) || variance_of_mean.shape(1) != out.shape(1))
@@ -169,7 +179,7 @@ std::tuple<uint64_t, uint64_t> render_rows_adaptive_py(const Scene& scene, const
     s.sample_end = sample_end.data();
     s.variance_of_mean = variance_of_mean.data();
     s.spp = 1;  // unused with sample_end; the per-tile sample buffers grow as needed
-    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data());
+    RenderStats stats = render_rows(scene, camera, s, row_begin, row_end, out.data(), mirror_rows);
     return {stats.samples, stats.rays_passed};
 }
 
@@ -185,15 +195,15 @@ void generate_rays_py(const Camera& camera, CArray<const float, -1, 2> raster_px
 template <class Camera>
 void bind_camera_functions(nb::module_& m) {
     m.def("render_rows", &render_rows_py<Camera>, "scene"_a, "camera"_a, "spp"_a, "sampler"_a, "seed"_a, "threads"_a,
-          "row_begin"_a, "row_end"_a, "out"_a, "variance_of_mean"_a = nb::none(),
+          "row_begin"_a, "row_end"_a, "out"_a, "variance_of_mean"_a = nb::none(), "mirror_rows"_a = false,
           nb::call_guard<nb::gil_scoped_release>(),
-          "Renders rows [row_begin, row_end) into out with spp samples per pixel, and optionally each pixel "
-          "mean's variance; (samples, rays passed).");
+          "Renders rows [row_begin, row_end) (and with mirror_rows their mirror images, rows height-1-y) into "
+          "out with spp samples per pixel, and optionally each pixel mean's variance; (samples, rays passed).");
     m.def("render_rows_adaptive", &render_rows_adaptive_py<Camera>, "scene"_a, "camera"_a, "sample_end"_a,
           "first_sample"_a, "sampler"_a, "seed"_a, "threads"_a, "row_begin"_a, "row_end"_a, "out"_a,
-          "variance_of_mean"_a, nb::call_guard<nb::gil_scoped_release>(),
-          "Renders rows with each pixel's samples [first_sample, sample_end), and its mean's variance; "
-          "(samples, rays passed).");
+          "variance_of_mean"_a, "mirror_rows"_a = false, nb::call_guard<nb::gil_scoped_release>(),
+          "Renders rows (as render_rows) with each pixel's samples [first_sample, sample_end), and its mean's "
+          "variance; (samples, rays passed).");
     m.def("generate_rays", &generate_rays_py<Camera>, "camera"_a, "raster_px"_a, "lens_sample"_a, "origin"_a,
           "direction"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(),
           "The camera's ray for each (raster_px, lens_sample) row into origin, direction, weight (0: vignetted).");
@@ -418,6 +428,7 @@ NB_MODULE(_native, m) {
                                              height_px, std::move(pupil)};
                  calibrate_centre_irradiance(self);
                  self->pencils = LensPencils::of(*self);
+                 self->mirror_axes = mirrors_enabled() ? lens_mirror_axes(self->elements) : 0u;
              },
              "origin"_a, "right"_a, "up"_a, "forward"_a, "width_px"_a, "height_px"_a, "film_width_mm"_a,
              "film_height_mm"_a, "curvature_per_mm"_a, "vertex_z_mm"_a, "semi_aperture_mm"_a, "n_scene_side"_a,
@@ -441,6 +452,12 @@ NB_MODULE(_native, m) {
                  self.set_dispersion(std::move(by_nm));
              },
              "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).")
+        .def_rw("mirror_axes", &LensSystemCamera::mirror_axes,
+                "Film mirrors whose rays the render reflects from traced ones: bit 0 x, bit 1 y (0, the default: "
+                "none; LENSCOMPARE_LENS_MIRRORS=1 sets symmetric_mirror_axes for new cameras).")
+        .def_prop_ro("symmetric_mirror_axes",
+                     [](const LensSystemCamera& c) { return lens_mirror_axes(c.elements); },
+                     "The film mirrors the lens is symmetric under (bit 0 x, bit 1 y): its stop's polygon's.")
         .def_prop_ro("inverse_centre_irradiance", [](const LensSystemCamera& c) { return c.inverse_centre_irradiance; },
                      "The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre.");
 

@@ -11,8 +11,12 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <algorithm>
 #include <cstdint>
+#include <type_traits>
 
+#include "cameras/lens_system.h"
+#include "render_mirrored.h"
 #include "render_settings.h"
 #include "render_tile.h"
 #include "render_tile_spectral.h"
@@ -54,23 +58,38 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
     return stats;
 }
 
-// Renders rows [row_begin, row_end) into rgb (height x width x 3, row 0 at the top).
+// Renders rows [row_begin, row_end) into rgb (height x width x 3, row 0 at
+// the top), and with mirror_rows their mirror images (rows height-1-y) too:
+// a lens system's mirrored rays (render_mirrored.h) then serve both.
 template <class Camera>
 RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
-                        int row_end, float* rgb) {
-    std::atomic<uint64_t> rays_passed{0}, samples_drawn{0};
+                        int row_end, float* rgb, bool mirror_rows = false) {
     const bool integrated = scene.spectral() && spectral_path(camera, *scene.spectral()) == SpectralPath::Integrated;
     const bool sampled = scene.spectral() && !integrated;
-    tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        tbb::blocked_range2d<int> rows_cols(row_begin, row_end, kTileSize, 0, s.width_px, kTileSize);
-        tbb::parallel_for(rows_cols, [&](const Tile& tile) {
-            const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
-                                                   : render_tile(scene, camera, s, tile, rgb, integrated);
-            rays_passed += tile_stats.rays_passed;
-            samples_drawn += tile_stats.samples;
+    if constexpr (std::is_same_v<Camera, LensSystemCamera>) {
+        if (camera.mirror_axes) {
+            const RowSet rows{row_begin, row_end, mirror_rows, s.height_px};
+            if (sampled) return render_mirrored_rows<MirroredRender::Spectral>(scene, camera, s, rows, rgb);
+            if (integrated) return render_mirrored_rows<MirroredRender::RgbIntegrated>(scene, camera, s, rows, rgb);
+            return render_mirrored_rows<MirroredRender::Rgb>(scene, camera, s, rows, rgb);
+        }
+    }
+    std::atomic<uint64_t> rays_passed{0}, samples_drawn{0};
+    auto render_run = [&](int begin, int end) {
+        if (begin >= end) return;
+        tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
+        arena.execute([&] {
+            tbb::blocked_range2d<int> rows_cols(begin, end, kTileSize, 0, s.width_px, kTileSize);
+            tbb::parallel_for(rows_cols, [&](const Tile& tile) {
+                const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
+                                                       : render_tile(scene, camera, s, tile, rgb, integrated);
+                rays_passed += tile_stats.rays_passed;
+                samples_drawn += tile_stats.samples;
+            });
         });
-    });
+    };
+    render_run(row_begin, row_end);
+    if (mirror_rows) render_run(std::max(s.height_px - row_end, row_end), s.height_px - row_begin);
     RenderStats stats;
     stats.samples = samples_drawn.load();
     stats.rays_passed = rays_passed.load();

@@ -34,6 +34,39 @@ inline std::vector<LensElement> without_blades(std::vector<LensElement> elements
     return elements;
 }
 
+// Which mirror images of a film point the lens images as the mirror images
+// of its rays (render_mirrored.h): bit 0 the film's x reflected (x -> -x), bit 1
+// its y. A lens of round surfaces has both; a bladed stop only those its
+// polygon is symmetric under.
+inline unsigned lens_mirror_axes(const std::vector<LensElement>& elements) {
+    unsigned axes = 3;
+    for (const LensElement& e : elements)
+        for (int k = 0; k < e.blades; ++k) {
+            // Is edge k's normal, reflected, another edge's normal?
+            const double nx = e.edge_normal_x[size_t(k)], ny = e.edge_normal_y[size_t(k)];
+            bool x_found = false, y_found = false;
+            for (int j = 0; j < e.blades; ++j) {
+                const double mx = e.edge_normal_x[size_t(j)], my = e.edge_normal_y[size_t(j)];
+                x_found |= std::fabs(mx + nx) < 1e-12 && std::fabs(my - ny) < 1e-12;
+                y_found |= std::fabs(mx - nx) < 1e-12 && std::fabs(my + ny) < 1e-12;
+            }
+            if (!x_found) axes &= ~1u;
+            if (!y_found) axes &= ~2u;
+        }
+    return axes;
+}
+
+// A traced batch's mirror image: lanes' origins and directions reflected in
+// the lens frame's x (mirror bit 0) and y (bit 1), what tracing the
+// reflected film and pupil points gives for a lens symmetric under them.
+inline void mirror_lens_batch(const LensRayBatch& in, unsigned mirror, LensRayBatch* out) {
+    *out = in;
+    if (mirror & 1u)
+        for (int i = 0; i < kLensBatch; ++i) out->ox[i] = -in.ox[i], out->dx[i] = -in.dx[i];
+    if (mirror & 2u)
+        for (int i = 0; i < kLensBatch; ++i) out->oy[i] = -in.oy[i], out->dy[i] = -in.dy[i];
+}
+
 static_assert(kLensBatch == kCameraBatch, "generate_ray_batch takes the render loop's whole camera batch");
 
 struct LensSystemCamera {
@@ -56,6 +89,11 @@ struct LensSystemCamera {
     // The measured bounds of its rays per film cell (lens_pencil.h; set
     // after calibration): null, the render's tiles test every own primitive.
     std::shared_ptr<const LensPencils> pencils;
+    // The film mirrors whose rays are the traced rays' mirror images
+    // (lens_mirror_axes; set with the elements): the render traces a quarter
+    // of the samples and reflects them (render_mirrored.h). 0: every pixel
+    // traces its own samples.
+    unsigned mirror_axes = 0;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;

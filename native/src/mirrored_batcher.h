@@ -1,0 +1,107 @@
+// The lens system's batcher of mirrored samples (render_mirrored.h): a batch
+// of canonical samples traced once, each mirror image's rays reflected from
+// the traced ones and queued in that image's packet.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+
+#include "cameras/lens_system.h"
+#include "render_tile.h"
+
+namespace lc {
+
+// A camera batch of canonical samples, each with where its mirror images go:
+// for mirror m (bit 0 x, bit 1 y reflected), the slot of the image pixel in
+// that mirror's accumulator and whether the image takes this sample.
+struct MirroredColumns {
+    Point2f raster_px[kCameraBatch], lens[kCameraBatch];
+    float time[kCameraBatch];
+    size_t slot[4][kCameraBatch];
+    bool taken[4][kCameraBatch];
+
+    // Sample k of canonical pixel (x, y) into column `at`: mirror m's image
+    // (at slot[m]) takes it from sample image_first[m] on (INT_MAX: never).
+    void take(int at, int x, int y, const PixelSamples& samples, int k, const size_t* image_slot,
+              const int* image_first) {
+        raster_px[at] = {float(x) + samples.film[size_t(k)].x, float(y) + samples.film[size_t(k)].y};
+        lens[at] = samples.lens[size_t(k)];
+        time[at] = samples.time.empty() ? 0.0f : samples.time[size_t(k)];
+        for (int m = 0; m < 4; ++m) slot[m][at] = image_slot[m], taken[m][at] = k >= image_first[m];
+    }
+};
+
+// Samples waiting for the lens: traced once per batch, then each mirror's
+// rays reflected, moved to the world and queued in that mirror's packet.
+class MirroredBatcher {
+  public:
+    // packets[m]: mirror m's packet, or null when the tile has no image there.
+    MirroredBatcher(const LensSystemCamera& camera, const SceneMotion& motion, RayPacket* const* packets)
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), to_world_(camera.lens_to_world()) {
+        std::copy_n(packets, 4, packets_);
+    }
+
+    // As CameraSampleBatcher::check_by, for mirror m's packet.
+    void check_by(unsigned m, const LensPencilCheck& check) { check_[m].start(check); }
+
+    // Queues samples [first, end) of canonical pixel (x, y): mirror m's
+    // image, at slot[m], takes samples [image_first[m], end) (INT_MAX: none).
+    void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, const size_t* slot,
+                   const int* image_first) {
+        for (int k = first; k < end; ++k) {
+            staged_.take(pending_, x, y, samples, k, slot, image_first);
+            if (++pending_ == kCameraBatch) flush();
+        }
+    }
+
+    // Traces the queued samples once and hands each mirror its rays, in queue order.
+    void flush() {
+        if (pending_ == 0) return;
+        const int n = pending_;
+        camera_.trace_batch(staged_.raster_px, staged_.lens, n, &traced_, area_mm2_, cos_theta_);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!packets_[m]) continue;
+            const bool* taken = staged_.taken[m];
+            if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
+            const LensRayBatch* rays = &traced_;
+            if (m) mirror_lens_batch(traced_, m, &image_), rays = &image_;
+            if (moves_camera_) {
+                // A moving camera: its offset at each ray's time added in
+                // double, before rounding (as CameraSampleBatcher adds it).
+                LensSystemCamera::to_columns(to_world_, *rays, cos_theta_, area_mm2_, n, &columns_);
+                for (int i = 0; i < n; ++i) {
+                    columns_.alive[i] = columns_.alive[i] && taken[i];
+                    const Vec3d offset = motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
+                    columns_.origin[0][i] += offset.x, columns_.origin[1][i] += offset.y;
+                    columns_.origin[2][i] += offset.z;
+                }
+                packets_[m]->add_batch(columns_, n, staged_.time, staged_.slot[m]);
+                continue;
+            }
+            LensSystemCamera::to_rows(to_world_, *rays, cos_theta_, area_mm2_, n, &rows_, weight_, alive_);
+            for (int i = 0; i < n; ++i) alive_[i] = alive_[i] && taken[i];
+            if (const LensPencilCheck* check = check_[m].active())
+                check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
+        }
+        pending_ = 0;
+    }
+
+  private:
+    const LensSystemCamera& camera_;
+    const SceneMotion& motion_;
+    bool moves_camera_;
+    LensToWorld to_world_;
+    RayPacket* packets_[4];
+    MirroredColumns staged_;
+    LensRayBatch traced_, image_;
+    double area_mm2_[kLensBatch], cos_theta_[kLensBatch];
+    CameraRayRows rows_;
+    CameraRayBatch columns_;  // a moving camera's rays, in double until offset
+    float weight_[kCameraBatch];
+    bool alive_[kCameraBatch];
+    TileCheck check_[4];
+    int pending_ = 0;
+};
+
+}  // namespace lc

@@ -1,0 +1,128 @@
+// The spectral form of mirrored_batcher.h: a lens system's canonical
+// samples, each with its four wavelengths, traced once per traced wavelength
+// and reflected into each mirror image. A lens of round surfaces is as
+// symmetric at every wavelength as at one, so the mirrored rays of a
+// dispersed trace are the dispersed rays of the mirrored samples.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <utility>
+
+#include "cameras/lens_system.h"
+#include "mirrored_batcher.h"
+#include "render_tile.h"
+#include "render_tile_spectral.h"
+#include "spectral.h"
+
+namespace lc {
+
+class MirroredSpectralBatcher {
+  public:
+    // packets[m]: mirror m's packet, or null when the tile has no image there.
+    // path: OneRay (one ray per sample carries all four wavelengths) or
+    // RayPerWavelength (a ray per traced wavelength), as spectral_path says.
+    MirroredSpectralBatcher(const LensSystemCamera& camera, const SceneMotion& motion, const SpectralTables& spectra,
+                            SpectralPath path, SpectralRayPacket* const* packets)
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
+          dispersed_(path == SpectralPath::RayPerWavelength), to_world_(camera.lens_to_world()) {
+        std::copy_n(packets, 4, packets_);
+    }
+
+    // As MirroredBatcher::check_by.
+    void check_by(unsigned m, const LensPencilCheck& check) { check_[m].start(check); }
+
+    // As MirroredBatcher::add_pixel; each sample draws its four wavelengths here.
+    void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, const size_t* slot,
+                   const int* image_first) {
+        for (int k = first; k < end; ++k) {
+            if (pending_ == 0)
+                for (SpectralRayPacket* packet : packets_)
+                    if (packet) packet->release(wavelengths_, wavelengths_ + kCameraBatch);
+            staged_.take(pending_, x, y, samples, k, slot, image_first);
+            sample_hero_wavelengths(spectra_, samples.wavelength[size_t(k)], &wavelengths_[pending_]);
+            if (++pending_ == kCameraBatch) flush();
+        }
+    }
+
+    // Aims the queued samples once, traces them once per traced wavelength,
+    // and hands each mirror its rays, a sample's rays in wavelength order.
+    void flush() {
+        if (pending_ == 0) return;
+        const int n = pending_;
+        const int traced = dispersed_ ? spectra_.traced_wavelengths : 1, stride = kHeroWavelengths / traced;
+        float nm[kCameraBatch][kHeroWavelengths];
+        for (int i = 0; i < n; ++i)
+            for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
+        bool within[4] = {true, true, true, true}, any_taken[4];
+        for (unsigned m = 0; m < 4; ++m)
+            any_taken[m] = packets_[m] && std::any_of(staged_.taken[m], staged_.taken[m] + n, [](bool t) { return t; });
+        camera_.trace_each_wavelength(
+            staged_.raster_px, staged_.lens, nm, n, traced, nullptr,
+            [&](int k, const LensRayBatch& batch, const double* cos_theta, const double* area_mm2) {
+                for (unsigned m = 0; m < 4; ++m) {
+                    if (!any_taken[m]) continue;
+                    const LensRayBatch* rays = &batch;
+                    if (m) mirror_lens_batch(batch, m, &image_), rays = &image_;
+                    emit(*rays, cos_theta, area_mm2, n, staged_.taken[m], &rows_[m][k], weight_[m][k], alive_[m][k]);
+                    if (const LensPencilCheck* check = check_[m].active(); check && within[m])
+                        within[m] = lens_rays_within(*check, *rays, alive_[m][k]);
+                }
+                return static_cast<const bool*>(nullptr);  // no check of its own (null above)
+            });
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!any_taken[m]) continue;
+            if (check_[m].active()) check_[m].passed(within[m], *packets_[m]);
+            const float* weight[kHeroWavelengths];
+            const bool* alive[kHeroWavelengths];
+            for (int k = 0; k < traced; ++k) weight[k] = weight_[m][k], alive[k] = alive_[m][k];
+            packets_[m]->add_rows(rows_[m], weight, alive, traced, stride, !dispersed_, n, wavelengths_,
+                                  staged_.time, staged_.slot[m]);
+        }
+        pending_ = 0;
+        // The packets may hold rays of this batch still: the next one fills the other buffer.
+        std::swap(wavelengths_, other_wavelengths_);
+    }
+
+  private:
+    // One wavelength's rays of one mirror into float rows, the lanes its image takes alive.
+    void emit(const LensRayBatch& rays, const double* cos_theta, const double* area_mm2, int n, const bool* taken,
+              CameraRayRows* rows, float* weight, bool* alive) {
+        if (moves_camera_) {
+            // The camera's offset at each ray's time in double, before rounding.
+            LensSystemCamera::to_columns(to_world_, rays, cos_theta, area_mm2, n, &columns_);
+            for (int i = 0; i < n; ++i) {
+                const Vec3d offset = motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
+                columns_.origin[0][i] += offset.x, columns_.origin[1][i] += offset.y;
+                columns_.origin[2][i] += offset.z;
+                weight[i] = columns_.weight[i], alive[i] = columns_.alive[i];
+            }
+            round_rows(columns_, n, rows);
+        } else {
+            LensSystemCamera::to_rows(to_world_, rays, cos_theta, area_mm2, n, rows, weight, alive);
+        }
+        for (int i = 0; i < n; ++i) alive[i] = alive[i] && taken[i];
+    }
+
+    const LensSystemCamera& camera_;
+    const SceneMotion& motion_;
+    bool moves_camera_;
+    const SpectralTables& spectra_;
+    bool dispersed_;
+    LensToWorld to_world_;
+    SpectralRayPacket* packets_[4];
+    MirroredColumns staged_;
+    LensRayBatch image_;
+    CameraRayBatch columns_;
+    CameraRayRows rows_[4][kHeroWavelengths];
+    float weight_[4][kHeroWavelengths][kCameraBatch];
+    bool alive_[4][kHeroWavelengths][kCameraBatch];
+    // Two buffers of the batch's wavelengths, swapped after each flush (SpectralRayPacket::release).
+    HeroWavelengths wavelength_buffers_[2][kCameraBatch];
+    HeroWavelengths* wavelengths_ = wavelength_buffers_[0];
+    HeroWavelengths* other_wavelengths_ = wavelength_buffers_[1];
+    TileCheck check_[4];
+    int pending_ = 0;
+};
+
+}  // namespace lc
