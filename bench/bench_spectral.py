@@ -100,10 +100,10 @@ def main():
     showcase = load_scene(SCENE).with_camera(resolution=tuple(args.resolution))
     lens_scene = showcase.with_camera(lens=str(DISPERSIVE_LENS), focal_length_mm=None)
 
-    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0, sampled=False):
+    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0, sampled=False, mirrored=False):
         return lambda **kw: render(scene, model=model, spectral=spectral, traced_wavelengths=traced,
                                    sample_wavelengths=sampled, threads=args.threads, progress=False,
-                                   **{"spp": spp, "seed": seed, **kw})
+                                   lens_mirrors=mirrored, **{"spp": spp, "seed": seed, **kw})
 
     counts = (1, 2, 4)
     default = traced_wavelengths_for("lens")
@@ -115,6 +115,9 @@ def main():
         "thin_dispersive_spectral": runner(lens_scene, "thin", True),
         "lens_rgb": runner(lens_scene, "lens", False),
         **{f"lens_spectral_{n}": runner(lens_scene, "lens", True, n) for n in counts},
+        # render(lens_mirrors=True) on both sides: a quarter of the samples traced, the rest reflected
+        "lens_rgb_mirrored": runner(lens_scene, "lens", False, mirrored=True),
+        "lens_spectral_mirrored": runner(lens_scene, "lens", True, default, mirrored=True),
     }, args.repeat, args.cpu_time)
     noise = {
         "rgb": _time_to_one_percent(runner(lens_scene, "lens", False), args.noise_spp, args.cpu_time),
@@ -152,6 +155,8 @@ def main():
         "lens_traced_wavelengths": default,
         "lens_spectral_over_rgb": lens_over_rgb[default],
         "lens_spectral_over_rgb_by_traced_wavelengths": lens_over_rgb,
+        "lens_mirrored_spectral_over_rgb": sps["lens_spectral_mirrored"] / sps["lens_rgb_mirrored"],
+        "lens_mirrored_spectral_over_traced_spectral": sps["lens_spectral_mirrored"] / sps[f"lens_spectral_{default}"],
         "goal_lens_spectral_over_rgb": 0.6,
         "time_to_1_percent_rmse": noise,
         "spectral_over_rgb_time_to_1_percent": time_over_rgb[default],
