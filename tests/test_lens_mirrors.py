@@ -83,11 +83,27 @@ def test_pixel_independent_of_the_rows_rendered_with_it(resolution, blades, rota
     half = (height + 1) // 2
     mirrored, _, mirrored_samples = render_bands(scene, camera, [(0, 7), (7, half)], threads=1, mirror_rows=True)
     uneven, _, uneven_samples = render_bands(scene, camera, [(0, 5), (5, 30), (30, height)], threads=2)
+    # bands of the bottom half (one across the middle), their mirror rows in the top half
+    lower, _, lower_samples = render_bands(scene, camera, [(height // 2 - 2, height // 2 + 3), (height // 2 + 3, height)],
+                                           mirror_rows=True)
     # every pixel once: samples drawn, and no pixel left black by a skipped image
-    assert whole_samples == mirrored_samples == uneven_samples == width * height * 8
+    assert whole_samples == mirrored_samples == uneven_samples == lower_samples == width * height * 8
     assert (whole.sum(axis=2) > 0).mean() > 0.99
     np.testing.assert_array_equal(whole, mirrored)
     np.testing.assert_array_equal(whole, uneven)
+    np.testing.assert_array_equal(whole, lower)
+
+
+@pytest.mark.parametrize("model", ["pinhole", "lens"])
+def test_mirror_rows_of_any_band_without_mirrored_rays(model):
+    """render_rows(mirror_rows=True) renders a band's mirror rows whichever half
+    it lies in, for cameras that trace every sample too."""
+    scene = lens_scene(resolution=(40, 27))
+    camera = camera_for(scene, model).native()
+    whole, _, whole_samples = render_bands(scene, camera, [(0, 27)])
+    banded, _, banded_samples = render_bands(scene, camera, [(20, 27), (11, 20)], mirror_rows=True)
+    assert whole_samples == banded_samples == 40 * 27 * 8
+    np.testing.assert_array_equal(whole, banded)
 
 
 def test_adaptive_counts_mirror_consistently():

@@ -31,13 +31,35 @@ struct MirroredColumns {
     }
 };
 
+// One mirror's traced rays in float rows, as the packets take them, alive
+// only in the lanes its image takes. A moving camera's go through double
+// columns (scratch: columns), each offset by the camera's motion at its time
+// before rounding, as CameraSampleBatcher offsets them.
+inline void mirrored_rows(const LensToWorld& to_world, const SceneMotion& motion, const LensRayBatch& rays,
+                          const double* cos_theta, const double* area_mm2, int n, const float* time,
+                          const bool* taken, CameraRayBatch* columns, CameraRayRows* rows, float* weight,
+                          bool* alive) {
+    if (motion.moves_camera()) {
+        LensSystemCamera::to_columns(to_world, rays, cos_theta, area_mm2, n, columns);
+        for (int i = 0; i < n; ++i) {
+            const Vec3d offset = motion.camera_velocity_m_per_s * motion.time_s(time[i]);
+            columns->origin[0][i] += offset.x, columns->origin[1][i] += offset.y, columns->origin[2][i] += offset.z;
+            weight[i] = columns->weight[i], alive[i] = columns->alive[i];
+        }
+        round_rows(*columns, n, rows);
+    } else {
+        LensSystemCamera::to_rows(to_world, rays, cos_theta, area_mm2, n, rows, weight, alive);
+    }
+    for (int i = 0; i < n; ++i) alive[i] = alive[i] && taken[i];
+}
+
 // Samples waiting for the lens: traced once per batch, then each mirror's
 // rays reflected, moved to the world and queued in that mirror's packet.
 class MirroredBatcher {
   public:
     // packets[m]: mirror m's packet, or null when the tile has no image there.
     MirroredBatcher(const LensSystemCamera& camera, const SceneMotion& motion, RayPacket* const* packets)
-        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), to_world_(camera.lens_to_world()) {
+        : camera_(camera), motion_(motion), to_world_(camera.lens_to_world()) {
         std::copy_n(packets, 4, packets_);
     }
 
@@ -65,21 +87,8 @@ class MirroredBatcher {
             if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
             const LensRayBatch* rays = &traced_;
             if (m) mirror_lens_batch(traced_, m, &image_), rays = &image_;
-            if (moves_camera_) {
-                // A moving camera: its offset at each ray's time added in
-                // double, before rounding (as CameraSampleBatcher adds it).
-                LensSystemCamera::to_columns(to_world_, *rays, cos_theta_, area_mm2_, n, &columns_);
-                for (int i = 0; i < n; ++i) {
-                    columns_.alive[i] = columns_.alive[i] && taken[i];
-                    const Vec3d offset = motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
-                    columns_.origin[0][i] += offset.x, columns_.origin[1][i] += offset.y;
-                    columns_.origin[2][i] += offset.z;
-                }
-                packets_[m]->add_batch(columns_, n, staged_.time, staged_.slot[m]);
-                continue;
-            }
-            LensSystemCamera::to_rows(to_world_, *rays, cos_theta_, area_mm2_, n, &rows_, weight_, alive_);
-            for (int i = 0; i < n; ++i) alive_[i] = alive_[i] && taken[i];
+            mirrored_rows(to_world_, motion_, *rays, cos_theta_, area_mm2_, n, staged_.time, taken, &columns_, &rows_,
+                          weight_, alive_);
             if (const LensPencilCheck* check = check_[m].active())
                 check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
             packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
@@ -90,14 +99,13 @@ class MirroredBatcher {
   private:
     const LensSystemCamera& camera_;
     const SceneMotion& motion_;
-    bool moves_camera_;
     LensToWorld to_world_;
     RayPacket* packets_[4];
     MirroredColumns staged_;
     LensRayBatch traced_, image_;
     double area_mm2_[kLensBatch], cos_theta_[kLensBatch];
     CameraRayRows rows_;
-    CameraRayBatch columns_;  // a moving camera's rays, in double until offset
+    CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera
     float weight_[kCameraBatch];
     bool alive_[kCameraBatch];
     TileCheck check_[4];

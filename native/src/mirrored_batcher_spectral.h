@@ -24,7 +24,7 @@ class MirroredSpectralBatcher {
     // RayPerWavelength (a ray per traced wavelength), as spectral_path says.
     MirroredSpectralBatcher(const LensSystemCamera& camera, const SceneMotion& motion, const SpectralTables& spectra,
                             SpectralPath path, SpectralRayPacket* const* packets)
-        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), spectra_(spectra),
+        : camera_(camera), motion_(motion), spectra_(spectra),
           dispersed_(path == SpectralPath::RayPerWavelength), to_world_(camera.lens_to_world()) {
         std::copy_n(packets, 4, packets_);
     }
@@ -64,7 +64,8 @@ class MirroredSpectralBatcher {
                     if (!any_taken[m]) continue;
                     const LensRayBatch* rays = &batch;
                     if (m) mirror_lens_batch(batch, m, &image_), rays = &image_;
-                    emit(*rays, cos_theta, area_mm2, n, staged_.taken[m], &rows_[m][k], weight_[m][k], alive_[m][k]);
+                    mirrored_rows(to_world_, motion_, *rays, cos_theta, area_mm2, n, staged_.time, staged_.taken[m],
+                                  &columns_, &rows_[m][k], weight_[m][k], alive_[m][k]);
                     if (const LensPencilCheck* check = check_[m].active(); check && within[m])
                         within[m] = lens_rays_within(*check, *rays, alive_[m][k]);
                 }
@@ -85,35 +86,15 @@ class MirroredSpectralBatcher {
     }
 
   private:
-    // One wavelength's rays of one mirror into float rows, the lanes its image takes alive.
-    void emit(const LensRayBatch& rays, const double* cos_theta, const double* area_mm2, int n, const bool* taken,
-              CameraRayRows* rows, float* weight, bool* alive) {
-        if (moves_camera_) {
-            // The camera's offset at each ray's time in double, before rounding.
-            LensSystemCamera::to_columns(to_world_, rays, cos_theta, area_mm2, n, &columns_);
-            for (int i = 0; i < n; ++i) {
-                const Vec3d offset = motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
-                columns_.origin[0][i] += offset.x, columns_.origin[1][i] += offset.y;
-                columns_.origin[2][i] += offset.z;
-                weight[i] = columns_.weight[i], alive[i] = columns_.alive[i];
-            }
-            round_rows(columns_, n, rows);
-        } else {
-            LensSystemCamera::to_rows(to_world_, rays, cos_theta, area_mm2, n, rows, weight, alive);
-        }
-        for (int i = 0; i < n; ++i) alive[i] = alive[i] && taken[i];
-    }
-
     const LensSystemCamera& camera_;
     const SceneMotion& motion_;
-    bool moves_camera_;
     const SpectralTables& spectra_;
     bool dispersed_;
     LensToWorld to_world_;
     SpectralRayPacket* packets_[4];
     MirroredColumns staged_;
     LensRayBatch image_;
-    CameraRayBatch columns_;
+    CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera
     CameraRayRows rows_[4][kHeroWavelengths];
     float weight_[4][kHeroWavelengths][kCameraBatch];
     bool alive_[4][kHeroWavelengths][kCameraBatch];

@@ -11,7 +11,6 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
-#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 
@@ -66,9 +65,9 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
                         int row_end, float* rgb, bool mirror_rows = false) {
     const bool integrated = scene.spectral() && spectral_path(camera, *scene.spectral()) == SpectralPath::Integrated;
     const bool sampled = scene.spectral() && !integrated;
+    const RowSet rows{row_begin, row_end, mirror_rows, s.height_px};
     if constexpr (std::is_same_v<Camera, LensSystemCamera>) {
         if (camera.mirror_axes) {
-            const RowSet rows{row_begin, row_end, mirror_rows, s.height_px};
             if (sampled) return render_mirrored_rows<MirroredRender::Spectral>(scene, camera, s, rows, rgb);
             if (integrated) return render_mirrored_rows<MirroredRender::RgbIntegrated>(scene, camera, s, rows, rgb);
             return render_mirrored_rows<MirroredRender::Rgb>(scene, camera, s, rows, rgb);
@@ -77,19 +76,20 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
     std::atomic<uint64_t> rays_passed{0}, samples_drawn{0};
     auto render_run = [&](int begin, int end) {
         if (begin >= end) return;
-        tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
-        arena.execute([&] {
-            tbb::blocked_range2d<int> rows_cols(begin, end, kTileSize, 0, s.width_px, kTileSize);
-            tbb::parallel_for(rows_cols, [&](const Tile& tile) {
-                const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
-                                                       : render_tile(scene, camera, s, tile, rgb, integrated);
-                rays_passed += tile_stats.rays_passed;
-                samples_drawn += tile_stats.samples;
-            });
+        tbb::blocked_range2d<int> rows_cols(begin, end, kTileSize, 0, s.width_px, kTileSize);
+        tbb::parallel_for(rows_cols, [&](const Tile& tile) {
+            const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
+                                                   : render_tile(scene, camera, s, tile, rgb, integrated);
+            rays_passed += tile_stats.rays_passed;
+            samples_drawn += tile_stats.samples;
         });
     };
-    render_run(row_begin, row_end);
-    if (mirror_rows) render_run(std::max(s.height_px - row_end, row_end), s.height_px - row_begin);
+    tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        render_run(row_begin, row_end);
+        const auto [mirror_begin, mirror_end] = rows.mirror_run();
+        render_run(mirror_begin, mirror_end);
+    });
     RenderStats stats;
     stats.samples = samples_drawn.load();
     stats.rays_passed = rays_passed.load();

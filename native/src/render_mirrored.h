@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <optional>
 #include <type_traits>
+#include <utility>
 
 #include "cameras/lens_system.h"
 #include "mirrored_batcher.h"
@@ -47,6 +48,15 @@ struct RowSet {
 
     bool has(int y) const {
         return (y >= begin && y < end) || (mirrored && height - 1 - y >= begin && height - 1 - y < end);
+    }
+    // The mirror rows [first, second) that [begin, end) does not hold
+    // (empty when not mirrored): all of them, or where the two runs overlap
+    // about the middle, the part beyond.
+    std::pair<int, int> mirror_run() const {
+        if (!mirrored) return {end, end};
+        const int lo = height - end, hi = height - begin;
+        if (hi <= begin || lo >= end) return {lo, hi};
+        return lo < begin ? std::pair{lo, begin} : std::pair{end, hi};
     }
 };
 
@@ -174,10 +184,10 @@ RenderStats render_mirrored_rows(const Scene& scene, const LensSystemCamera& cam
         // Rows are not mirrored: each run of rows is its own canonical rows.
         const RenderStats upper =
             render_mirrored_rows<kind>(scene, camera, s, {rows.begin, rows.end, false, height}, rgb);
-        const int lower_begin = std::max(height - rows.end, rows.end);
+        const auto [mirror_begin, mirror_end] = rows.mirror_run();
         RenderStats lower;
-        if (lower_begin < height - rows.begin)
-            lower = render_mirrored_rows<kind>(scene, camera, s, {lower_begin, height - rows.begin, false, height}, rgb);
+        if (mirror_begin < mirror_end)
+            lower = render_mirrored_rows<kind>(scene, camera, s, {mirror_begin, mirror_end, false, height}, rgb);
         return {upper.samples + lower.samples, upper.rays_passed + lower.rays_passed};
     }
     // The canonical rows: those whose image (or themselves) the call covers.
