@@ -30,6 +30,7 @@ bench: install
 	$(PY) bench/bench_quads.py
 	$(PY) bench/bench_native.py
 	$(PY) bench/bench_lens.py
+	$(PY) bench/bench_lens_mirrors.py
 	$(PY) bench/bench_povray.py
 	$(PY) bench/bench_cost.py
 	$(PY) bench/bench_mesh.py
