@@ -97,7 +97,7 @@ def _compare(label: str, scene, *, spp: int, seeds: int, threads: int, image: bo
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=16, help="renders per mode and scene (an even number)")
+    parser.add_argument("--seeds", type=int, default=32, help="renders per mode and scene (an even number)")
     parser.add_argument("--spp", type=int, default=32)
     parser.add_argument("--threads", type=int, default=os.cpu_count())
     args = parser.parse_args()
