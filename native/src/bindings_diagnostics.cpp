@@ -207,6 +207,58 @@ void bind_lens(nb::module_& m) {
           "Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), by the scalar per-wavelength "
           "trace or (batched) the lockstep trace of spectral renders.");
 
+    m.def("generate_thin_rays_sharing",
+          [](const ThinLensCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<const float, -1, kHeroWavelengths> nm, bool batched, CArray<double, -1, 3> origin,
+             CArray<double, -1, 3> direction, CArray<bool, -1> own) {
+              const size_t count = raster_px.shape(0);
+              if (!camera.disperses()) throw std::invalid_argument("the camera does not disperse: set_dispersion first");
+              if (lens.shape(0) != count || nm.shape(0) != count || origin.shape(0) != count * kHeroWavelengths ||
+                  direction.shape(0) != count * kHeroWavelengths || own.shape(0) != count * kHeroWavelengths)
+                  throw std::invalid_argument("one row per sample, kHeroWavelengths rays per sample");
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              for (size_t first = 0; first < count; first += kCameraBatch) {
+                  const int n = int(std::min<size_t>(kCameraBatch, count - first));
+                  HeroWavelengths w[kCameraBatch] = {};
+                  for (int i = 0; i < n; ++i)
+                      for (int k = 0; k < kHeroWavelengths; ++k) w[i].nm[k] = nm(first + size_t(i), size_t(k));
+                  MaybeRay rays[kCameraBatch][kHeroWavelengths];
+                  bool owns[kHeroWavelengths][kCameraBatch];
+                  if (batched) {
+                      CameraRayRows rows[kHeroWavelengths];
+                      camera.generate_shared_ray_rows(raster + first, u + first, w, n, rows, owns);
+                      for (int k = 0; k < kHeroWavelengths; ++k)
+                          for (int i = 0; i < n; ++i) {
+                              const CameraRayRows& r = rows[owns[k][i] ? k : 0];
+                              rays[i][k] = CameraRay{{r.origin[0][i], r.origin[1][i], r.origin[2][i]},
+                                                     {r.direction[0][i], r.direction[1][i], r.direction[2][i]},
+                                                     1.0f};
+                          }
+                  } else {
+                      for (int i = 0; i < n; ++i) {
+                          bool shares[kHeroWavelengths];
+                          camera.generate_rays_sharing(raster[first + i], u[first + i], w[i].nm, rays[i], shares);
+                          for (int k = 0; k < kHeroWavelengths; ++k) owns[k][i] = k == 0 || !shares[k];
+                      }
+                  }
+                  for (int i = 0; i < n; ++i)
+                      for (int k = 0; k < kHeroWavelengths; ++k) {
+                          const size_t row = (first + size_t(i)) * kHeroWavelengths + size_t(k);
+                          const Vec3d o = rays[i][k]->origin, d = rays[i][k]->direction;  // a thin lens's never vignette
+                          origin(row, 0) = o.x, origin(row, 1) = o.y, origin(row, 2) = o.z;
+                          direction(row, 0) = d.x, direction(row, 1) = d.y, direction(row, 2) = d.z;
+                          own(row) = owns[k][i];
+                      }
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "nm"_a, "batched"_a, "origin"_a, "direction"_a, "own"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "A dispersive thin lens's rays at each sample's four wavelengths (row i * 4 + k: nm[i, k], k = 0 the "
+          "hero), by the one-sample generate_rays_sharing or (batched) the spectral render's "
+          "generate_shared_ray_rows; own: the sample traces that ray (the hero's always, a secondary's where it "
+          "does not share the hero's).");
+
     m.def("lens_pencil",
           [](const LensSystemCamera& camera, double x0_px, double y0_px, double x1_px, double y1_px)
               -> std::optional<std::tuple<std::array<double, 2>, std::array<double, 2>, double, double>> {

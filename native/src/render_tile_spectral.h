@@ -117,6 +117,17 @@ struct HasSharedWavelengthRays<Camera, std::void_t<decltype(std::declval<const C
                                            static_cast<bool*>(nullptr)))>>
     : std::true_type {};
 
+// Those that find the same rays for a whole batch in float rows say so with
+// generate_shared_ray_rows(raster, lens, wavelengths, n, rows, own).
+template <class Camera, class = void>
+struct HasSharedWavelengthRows : std::false_type {};
+template <class Camera>
+struct HasSharedWavelengthRows<Camera, std::void_t<decltype(std::declval<const Camera&>().generate_shared_ray_rows(
+                                           static_cast<const Point2f*>(nullptr), static_cast<const Point2f*>(nullptr),
+                                           static_cast<const HeroWavelengths*>(nullptr), 0,
+                                           static_cast<CameraRayRows*>(nullptr),
+                                           static_cast<bool (*)[kCameraBatch]>(nullptr)))>> : std::true_type {};
+
 template <class Camera>
 bool camera_disperses(const Camera& camera) {
     if constexpr (HasWavelengthRays<Camera>::value) return camera.disperses();
@@ -183,6 +194,29 @@ class SpectralRayPacket {
                 batch_.time[j] = time_u[i];
                 const unsigned lanes = carries_all ? 0xfu : 1u << w[i].lane(k * stride);
                 queue(&w[i], weight[k][i] * share, lanes, k == last, slot[i]);
+            }
+        }
+    }
+
+    // Queues samples [0, n)'s rays of generate_shared_ray_rows: sample i's
+    // ray k where own[k][i], in k order, the hero's (k = 0) carrying every
+    // wavelength that shares it, each weighted 1/4 (a thin lens's weight is 1).
+    void add_shared_rows(const CameraRayRows* rows, const bool (*own)[kCameraBatch], int n,
+                         const HeroWavelengths* w, const float* time_u, const size_t* slot) {
+        const float share = 1.0f / float(kHeroWavelengths);
+        for (int i = 0; i < n; ++i) {
+            int last = 0;
+            unsigned hero_lanes = 0;
+            for (int k = 0; k < kHeroWavelengths; ++k) {
+                if (own[k][i] && k > 0) last = k;
+                if (k == 0 || !own[k][i]) hero_lanes |= 1u << w[i].lane(k);
+            }
+            for (int k = 0; k <= last; ++k) {
+                if (!own[k][i]) continue;
+                const int j = batch_.count;
+                batch_.set(j, rows[k], i);
+                batch_.time[j] = time_u[i];
+                queue(&w[i], share, k == 0 ? hero_lanes : 1u << w[i].lane(k), k == last, slot[i]);
             }
         }
     }
@@ -366,6 +400,15 @@ class SpectralCameraSampleBatcher {
     // The hero's ray carrying every wavelength whose ray it is, then a ray for
     // each other wavelength carrying that one alone.
     void flush_riding() {
+        if constexpr (HasSharedWavelengthRows<Camera>::value) {
+            if (!moves_camera_) {  // in float straight to the packet
+                camera_.generate_shared_ray_rows(staged_.raster_px, staged_.lens, wavelengths_, pending_,
+                                                 shared_rows_, shared_own_);
+                packet_.add_shared_rows(shared_rows_, shared_own_, pending_, wavelengths_, staged_.time,
+                                        staged_.slot);
+                return;
+            }
+        }
         if constexpr (HasSharedWavelengthRays<Camera>::value) {
             for (int i = 0; i < pending_; ++i) {
                 const HeroWavelengths& w = wavelengths_[i];
@@ -442,6 +485,8 @@ class SpectralCameraSampleBatcher {
     float dispersed_weight_[kHeroWavelengths][kCameraBatch];
     bool dispersed_alive_[kHeroWavelengths][kCameraBatch];
     CameraRayRows rows_;  // flush_shared's rays, for cameras that find them in float
+    CameraRayRows shared_rows_[kHeroWavelengths];  // flush_riding's, per wavelength (HasSharedWavelengthRows)
+    bool shared_own_[kHeroWavelengths][kCameraBatch];
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;

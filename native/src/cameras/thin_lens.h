@@ -125,6 +125,56 @@ struct ThinLensCamera {
         }
     }
 
+    // generate_rays_sharing for samples [0, n) at once, as the spectral
+    // render loop takes them: the same lens points, shares and wrapped film
+    // points (in double, as there), the rays in single precision side by side
+    // (thin_lens_lanes.h), generate_rays_sharing's to float rounding as
+    // generate_ray_rows' are generate_ray's. rows[k] holds every sample's ray
+    // at its wavelength k (k = 0 the hero's); own[k][i] says whether sample i
+    // traces it: always the hero's, a secondary's where it does not share.
+    void generate_shared_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, const HeroWavelengths* w,
+                                  int n, CameraRayRows* rows, bool (*own)[kCameraBatch]) const {
+        float lens_x_m[kCameraBatch], lens_y_m[kCameraBatch], inverse_focus[kCameraBatch], nm[kCameraBatch];
+        float screen_x[kCameraBatch], screen_y[kCameraBatch];
+        double lens_x[kCameraBatch], lens_y[kCameraBatch], inverse_focus_0[kCameraBatch];
+        double inverse_focus_k[kCameraBatch], shift[kCameraBatch];
+        bool stays[kCameraBatch];
+        Point2f wrapped[kCameraBatch];
+        for (int i = 0; i < n; ++i) {
+            double ax, ay;
+            if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric)
+                concentric_disk(lens_sample[i], &ax, &ay);  // aperture.sample's point, inline
+            else
+                aperture.sample(lens_sample[i], disk_mapping, &ax, &ay);
+            lens_x[i] = lens_radius_m * ax, lens_y[i] = lens_radius_m * ay;
+            lens_x_m[i] = float(lens_x[i]), lens_y_m[i] = float(lens_y[i]);
+            nm[i] = w[i].nm[0];
+            own[0][i] = true;
+        }
+        inverse_focus_lanes(n, inverse_focus_per_m_by_nm, nm, inverse_focus_0);
+        for (int i = 0; i < n; ++i) inverse_focus[i] = float(inverse_focus_0[i]);
+        const FrameF frame = FrameF::of(world_from_camera);
+        screen_points_lanes(n, film, raster_px, screen_x, screen_y);
+        thin_lens_rays_lanes_focused(n, screen_x, screen_y, lens_x_m, lens_y_m, inverse_focus, frame, &rows[0]);
+        const double x_scale = 0.5 * film.width_px / film.screen_half_width;
+        const double y_scale = 0.5 * film.height_px / film.screen_half_height;
+        for (int k = 1; k < kHeroWavelengths; ++k) {
+            for (int i = 0; i < n; ++i) nm[i] = w[i].nm[k];
+            inverse_focus_lanes(n, inverse_focus_per_m_by_nm, nm, inverse_focus_k);
+            for (int i = 0; i < n; ++i) shift[i] = inverse_focus_k[i] - inverse_focus_0[i];
+            shifted_film_points_lanes(n, raster_px, lens_x, lens_y, shift, x_scale, y_scale, stays, wrapped);
+            bool any_own = false;
+            for (int i = 0; i < n; ++i) {
+                own[k][i] = !stays[i];
+                any_own |= own[k][i];
+                inverse_focus[i] = float(inverse_focus_k[i]);
+            }
+            if (!any_own) continue;  // rows[k] unread
+            screen_points_lanes(n, film, wrapped, screen_x, screen_y);
+            thin_lens_rays_lanes_focused(n, screen_x, screen_y, lens_x_m, lens_y_m, inverse_focus, frame, &rows[k]);
+        }
+    }
+
     MaybeRay generate_ray_focused(Point2f raster_px, Point2f lens_sample, double inverse_focus_per_m) const {
         // Sample point on lens
         double ax, ay;

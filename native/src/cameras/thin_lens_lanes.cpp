@@ -1,5 +1,6 @@
 #include "cameras/thin_lens_lanes.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lc {
@@ -18,6 +19,42 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void thin_lens_rays
         float o[3], d[3];
         thin_lens_ray(screen_x[i], screen_y[i], lens_x_m[i], lens_y_m[i], inverse_focus, f, o, d);
         for (int k = 0; k < 3; ++k) out->origin[k][i] = o[k], out->direction[k][i] = d[k];
+    }
+}
+
+__attribute__((target_clones("default", "avx2", "avx512f"))) void thin_lens_rays_lanes_focused(
+    int n, const float* screen_x, const float* screen_y, const float* lens_x_m, const float* lens_y_m,
+    const float* inverse_focus_per_m, const FrameF& f, CameraRayRows* out) {
+#pragma GCC ivdep
+    for (int i = 0; i < n; ++i) {
+        float o[3], d[3];
+        thin_lens_ray(screen_x[i], screen_y[i], lens_x_m[i], lens_y_m[i], inverse_focus_per_m[i], f, o, d);
+        for (int k = 0; k < 3; ++k) out->origin[k][i] = o[k], out->direction[k][i] = d[k];
+    }
+}
+
+__attribute__((target_clones("default", "avx2", "avx512f"))) void inverse_focus_lanes(
+    int n, const std::vector<double>& inverse_focus_per_m_by_nm, const float* nm, double* inverse_focus_per_m) {
+    const double* table = inverse_focus_per_m_by_nm.data();
+    const size_t size = inverse_focus_per_m_by_nm.size();
+    for (int i = 0; i < n; ++i) {
+        const double x = std::clamp(double(nm[i]) - 380.0, 0.0, double(size - 1));
+        const size_t j = std::min(size_t(x), size - 2);
+        const double t = x - double(j);
+        inverse_focus_per_m[i] = table[j] * (1.0 - t) + table[j + 1] * t;
+    }
+}
+
+__attribute__((target_clones("default", "avx2", "avx512f"))) void shifted_film_points_lanes(
+    int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const double* shift_per_m,
+    double x_scale, double y_scale, bool* stays, Point2f* wrapped_px) {
+    for (int i = 0; i < n; ++i) {
+        const double pixel_x = std::floor(double(raster_px[i].x)), pixel_y = std::floor(double(raster_px[i].y));
+        const double x = double(raster_px[i].x) + lens_x_m[i] * shift_per_m[i] * x_scale;
+        const double y = double(raster_px[i].y) - lens_y_m[i] * shift_per_m[i] * y_scale;
+        const double floor_x = std::floor(x), floor_y = std::floor(y);
+        stays[i] = floor_x == pixel_x && floor_y == pixel_y;
+        wrapped_px[i] = {float(pixel_x + (x - floor_x)), float(pixel_y + (y - floor_y))};
     }
 }
 

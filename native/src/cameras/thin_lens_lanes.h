@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include "cameras/camera_ray.h"
 #include "samplers.h"
@@ -50,6 +51,26 @@ struct FrameF {
 void thin_lens_rays_lanes(int n, const float* screen_x, const float* screen_y, const float* lens_x_m,
                           const float* lens_y_m, double inverse_focus_per_m, const FrameF& world_from_camera,
                           CameraRayRows* out);
+
+// The same with each lane's own plane of focus (a dispersive thin lens's
+// wavelengths): inverse_focus_per_m[i] for lane i, already in float.
+void thin_lens_rays_lanes_focused(int n, const float* screen_x, const float* screen_y, const float* lens_x_m,
+                                  const float* lens_y_m, const float* inverse_focus_per_m,
+                                  const FrameF& world_from_camera, CameraRayRows* out);
+
+// A dispersive thin lens's planes of focus, lane by lane: 1 / (plane of focus
+// at nm[i]) from inverse_focus_per_m_by_nm (linear between whole nm from 380 nm,
+// ThinLensCamera::inverse_focus_per_m_at's arithmetic).
+void inverse_focus_lanes(int n, const std::vector<double>& inverse_focus_per_m_by_nm, const float* nm,
+                         double* inverse_focus_per_m);
+
+// Where a wavelength's film point lies, lane by lane, for
+// ThinLensCamera::generate_shared_ray_rows: raster point + lens point x shift
+// x scale (y against raster y), whether it stays in the raster point's pixel,
+// and that point wrapped back into the pixel.
+void shifted_film_points_lanes(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
+                               const double* shift_per_m, double x_scale, double y_scale, bool* stays,
+                               Point2f* wrapped_px);
 
 // Raster points to screen points (z = 1), lane by lane: film.screen_point for each.
 void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_px, float* screen_x,
