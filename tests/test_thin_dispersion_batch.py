@@ -69,3 +69,6 @@ def test_a_dispersive_thin_lens_render_keeps_its_guarantees():
     assert one.metadata["spectral"]["camera_disperses"]
     np.testing.assert_array_equal(one.pixels, two.pixels)
     assert np.isfinite(one.pixels).all() and one.pixels.mean() > 0
+    # The thick lens is the thin lens at its front principal plane, in spectral renders too.
+    thick = render(scene, model="thick", spp=16, threads=2, progress=False)
+    np.testing.assert_array_equal(thick.pixels, one.pixels)

@@ -47,6 +47,10 @@ struct ThickLensCamera {
                                bool* shares) const {
         at_front_principal_plane.generate_rays_sharing(raster_px, lens_sample, nm, out, shares);
     }
+    void generate_shared_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, const HeroWavelengths* w,
+                                  int n, CameraRayRows* rows, bool (*own)[kCameraBatch]) const {
+        at_front_principal_plane.generate_shared_ray_rows(raster_px, lens_sample, w, n, rows, own);
+    }
 };
 
 }  // namespace lc
