@@ -140,13 +140,16 @@ struct ThinLensCamera {
         double inverse_focus_k[kCameraBatch], shift[kCameraBatch];
         bool stays[kCameraBatch];
         Point2f wrapped[kCameraBatch];
-        for (int i = 0; i < n; ++i) {
-            double ax, ay;
-            if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric)
-                concentric_disk(lens_sample[i], &ax, &ay);  // aperture.sample's point, inline
-            else
+        if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric) {
+            concentric_disk_lanes_double(n, lens_sample, lens_radius_m, lens_x, lens_y);  // aperture.sample's points
+        } else {
+            for (int i = 0; i < n; ++i) {
+                double ax, ay;
                 aperture.sample(lens_sample[i], disk_mapping, &ax, &ay);
-            lens_x[i] = lens_radius_m * ax, lens_y[i] = lens_radius_m * ay;
+                lens_x[i] = lens_radius_m * ax, lens_y[i] = lens_radius_m * ay;
+            }
+        }
+        for (int i = 0; i < n; ++i) {
             lens_x_m[i] = float(lens_x[i]), lens_y_m[i] = float(lens_y[i]);
             nm[i] = w[i].nm[0];
             own[0][i] = true;

@@ -36,10 +36,11 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void thin_lens_rays
 __attribute__((target_clones("default", "avx2", "avx512f"))) void inverse_focus_lanes(
     int n, const std::vector<double>& inverse_focus_per_m_by_nm, const float* nm, double* inverse_focus_per_m) {
     const double* table = inverse_focus_per_m_by_nm.data();
-    const size_t size = inverse_focus_per_m_by_nm.size();
+    const int size = int(inverse_focus_per_m_by_nm.size());
     for (int i = 0; i < n; ++i) {
         const double x = std::clamp(double(nm[i]) - 380.0, 0.0, double(size - 1));
-        const size_t j = std::min(size_t(x), size - 2);
+        // int, not size_t: AVX2 converts doubles to 32-bit integers only (the same j)
+        const int j = std::min(int(x), size - 2);
         const double t = x - double(j);
         inverse_focus_per_m[i] = table[j] * (1.0 - t) + table[j + 1] * t;
     }
@@ -64,6 +65,16 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void screen_points_
     const FilmToScreen local = film;  // a copy the stores below cannot touch: its terms leave the loop
 #pragma GCC ivdep
     for (int i = 0; i < n; ++i) local.screen_point(raster_px[i], &screen_x[i], &screen_y[i]);
+}
+
+__attribute__((target_clones("default", "avx2", "avx512f"))) void concentric_disk_lanes_double(
+    int n, const Point2f* lens_sample, double radius_m, double* disk_x_m, double* disk_y_m) {
+#pragma GCC ivdep
+    for (int i = 0; i < n; ++i) {
+        double x, y;
+        concentric_disk(lens_sample[i], &x, &y);
+        disk_x_m[i] = radius_m * x, disk_y_m[i] = radius_m * y;
+    }
 }
 
 __attribute__((target_clones("default", "avx2", "avx512f"))) void concentric_disk_lanes(int n,

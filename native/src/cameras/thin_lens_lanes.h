@@ -81,4 +81,9 @@ void screen_points_lanes(int n, const FilmToScreen& film, const Point2f* raster_
 // and rounded to float, so the same bits as map_to_disk times the radius.
 void concentric_disk_lanes(int n, const Point2f* lens_sample, double radius_m, float* disk_x_m, float* disk_y_m);
 
+// The same points in double, before the rounding: radius_m times
+// concentric_disk's point (ThinLensCamera::generate_rays_sharing's lens point).
+void concentric_disk_lanes_double(int n, const Point2f* lens_sample, double radius_m, double* disk_x_m,
+                                  double* disk_y_m);
+
 }  // namespace lc
