@@ -66,35 +66,66 @@ def _distances(origin, direction, centres):
     return out
 
 
-@pytest.mark.parametrize("name", list(CAMERAS))
-def test_no_ball_a_ray_meets_is_culled_and_far_ones_are(name):
-    camera = _camera(CAMERAS[name])
-    rng = np.random.default_rng(11)
-    origin, direction = _tile_rays(camera, rng)
-    # Balls round points on the rays (0 to 12 m along), nudged sideways by up to twice their radius
-    # (radii from 1 mm to 1 m): about half touch the ray they were put by, the rest lie near it.
-    pick = rng.integers(0, N_RAYS, N_BALLS)
+def _balls(origin, direction, rng):
+    """Balls round points on the rays (0 to 12 m along), nudged sideways by up to twice their
+    radius (radii from 1 mm to 1 m): about half touch the ray they were put by, the rest lie
+    near it; and balls anywhere within 15 m: most far from the tile's rays, some behind the lens."""
+    pick = rng.integers(0, len(origin), N_BALLS)
     along_m = rng.uniform(0.0, 12.0, N_BALLS)
     radius_m = 10.0 ** rng.uniform(-3, 0, N_BALLS)
     sideways = rng.normal(size=(N_BALLS, 3))
     sideways /= np.linalg.norm(sideways, axis=1, keepdims=True)
     centres = (origin[pick] + along_m[:, None] * direction[pick]
                + sideways * (radius_m * rng.uniform(0.0, 2.0, N_BALLS))[:, None])
-    # And balls anywhere within 15 m: most far from the tile's rays, some behind the lens
     scattered = origin[0] + rng.uniform(-15.0, 15.0, (N_BALLS, 3))
     centres = np.vstack([centres, scattered]).astype(np.float32)
     radius_m = np.concatenate([radius_m, 10.0 ** rng.uniform(-3, 0, N_BALLS)]).astype(np.float32)
-    balls = np.column_stack([centres, radius_m]).astype(np.float32)
+    return np.column_stack([centres, radius_m]).astype(np.float32)
+
+
+def _assert_pencil_keeps_every_ball_met(camera, origin, direction, balls):
+    """No ball a ray meets is culled; returns the balls' gaps to the rays and which were kept."""
     kept = np.zeros(len(balls), bool)
     diagnostics.pencil_may_meet(camera, *TILE_PX, balls, kept)
-    gap_m = _distances(origin, direction, centres.astype(np.float64))
-    met = gap_m <= radius_m
+    gap_m = _distances(origin, direction, balls[:, :3].astype(np.float64))
+    met = gap_m <= balls[:, 3]
     assert met.sum() > 1000  # the check has teeth
     assert kept[met].all(), f"{(~kept[met]).sum()} balls a ray meets were culled"
+    return gap_m, kept
+
+
+@pytest.mark.parametrize("name", list(CAMERAS))
+def test_no_ball_a_ray_meets_is_culled_and_far_ones_are(name):
+    camera = _camera(CAMERAS[name])
+    rng = np.random.default_rng(11)
+    origin, direction = _tile_rays(camera, rng)
+    balls = _balls(origin, direction, rng)
+    gap_m, kept = _assert_pencil_keeps_every_ball_met(camera, origin, direction, balls)
     # Balls clear of every sampled ray by a metre or more: the pencil's box is tight enough to cull them
-    clear = gap_m > radius_m + 1.0
+    clear = gap_m > balls[:, 3] + 1.0
     assert clear.sum() > 1000
     assert (~kept[clear]).mean() > 0.95
+
+
+@pytest.mark.parametrize("name", ["thin f/1 focused at 0.3 m", "thin f/1, five blades"])
+def test_a_dispersive_thin_lens_pencil_holds_every_wavelength(name):
+    """Each wavelength aims at its own plane of focus (the spectral render's rays,
+    generate_shared_ray_rows): the tile's pencil spans them all. An exaggerated dispersion,
+    the plane of focus from 0.25 m at 380 nm to 5 m at 780 nm."""
+    camera = _camera(CAMERAS[name])
+    camera.set_dispersion(np.linspace(1.0 / 0.25, 1.0 / 5.0, 401))
+    SAMPLES = N_RAYS // 4  # four rays each
+    rng = np.random.default_rng(12)
+    x0, y0, x1, y1 = TILE_PX
+    raster = np.column_stack([rng.uniform(x0, x1, SAMPLES), rng.uniform(y0, y1, SAMPLES)]).astype(np.float32)
+    lens = rng.random((SAMPLES, 2)).astype(np.float32)
+    hero = rng.uniform(380.0, 780.0, SAMPLES)
+    nm = np.stack([380.0 + (hero - 380.0 + 100.0 * k) % 400.0 for k in range(4)], axis=1).astype(np.float32)
+    origin, direction, own = np.zeros((4 * SAMPLES, 3)), np.zeros((4 * SAMPLES, 3)), np.zeros(4 * SAMPLES, bool)
+    diagnostics.generate_thin_rays_sharing(camera, raster, lens, nm, True, origin, direction, own)
+    assert own.reshape(-1, 4)[:, 1:].mean() > 0.5  # most secondaries trace their own ray
+    origin, direction = origin[own], direction[own]
+    _assert_pencil_keeps_every_ball_met(camera, origin, direction, _balls(origin, direction, rng))
 
 
 def test_balls_wholly_behind_the_lens_are_culled_and_ones_round_it_are_not():

@@ -131,3 +131,16 @@ def test_the_camera_cull_changes_no_bit_with_drawn_wavelengths(monkeypatch, name
     assert np.isfinite(culled).all()
     assert culled.mean() > 0.0
     assert np.array_equal(culled, tested)
+
+
+@pytest.mark.parametrize("model", ["thin", "thick"])
+@pytest.mark.parametrize("name", ["strewn_f2", "strewn_f1_focused_near", "strewn_five_blades", "camera_inside"])
+def test_the_camera_cull_changes_no_bit_through_a_dispersive_lens(monkeypatch, name, model):
+    """A thin or thick lens with its prescription's dispersion sends each wavelength toward its own plane of
+    focus; its tiles' pencil spans them all (ThinLensCamera::pencil)."""
+    lens = REFERENCE_SCENES.parent / "tests" / "data" / "lenses" / "biconvex_bk7.abbe.dat"
+    scene = parse_scene(camera_edge_scenes()[name]).with_camera(lens=str(lens), focal_length_mm=None, f_number=4.0)
+    culled, tested = render_both(monkeypatch, scene, model=model, spp=8, threads=2, spectral=True)
+    assert np.isfinite(culled).all()
+    assert culled.mean() > 0.0
+    assert np.array_equal(culled, tested)

@@ -514,12 +514,10 @@ RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
-    // A derived pencil holds a ray carrying every wavelength, not rays that
-    // each bend their own way (a dispersive thin or thick lens's focus moves
-    // with the wavelength); a measured one holds dispersed rays as long as
-    // each traced batch passes its check.
-    cull_tile(camera, scene.motion(), tile, &packet, &batcher, path == SpectralPath::OneRay,
-              path == SpectralPath::RayPerWavelength);
+    // A derived pencil holds every path's rays (a dispersive thin or thick
+    // lens's spans its planes of focus: ThinLensCamera::pencil); a measured
+    // one holds dispersed rays as long as each traced batch passes its check.
+    cull_tile(camera, scene.motion(), tile, &packet, &batcher, true, path == SpectralPath::RayPerWavelength);
     PixelSamples samples(s.spp, scene.motion().samples_time(), true, UsesLensSamples<Camera>::value);
     RenderStats stats;
     for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {

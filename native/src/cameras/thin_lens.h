@@ -62,13 +62,25 @@ struct ThinLensCamera {
         widen_rows(rows, n, out);
     }
 
-    // Its rays through raster rectangle [x0, x1] x [y0, y1] (camera_pencil.h);
-    // false for a lens that disperses (each wavelength has its own focus).
+    // Its rays through raster rectangle [x0, x1] x [y0, y1] (camera_pencil.h).
+    // A lens that disperses sends each wavelength toward its own plane of
+    // focus, k = 1 / focus in [k_lo, k_hi]: with k = k_mid + dk, |dk| <= half,
+    // a ray l (1 - k z) + s z is l (1 - k_mid z) + (s - l dk) z, the ray at
+    // k_mid from a screen point at most R half from s (R: the farthest lens
+    // point), so the pencil at k_mid through the rectangle widened by R half
+    // holds every wavelength's rays (generate_shared_ray_rows' wrapped film
+    // points stay in their pixel, so in the rectangle).
     bool pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* out) const {
-        if (disperses()) return false;
         const double reach = aperture.blades == 0 ? 1.0 : polygon_circumradius_same_area(aperture.blades);
-        *out = pencil_of(world_from_camera, film, lens_radius_m * reach, 1.0 / focus_distance_m, x0_px, y0_px,
-                         x1_px, y1_px);
+        const double radius_m = lens_radius_m * reach;
+        if (!disperses()) {
+            *out = pencil_of(world_from_camera, film, radius_m, 1.0 / focus_distance_m, x0_px, y0_px, x1_px, y1_px);
+            return true;
+        }
+        const auto [lo, hi] = std::minmax_element(inverse_focus_per_m_by_nm.begin(), inverse_focus_per_m_by_nm.end());
+        const double half = 0.5 * (*hi - *lo);
+        *out = pencil_of(world_from_camera, film, radius_m, 0.5 * (*lo + *hi), x0_px, y0_px, x1_px, y1_px);
+        for (int axis = 0; axis < 2; ++axis) out->screen_lo[axis] -= radius_m * half, out->screen_hi[axis] += radius_m * half;
         return true;
     }
 
