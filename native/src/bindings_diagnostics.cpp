@@ -212,7 +212,8 @@ void bind_lens(nb::module_& m) {
              CArray<const float, -1, kHeroWavelengths> nm, bool batched, CArray<double, -1, 3> origin,
              CArray<double, -1, 3> direction, CArray<bool, -1> own) {
               const size_t count = raster_px.shape(0);
-              if (!camera.disperses()) throw std::invalid_argument("the camera does not disperse: set_dispersion first");
+              if (!camera.disperses())
+                  throw std::invalid_argument("the camera does not disperse: set_dispersion first");
               if (lens.shape(0) != count || nm.shape(0) != count || origin.shape(0) != count * kHeroWavelengths ||
                   direction.shape(0) != count * kHeroWavelengths || own.shape(0) != count * kHeroWavelengths)
                   throw std::invalid_argument("one row per sample, kHeroWavelengths rays per sample");
@@ -245,7 +246,8 @@ void bind_lens(nb::module_& m) {
                   for (int i = 0; i < n; ++i)
                       for (int k = 0; k < kHeroWavelengths; ++k) {
                           const size_t row = (first + size_t(i)) * kHeroWavelengths + size_t(k);
-                          const Vec3d o = rays[i][k]->origin, d = rays[i][k]->direction;  // a thin lens's never vignette
+                          // (a thin lens's rays are never vignetted)
+                          const Vec3d o = rays[i][k]->origin, d = rays[i][k]->direction;
                           origin(row, 0) = o.x, origin(row, 1) = o.y, origin(row, 2) = o.z;
                           direction(row, 0) = d.x, direction(row, 1) = d.y, direction(row, 2) = d.z;
                           own(row) = owns[k][i];

@@ -80,7 +80,10 @@ struct ThinLensCamera {
         const auto [lo, hi] = std::minmax_element(inverse_focus_per_m_by_nm.begin(), inverse_focus_per_m_by_nm.end());
         const double half = 0.5 * (*hi - *lo);
         *out = pencil_of(world_from_camera, film, radius_m, 0.5 * (*lo + *hi), x0_px, y0_px, x1_px, y1_px);
-        for (int axis = 0; axis < 2; ++axis) out->screen_lo[axis] -= radius_m * half, out->screen_hi[axis] += radius_m * half;
+        for (int axis = 0; axis < 2; ++axis) {
+            out->screen_lo[axis] -= radius_m * half;
+            out->screen_hi[axis] += radius_m * half;
+        }
         return true;
     }
 
