@@ -82,3 +82,6 @@ def test_lens_system_vignetting_matches_its_real_ray_trace():
     rendered = np.interp(traced["field_deg"], data["field_deg"], data["relative_illumination"])
     # The trace is for an object at infinity; the flat field is 3 m away.
     np.testing.assert_allclose(rendered, traced["relative_illumination"], atol=0.02)
+    # Without the expectation: the same readings, no trace.
+    bare = measure_vignetting(run.scene, [run], traced=False)["renders"]["lens"]
+    assert "traced" not in bare and bare["at"] == data["at"]
