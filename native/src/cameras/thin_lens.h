@@ -96,10 +96,9 @@ struct ThinLensCamera {
 
     // 1 / (plane of focus at nm), 1/m (linear between whole nm); needs disperses().
     double inverse_focus_per_m_at(float nm) const {
-        const double x = std::clamp(double(nm) - 380.0, 0.0, double(inverse_focus_per_m_by_nm.size() - 1));
-        const size_t i = std::min(size_t(x), inverse_focus_per_m_by_nm.size() - 2);
-        const double t = x - double(i);
-        return inverse_focus_per_m_by_nm[i] * (1.0 - t) + inverse_focus_per_m_by_nm[i + 1] * t;
+        double inverse_focus;
+        inverse_focus_lanes(1, inverse_focus_per_m_by_nm, &nm, &inverse_focus);
+        return inverse_focus;
     }
 
     void generate_rays_at(Point2f raster_px, Point2f lens_sample, const float* nm, int n, MaybeRay* out) const {
@@ -123,20 +122,13 @@ struct ThinLensCamera {
         const double inverse_focus_0 = inverse_focus_per_m_at(nm[0]);
         out[0] = ray_from_lens_point(raster_px, lens_x, lens_y, inverse_focus_0);
         shares[0] = true;
-        const double pixel_x = std::floor(double(raster_px.x)), pixel_y = std::floor(double(raster_px.y));
         for (int k = 1; k < kHeroWavelengths; ++k) {
             const double inverse_focus = inverse_focus_per_m_at(nm[k]);
             const double shift = inverse_focus - inverse_focus_0;
-            // Screen x grows with raster x, screen y against raster y (FilmToScreen).
-            const double x = double(raster_px.x) + lens_x * shift * (0.5 * film.width_px / film.screen_half_width);
-            const double y = double(raster_px.y) - lens_y * shift * (0.5 * film.height_px / film.screen_half_height);
-            shares[k] = std::floor(x) == pixel_x && std::floor(y) == pixel_y;
-            if (shares[k]) {
-                out[k] = out[0];
-                continue;
-            }
-            const Point2f wrapped{float(pixel_x + (x - std::floor(x))), float(pixel_y + (y - std::floor(y)))};
-            out[k] = ray_from_lens_point(wrapped, lens_x, lens_y, inverse_focus);
+            Point2f wrapped;
+            shifted_film_points_lanes(1, &raster_px, &lens_x, &lens_y, &shift, film_px_per_screen_x(),
+                                      film_px_per_screen_y(), &shares[k], &wrapped);
+            out[k] = shares[k] ? out[0] : ray_from_lens_point(wrapped, lens_x, lens_y, inverse_focus);
         }
     }
 
@@ -174,8 +166,7 @@ struct ThinLensCamera {
         const FrameF frame = FrameF::of(world_from_camera);
         screen_points_lanes(n, film, raster_px, screen_x, screen_y);
         thin_lens_rays_lanes_focused(n, screen_x, screen_y, lens_x_m, lens_y_m, inverse_focus, frame, &rows[0]);
-        const double x_scale = 0.5 * film.width_px / film.screen_half_width;
-        const double y_scale = 0.5 * film.height_px / film.screen_half_height;
+        const double x_scale = film_px_per_screen_x(), y_scale = film_px_per_screen_y();
         for (int k = 1; k < kHeroWavelengths; ++k) {
             for (int i = 0; i < n; ++i) nm[i] = w[i].nm[k];
             inverse_focus_lanes(n, inverse_focus_per_m_by_nm, nm, inverse_focus_k);
@@ -192,6 +183,10 @@ struct ThinLensCamera {
             thin_lens_rays_lanes_focused(n, screen_x, screen_y, lens_x_m, lens_y_m, inverse_focus, frame, &rows[k]);
         }
     }
+
+    // Raster pixels per screen unit (z = 1): x, and y (against raster y).
+    double film_px_per_screen_x() const { return 0.5 * film.width_px / film.screen_half_width; }
+    double film_px_per_screen_y() const { return 0.5 * film.height_px / film.screen_half_height; }
 
     MaybeRay generate_ray_focused(Point2f raster_px, Point2f lens_sample, double inverse_focus_per_m) const {
         // Sample point on lens

@@ -51,6 +51,7 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void shifted_film_p
     double x_scale, double y_scale, bool* stays, Point2f* wrapped_px) {
     for (int i = 0; i < n; ++i) {
         const double pixel_x = std::floor(double(raster_px[i].x)), pixel_y = std::floor(double(raster_px[i].y));
+        // Screen x grows with raster x, screen y against raster y (FilmToScreen).
         const double x = double(raster_px[i].x) + lens_x_m[i] * shift_per_m[i] * x_scale;
         const double y = double(raster_px[i].y) - lens_y_m[i] * shift_per_m[i] * y_scale;
         const double floor_x = std::floor(x), floor_y = std::floor(y);
