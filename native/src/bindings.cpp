@@ -384,7 +384,7 @@ NB_MODULE(_native, m) {
              "aperture_blades"_a = 0, "aperture_rotation_deg"_a = 0.0)
         .def("set_dispersion",
              [](ThinLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
-                 self.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+                 self.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
              "inverse_focus_per_m"_a, "1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
 
@@ -397,7 +397,7 @@ NB_MODULE(_native, m) {
              "at_front_principal_plane"_a)
         .def("set_dispersion",
              [](ThickLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
-                 self.at_front_principal_plane.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+                 self.at_front_principal_plane.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
              "inverse_focus_per_m"_a, "1 / (plane of focus at λ from H), 1/m, every nm from 380 to 780.");
 
@@ -510,7 +510,7 @@ NB_MODULE(_native, m) {
              "wavelength and film radius.")
         .def("set_dispersion",
              [](CompositeCamera& self, CArray<const double, -1> inverse_focus_per_m) {
-                 self.lens.inverse_focus_per_m_by_nm = inverse_focus_table(inverse_focus_per_m);
+                 self.lens.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
              "inverse_focus_per_m"_a,
              "Longitudinal colour: 1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");

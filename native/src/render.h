@@ -18,6 +18,7 @@
 #include "render_mirrored.h"
 #include "render_settings.h"
 #include "render_tile.h"
+#include "render_tile_bands.h"
 #include "render_tile_spectral.h"
 #include "scene.h"
 
@@ -63,8 +64,11 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
 template <class Camera>
 RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
                         int row_end, float* rgb, bool mirror_rows = false) {
-    const bool integrated = scene.spectral() && spectral_path(camera, *scene.spectral()) == SpectralPath::Integrated;
-    const bool sampled = scene.spectral() && !integrated;
+    const SpectralPath path = scene.spectral() ? spectral_path(camera, *scene.spectral(), scene.motion().moves_camera())
+                                               : SpectralPath::Integrated;
+    const bool integrated = scene.spectral() && path == SpectralPath::Integrated;
+    const bool bands = scene.spectral() && path == SpectralPath::IntegratedBands;
+    const bool sampled = scene.spectral() && !integrated && !bands;
     const RowSet rows{row_begin, row_end, mirror_rows, s.height_px};
     if constexpr (std::is_same_v<Camera, LensSystemCamera>) {
         if (camera.mirror_axes) {
@@ -79,7 +83,8 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
         tbb::blocked_range2d<int> rows_cols(begin, end, kTileSize, 0, s.width_px, kTileSize);
         tbb::parallel_for(rows_cols, [&](const Tile& tile) {
             const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
-                                                   : render_tile(scene, camera, s, tile, rgb, integrated);
+                                           : bands   ? render_tile_bands(scene, camera, s, tile, rgb)
+                                                     : render_tile(scene, camera, s, tile, rgb, integrated);
             rays_passed += tile_stats.rays_passed;
             samples_drawn += tile_stats.samples;
         });

@@ -117,7 +117,7 @@ RenderStats render_mirrored_tile(const Scene& scene, const LensSystemCamera& cam
     }
     Batcher batcher = [&] {
         if constexpr (spectral)
-            return Batcher(camera, scene.motion(), *scene.spectral(), spectral_path(camera, *scene.spectral()),
+            return Batcher(camera, scene.motion(), *scene.spectral(), spectral_path(camera, *scene.spectral(), scene.motion().moves_camera()),
                            packets);
         else return Batcher(camera, scene.motion(), packets);
     }();

@@ -306,17 +306,30 @@ class SpectralRayPacket {
     uint64_t samples_shaded_ = 0;
 };
 
+// Cameras whose rays can each carry a band of wavelengths, integrated
+// exactly (render_tile_bands.h: the dispersive thin and thick lens), say so
+// with carries_bands(), band_rays, band_ray_rows and band_runs.
+template <class Camera, class = void>
+struct HasBandRays : std::false_type {};
+template <class Camera>
+struct HasBandRays<Camera, std::void_t<decltype(std::declval<const Camera&>().carries_bands())>> : std::true_type {};
+
 // How a render's camera samples become rays (see the top of this file).
 enum class SpectralPath {
-    Integrated,       // the camera does not disperse: no wavelengths drawn, their integral exact (render.h)
-    OneRay,           // the camera does not disperse but wavelengths are drawn: one ray carries all four
-    RidingOnHero,     // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
-    RayPerWavelength  // a ray per traced wavelength
+    Integrated,        // the camera does not disperse: no wavelengths drawn, their integral exact (render.h)
+    IntegratedBands,   // it disperses, each ray carrying a band of wavelengths, integrated (render_tile_bands.h)
+    OneRay,            // the camera does not disperse but wavelengths are drawn: one ray carries all four
+    RidingOnHero,      // generate_rays_sharing: secondaries ride on the hero's ray where it is theirs
+    RayPerWavelength   // a ray per traced wavelength
 };
 
+// moves_camera: the camera moves over the shutter (its rays' offset is
+// applied in double, ray by ray: not on the band path's float rows).
 template <class Camera>
-SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) {
+SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra, bool moves_camera) {
     if (!camera_disperses(camera)) return spectra.integrate_still ? SpectralPath::Integrated : SpectralPath::OneRay;
+    if constexpr (HasBandRays<Camera>::value)
+        if (spectra.integrate_still && !moves_camera && camera.carries_bands()) return SpectralPath::IntegratedBands;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
         if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
     return SpectralPath::RayPerWavelength;
@@ -362,6 +375,7 @@ class SpectralCameraSampleBatcher {
         if (pending_ == 0) return;
         switch (path_) {
             case SpectralPath::Integrated:  // render.h renders these without drawing wavelengths
+            case SpectralPath::IntegratedBands:  // and these by render_tile_bands.h
             case SpectralPath::OneRay: flush_shared(); break;
             case SpectralPath::RidingOnHero: flush_riding(); break;
             case SpectralPath::RayPerWavelength: flush_dispersed(); break;
@@ -510,7 +524,7 @@ template <class Camera>
 RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const RenderSettings& s,
                                  const Tile& tile, float* rgb) {
     const SpectralTables& spectra = *scene.spectral();
-    const SpectralPath path = spectral_path(camera, spectra);
+    const SpectralPath path = spectral_path(camera, spectra, scene.motion().moves_camera());
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "embree_packet.h"
@@ -24,6 +25,7 @@
 #include "solid_faces.h"
 #include "sphere_lanes.h"
 #include "spectral.h"
+#include "spectral_bands.h"
 #include "cameras/camera_pencil.h"
 #include "cameras/camera_ray.h"
 #include "vec.h"
@@ -121,6 +123,11 @@ class Scene {
     // reading of each ray's spectrum integrated over the wavelengths, exactly
     // (spectral.h, integrate_still), as linear sRGB.
     void spectral_integrated_radiance(const RayBatch& rays, Vec3f* radiance_out) const;
+
+    // Spectral renders through a dispersive thin or thick lens
+    // (render_tile_bands.h): the same, each ray's spectrum integrated over
+    // the wavelengths it carries, bands[i] (spectral_bands.h).
+    void spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands, Vec3f* radiance_out) const;
 
     // Set once, before rendering: the scene then renders spectrally.
     void set_spectral(std::shared_ptr<const SpectralTables> tables);
@@ -239,6 +246,9 @@ class Scene {
         float of_basis[3][3];
     };
     std::vector<FilmMap> film_of_lights_;
+    // The same over any band of wavelengths: of a basis colour, and per light.
+    std::optional<BandIntegral> band_of_basis_;
+    std::vector<BandIntegral> band_of_lights_;
 };
 
 // Checker: parity of floor(p/size + 0.001) summed over the axes; even -> the

@@ -5,6 +5,7 @@
 // are the RGB path's (scene_trace.cpp); only the colours differ.
 #include "scene.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "cpu_kernels.h"
@@ -108,11 +109,82 @@ LC_BUILT_PER_ISA void Scene::spectral_integrated_radiance(const RayBatch& rays, 
     write_radiance(rays.count, rgb, out);
 }
 
+// Through a dispersive thin or thick lens (render_tile_bands.h): as
+// spectral_integrated_radiance, each ray's integral taken over its own band
+// of wavelengths. A ray carrying the whole spectrum (most of them) is shaded
+// exactly as there; one carrying part of it gets its own maps, in place of
+// the whole spectrum's, before each is applied.
+LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands,
+                                                    Vec3f* out) const {
+    const SpectralTables& spectra = *spectral_;
+    CameraHits hits;
+    trace_camera_rays(rays, hits);
+
+    int partial[kPacketSize], partial_count = 0;
+    for (int i = 0; i < rays.count; ++i)
+        if (!bands[i].whole()) partial[partial_count++] = i;
+
+    float start[3][kPacketSize], rgb[3][kPacketSize];
+    int material[kPacketSize];
+    gather_surfaces(rays, hits, material, start);
+    map_colour_lanes(shading_kernel_, spectra.film_of_basis, start, rgb);
+    for (int p = 0; p < partial_count; ++p) {
+        const int i = partial[p];
+        if (start[0][i] == 0.0f && start[1][i] == 0.0f && start[2][i] == 0.0f) continue;  // no light of its own
+        BandIntegral::Map m;
+        band_of_basis_->over(bands[i], m);
+        for (int k = 0; k < 3; ++k) rgb[k][i] = m[k][0] * start[0][i] + m[k][1] * start[1][i] + m[k][2] * start[2][i];
+    }
+    // A monochromatic emitter is its line alone: the part of its band the ray carries.
+    if (spectra.any_line())
+        for (int i = 0; i < rays.count; ++i)
+            if (shows_line(hits, material, i)) {
+                const size_t m = size_t(material[i]);
+                Vec3f line = spectra.line_film[m];
+                if (!bands[i].whole()) {
+                    line = Vec3f{};
+                    const float lo = spectra.line_nm[m] - spectra.line_half_width_nm;
+                    const float hi = spectra.line_nm[m] + spectra.line_half_width_nm;
+                    for (int r = 0; r < bands[i].count; ++r)
+                        line += spectra.film_over_band(std::max(lo, bands[i].from_nm[r]),
+                                                       std::min(hi, bands[i].to_nm[r])) *
+                                spectra.line_radiance[m];
+                }
+                rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
+            }
+    if (!lights_.empty() && any_diffuse(hits.surface)) {
+        surface_lanes(shading_kernel_, hits.packet, hits.surface);
+        SurfaceLanes& surface = hits.surface;
+        float albedo[3][kPacketSize];  // the albedo as a basis colour; surface.albedo gets each light's map of it
+        std::memcpy(albedo, surface.albedo, sizeof albedo);
+        const float white[3] = {1.0f, 1.0f, 1.0f};
+        for (size_t l = 0; l < lights_.size(); ++l) {
+            ShadowRays shadow;
+            if (!trace_shadow_rays(l, hits, shadow)) continue;
+            map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
+            for (int p = 0; p < partial_count; ++p) {
+                const int i = partial[p];
+                if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
+                BandIntegral::Map m;
+                band_of_lights_[l].over(bands[i], m);
+                for (int k = 0; k < 3; ++k)
+                    surface.albedo[k][i] = m[k][0] * albedo[0][i] + m[k][1] * albedo[1][i] + m[k][2] * albedo[2][i];
+            }
+            add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
+        }
+    }
+    write_radiance(rays.count, rgb, out);
+}
+
 void Scene::set_spectral(std::shared_ptr<const SpectralTables> tables) {
     spectral_ = std::move(tables);
     film_of_lights_.assign(lights_.size(), FilmMap{});
-    for (size_t l = 0; l < lights_.size(); ++l)
+    band_of_lights_.clear();
+    for (size_t l = 0; l < lights_.size(); ++l) {
         spectral_->film_of_light(lights_[l].intensity, film_of_lights_[l].of_basis);
+        band_of_lights_.push_back(BandIntegral::of_light(*spectral_, lights_[l].intensity));
+    }
+    band_of_basis_ = BandIntegral::of_basis(*spectral_);
 }
 
 }  // namespace lc

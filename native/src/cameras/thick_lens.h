@@ -47,6 +47,14 @@ struct ThickLensCamera {
                                bool* shares) const {
         at_front_principal_plane.generate_rays_sharing(raster_px, lens_sample, nm, out, shares);
     }
+    bool carries_bands() const { return at_front_principal_plane.carries_bands(); }
+    const DispersionRuns& band_runs() const { return at_front_principal_plane.band_runs(); }
+    void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
+        at_front_principal_plane.band_rays(raster_px, lens_sample, n, out);
+    }
+    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
+        at_front_principal_plane.band_ray_rows(rays, first, n, out);
+    }
     void generate_shared_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, const HeroWavelengths* w,
                                   int n, CameraRayRows* rows, bool (*own)[kCameraBatch]) const {
         at_front_principal_plane.generate_shared_ray_rows(raster_px, lens_sample, w, n, rows, own);

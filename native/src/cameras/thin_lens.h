@@ -10,9 +10,11 @@
 #include "aperture.h"
 #include "cameras/camera_pencil.h"
 #include "cameras/camera_ray.h"
+#include "cameras/thin_lens_bands.h"
 #include "cameras/thin_lens_lanes.h"
 #include "samplers.h"
 #include "spectral.h"
+#include "spectral_bands.h"
 
 namespace lc {
 
@@ -27,8 +29,38 @@ struct ThinLensCamera {
     // every nm from 380 nm, from the lens's focal length at λ with the film
     // where it is (lenscompare/render_spectral.py); empty: no dispersion.
     std::vector<double> inverse_focus_per_m_by_nm;
+    DispersionRuns dispersion_runs;  // that table's rising and falling stretches
 
     bool disperses() const { return !inverse_focus_per_m_by_nm.empty(); }
+
+    void set_dispersion(std::vector<double> inverse_focus_per_m) {
+        dispersion_runs = DispersionRuns(inverse_focus_per_m);
+        inverse_focus_per_m_by_nm = std::move(inverse_focus_per_m);
+    }
+
+    // Whether its rays can each carry a band of wavelengths (thin_lens_bands.h,
+    // render_tile_bands.h): a lens that disperses, its plane of focus turning
+    // back at most kMaxBandRuns - 1 times over the spectrum.
+    bool carries_bands() const { return disperses() && dispersion_runs.fits(); }
+    const DispersionRuns& band_runs() const { return dispersion_runs; }
+
+    // Samples [0, n)'s rays, each carrying a band of planes of focus (thin_lens_bands.h), appended to out.
+    void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
+        double lens_x[kCameraBatch], lens_y[kCameraBatch];
+        lens_points(lens_sample, n, lens_x, lens_y);
+        split_into_bands(n, raster_px, lens_x, lens_y, dispersion_runs.lowest(), dispersion_runs.highest(),
+                         film_px_per_screen_x(), film_px_per_screen_y(), out);
+    }
+
+    // Rays [first, first + n) of band_rays' (n <= kCameraBatch) in float: each
+    // the ray at the middle plane of focus from its film point.
+    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
+        float screen_x[kCameraBatch], screen_y[kCameraBatch];
+        screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);
+        thin_lens_rays_lanes(n, screen_x, screen_y, rays.lens_x_m.data() + first, rays.lens_y_m.data() + first,
+                             0.5 * (dispersion_runs.lowest() + dispersion_runs.highest()),
+                             FrameF::of(world_from_camera), out);
+    }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
         return generate_ray_focused(raster_px, lens_sample, 1.0 / focus_distance_m);
@@ -147,15 +179,7 @@ struct ThinLensCamera {
         double inverse_focus_k[kCameraBatch], shift[kCameraBatch];
         bool stays[kCameraBatch];
         Point2f wrapped[kCameraBatch];
-        if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric) {
-            concentric_disk_lanes_double(n, lens_sample, lens_radius_m, lens_x, lens_y);  // aperture.sample's points
-        } else {
-            for (int i = 0; i < n; ++i) {
-                double ax, ay;
-                aperture.sample(lens_sample[i], disk_mapping, &ax, &ay);
-                lens_x[i] = lens_radius_m * ax, lens_y[i] = lens_radius_m * ay;
-            }
-        }
+        lens_points(lens_sample, n, lens_x, lens_y);
         for (int i = 0; i < n; ++i) {
             lens_x_m[i] = float(lens_x[i]), lens_y_m[i] = float(lens_y[i]);
             nm[i] = w[i].nm[0];
@@ -181,6 +205,19 @@ struct ThinLensCamera {
             if (!any_own) continue;  // rows[k] unread
             screen_points_lanes(n, film, wrapped, screen_x, screen_y);
             thin_lens_rays_lanes_focused(n, screen_x, screen_y, lens_x_m, lens_y_m, inverse_focus, frame, &rows[k]);
+        }
+    }
+
+    // Lens samples [0, n) to lens points (m, camera frame) in double: aperture.sample's points.
+    void lens_points(const Point2f* lens_sample, int n, double* lens_x_m, double* lens_y_m) const {
+        if (aperture.blades == 0 && disk_mapping == DiskMapping::Concentric) {
+            concentric_disk_lanes_double(n, lens_sample, lens_radius_m, lens_x_m, lens_y_m);
+        } else {
+            for (int i = 0; i < n; ++i) {
+                double ax, ay;
+                aperture.sample(lens_sample[i], disk_mapping, &ax, &ay);
+                lens_x_m[i] = lens_radius_m * ax, lens_y_m[i] = lens_radius_m * ay;
+            }
         }
     }
 

@@ -1,0 +1,96 @@
+#include "cameras/thin_lens_bands.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lc {
+namespace {
+
+// Where the film point x + g (k - k_ref) crosses a pixel edge as k rises from
+// k_lowest to k_highest: those k, rising, into *at, and the first pixel.
+// Returns the step each crossing makes (+1 or -1).
+int crossings(double x, double g, double k_ref, double k_lowest, double k_highest, std::vector<double>* at,
+              double* first_pixel) {
+    at->clear();
+    const double from = x + g * (k_lowest - k_ref), to = x + g * (k_highest - k_ref);
+    *first_pixel = std::floor(from);
+    if (g > 0.0) {
+        for (double edge = std::floor(from) + 1.0; edge <= std::floor(to); edge += 1.0)
+            at->push_back(k_ref + (edge - x) / g);
+        return 1;
+    }
+    if (g < 0.0) {
+        for (double edge = std::floor(from); edge > std::floor(to); edge -= 1.0) at->push_back(k_ref + (edge - x) / g);
+        return -1;
+    }
+    return 0;
+}
+
+}  // namespace
+
+void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
+                      double k_lowest, double k_highest, double x_scale, double y_scale, BandRays* out) {
+    const double k_ref = 0.5 * (k_lowest + k_highest);
+    const double below = k_lowest - k_ref, above = k_highest - k_ref;
+    out->reserve_more(n);
+    for (int i = 0; i < n; ++i) {
+        const double x = raster_px[i].x, y = raster_px[i].y;
+        // Screen x grows with raster x, screen y against raster y (FilmToScreen).
+        const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
+        if (std::floor(x + gx * below) == std::floor(x + gx * above) &&
+            std::floor(y + gy * below) == std::floor(y + gy * above)) {
+            // Every wavelength lands in the pixel: one ray, the whole spectrum (room reserved above)
+            const size_t at = size_t(out->count++);
+            out->sample[at] = i, out->raster_px[at] = raster_px[i], out->whole[at] = 1;
+            out->lens_x_m[at] = float(lens_x_m[i]), out->lens_y_m[at] = float(lens_y_m[i]);
+            continue;
+        }
+        const double pixel_x = std::floor(x), pixel_y = std::floor(y);
+        auto emit_one = [&](double cell_x, double cell_y, double k_from, double k_to) {
+            if (!(k_to > k_from)) return;  // a corner: no wavelength lands there
+            const size_t at = size_t(out->count++);
+            out->sample[at] = i;
+            out->raster_px[at] = {float(x - (cell_x - pixel_x)), float(y - (cell_y - pixel_y))};
+            out->lens_x_m[at] = float(lens_x_m[i]), out->lens_y_m[at] = float(lens_y_m[i]);
+            out->k_lo[at] = k_from, out->k_hi[at] = k_to, out->whole[at] = 0;
+        };
+        const double x_from = std::floor(x + gx * below), x_to = std::floor(x + gx * above);
+        const double y_from = std::floor(y + gy * below), y_to = std::floor(y + gy * above);
+        if (std::fabs(x_to - x_from) <= 1.0 && std::fabs(y_to - y_from) <= 1.0) {
+            // At most one edge each way (a spread under a pixel): crossings' walk written out.
+            out->reserve_more(3 + (n - 1 - i));
+            const double kx = x_to != x_from ? std::clamp(k_ref + (std::max(x_from, x_to) - x) / gx, k_lowest, k_highest)
+                                             : k_highest;
+            const double ky = y_to != y_from ? std::clamp(k_ref + (std::max(y_from, y_to) - y) / gy, k_lowest, k_highest)
+                                             : k_highest;
+            const double k_first = std::min(kx, ky), k_second = std::max(kx, ky);
+            const bool x_first = kx <= ky;
+            emit_one(x_from, y_from, k_lowest, k_first);
+            if (x_first) emit_one(x_to, y_from, k_first, k_second);
+            else emit_one(x_from, y_to, k_first, k_second);
+            emit_one(x_to, y_to, k_second, k_highest);
+            continue;
+        }
+        double cell_x, cell_y;
+        const int step_x = crossings(x, gx, k_ref, k_lowest, k_highest, &out->x_edges, &cell_x);
+        const int step_y = crossings(y, gy, k_ref, k_lowest, k_highest, &out->y_edges, &cell_y);
+        const std::vector<double>&x_edges = out->x_edges, &y_edges = out->y_edges;
+        // The rest of the batch's samples keep the room reserved for them.
+        out->reserve_more(int(x_edges.size() + y_edges.size()) + 1 + (n - 1 - i));
+        auto emit = [&](double k_from, double k_to) { emit_one(cell_x, cell_y, k_from, k_to); };
+        // Walk the two lists of edges in k order, a ray per stretch between them.
+        double k = k_lowest;
+        size_t ix = 0, iy = 0;
+        while (ix < x_edges.size() || iy < y_edges.size()) {
+            const bool x_next = iy == y_edges.size() || (ix < x_edges.size() && x_edges[ix] <= y_edges[iy]);
+            const double edge = std::clamp(x_next ? x_edges[ix] : y_edges[iy], k, k_highest);
+            emit(k, edge);
+            k = edge;
+            if (x_next) cell_x += step_x, ++ix;
+            else cell_y += step_y, ++iy;
+        }
+        emit(k, k_highest);
+    }
+}
+
+}  // namespace lc

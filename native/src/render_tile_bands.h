@@ -1,0 +1,172 @@
+// The render loop's stages for a spectral render through a dispersive thin or
+// thick lens (since session 29): no wavelength is drawn. Each camera sample
+// becomes one ray carrying the whole spectrum, or, where its wavelengths'
+// film points straddle a pixel's edge, a ray per stretch of the spectrum
+// that lands in one pixel (cameras/thin_lens_bands.h), and each ray's
+// reading is the film's integral over its wavelengths, exact (spectral_bands.h,
+// Scene::spectral_band_radiance). Every wavelength is still sampled exactly
+// as its own camera would (its film point uniform over the pixel given the
+// lens point), so the sample's value, the sum over its rays, is unbiased; and
+// where its rays see the same colours it has no colour noise at all, as the
+// render through a camera that does not disperse (SpectralPath::Integrated).
+// SpectralTables::integrate_still = false (render(sample_wavelengths=True))
+// draws hero wavelengths instead (render_tile_spectral.h, RidingOnHero).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "cameras/thin_lens_bands.h"
+#include "render_tile.h"
+#include "render_tile_spectral.h"
+#include "spectral_bands.h"
+
+namespace lc {
+
+// Rays waiting for the scene, each with its band; a camera sample's rays
+// arrive together and in order, its value (their sum) going to the pixel
+// after its last, so that an adaptive render's variance is the samples'.
+class BandRayPacket {
+  public:
+    BandRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
+
+    void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
+    void uncull() { batch_.uncull(); }
+
+    // Queues row i of rows carrying the whole spectrum, or (whole false) the
+    // wavelengths runs finds for planes of focus [k_lo, k_hi); last: its
+    // sample's last ray. (The band is written in place: a local copied in
+    // stalled on store forwarding, 40 % of the batcher's time, perf.)
+    void add(const CameraRayRows& rows, int i, bool whole, double k_lo, double k_hi, const DispersionRuns& runs,
+             float time_u, bool last, size_t slot) {
+        const int j = batch_.count;
+        batch_.set(j, rows, i);
+        batch_.time[j] = time_u;
+        if (whole) band_[j].count = -1;
+        else runs.band_of(k_lo, k_hi, &band_[j]);
+        last_[j] = last;
+        slot_[j] = slot;
+        if (++batch_.count == kPacketSize) flush();
+    }
+
+    void flush() {
+        if (batch_.count == 0) return;
+        scene_.spectral_band_radiance(batch_, band_, radiance_);
+        Vec3f pending = pending_;
+        for (int j = 0; j < batch_.count; ++j) {
+            pending += radiance_[j];
+            if (last_[j]) {
+                sums_.add(slot_[j], pending, 1.0f);
+                pending = Vec3f{};
+                ++samples_shaded_;
+            }
+        }
+        pending_ = pending;
+        batch_.count = 0;
+    }
+
+    uint64_t samples_shaded() const { return samples_shaded_; }
+
+  private:
+    const Scene& scene_;
+    TileAccumulator& sums_;
+    RayBatch batch_;
+    WavelengthBand band_[kPacketSize];
+    bool last_[kPacketSize];
+    size_t slot_[kPacketSize];
+    Vec3f radiance_[kPacketSize];
+    Vec3f pending_;  // the current camera sample's value so far
+    uint64_t samples_shaded_ = 0;
+};
+
+// Samples waiting for the camera, a batch at a time: the camera splits them
+// into their rays (band_rays), and the rays go to the packet in float a
+// camera batch's worth at a time (band_ray_rows).
+template <class Camera>
+class BandCameraSampleBatcher {
+  public:
+    BandCameraSampleBatcher(const Camera& camera, BandRayPacket& packet) : camera_(camera), packet_(packet) {}
+
+    void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
+        for (int i = first; i < end;) {
+            const int n = std::min(end - i, kCameraBatch - pending_);
+            staged_.take(pending_, x, y, samples, i, n, slot);
+            pending_ += n, i += n;
+            if (pending_ == kCameraBatch) flush();
+        }
+    }
+
+    void flush() {
+        if (pending_ == 0) return;
+        rays_.clear();
+        camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_);
+        const DispersionRuns& runs = camera_.band_runs();
+        const int count = rays_.size();
+        for (int first = 0; first < count; first += kCameraBatch) {
+            const int n = std::min(kCameraBatch, count - first);
+            camera_.band_ray_rows(rays_, first, n, &rows_);
+            for (int r = 0; r < n; ++r) {
+                const size_t ray = size_t(first + r);
+                const int sample = rays_.sample[ray];
+                const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
+                packet_.add(rows_, r, rays_.whole[ray], rays_.k_lo[ray], rays_.k_hi[ray], runs, staged_.time[sample],
+                            last, staged_.slot[sample]);
+            }
+        }
+        pending_ = 0;
+    }
+
+  private:
+    const Camera& camera_;
+    BandRayPacket& packet_;
+    SampleColumns staged_;
+    BandRays rays_;
+    CameraRayRows rows_;
+    int pending_ = 0;
+};
+
+template <class Camera>
+RenderStats render_band_rays(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
+                             float* rgb);
+
+// render_tile (render.h) for a spectral render whose rays carry bands
+// (spectral_path's IntegratedBands, which only cameras with HasBandRays take).
+template <class Camera>
+RenderStats render_tile_bands(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
+                              float* rgb) {
+    if constexpr (!HasBandRays<Camera>::value) {
+        return RenderStats{};
+    } else {
+        return render_band_rays(scene, camera, s, tile, rgb);
+    }
+}
+
+template <class Camera>
+RenderStats render_band_rays(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
+                             float* rgb) {
+    TileAccumulator sums(tile, s.variance_of_mean != nullptr);
+    BandRayPacket packet(scene, sums);
+    BandCameraSampleBatcher<Camera> batcher(camera, packet);
+    // The derived pencil spans the planes of focus (ThinLensCamera::pencil):
+    // every band's ray is some wavelength's own ray from a film point in its pixel.
+    cull_tile(camera, scene.motion(), tile, &packet, &batcher);
+    PixelSamples samples(s.spp, scene.motion().samples_time(), false, true);
+    RenderStats stats;
+    for (int y = tile.rows().begin(); y < tile.rows().end(); ++y) {
+        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+            const uint64_t pixel_index = uint64_t(y) * uint64_t(s.width_px) + uint64_t(x);
+            const auto [first, end] = s.samples_of(pixel_index);
+            if (end == first) continue;
+            samples.fill(s, pixel_index, end);
+            stats.samples += uint64_t(end - first);
+            batcher.add_pixel(x, y, samples, first, end, sums.slot(x, y));
+        }
+    }
+    batcher.flush();
+    packet.flush();
+    sums.finish(s, rgb);
+    stats.rays_passed = packet.samples_shaded();
+    return stats;
+}
+
+}  // namespace lc
