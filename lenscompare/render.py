@@ -98,10 +98,12 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         (:func:`lenscompare.render_spectral.traced_wavelengths_for`; default the
         count that reaches a given noise soonest for the model).
     sample_wavelengths : bool, optional
-        Spectral renders through a camera that does not disperse: draw hero
-        wavelengths as a dispersive camera does, instead of integrating the
-        film's response over the wavelengths exactly (the default, with no
-        colour noise; :mod:`lenscompare.render_spectral`). For comparing the two.
+        Spectral renders through a camera that does not disperse, or through a
+        dispersive thin or thick lens: draw hero wavelengths as the lens system
+        does, instead of integrating the film's response over the wavelengths
+        exactly (the default: over the whole spectrum, or over each ray's band
+        of wavelengths for the dispersive thin and thick lens;
+        :mod:`lenscompare.render_spectral`). For comparing the two.
     postfilter_per_pixel_spp : bool, optional
         ``postfilter`` (not adaptive) only: fewer pinhole samples where a
         pixel's blur averages it (:func:`~lenscompare.postfilter.pinhole_sample_counts`),

@@ -59,14 +59,21 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     native_scene.set_spectral(basis_table(), film_table(), f64(edges_nm), f64(probabilities), f64(line_nm),
                               f64(radiance), LINE_WIDTH_NM, traced, sample_wavelengths)
     disperses = _set_dispersion(native_camera, scene, camera)
-    sampled = disperses or sample_wavelengths
+    # A dispersive thin or thick lens integrates each ray's band of wavelengths
+    # (native/src/render_tile_bands.h) unless asked to draw them, or unless the
+    # camera moves (its offset is applied ray by ray to drawn wavelengths' rays).
+    bands = (disperses and not sample_wavelengths and camera.model in ("thin", "thick")
+             and native_camera.carries_bands() and not any(scene.camera.velocity))
+    sampled = (disperses or sample_wavelengths) and not bands
     wavelengths = ("hero wavelengths (Wilkie et al. 2014)" if sampled
+                   else "integrated exactly over each ray's band of wavelengths" if bands
                    else "integrated exactly (the camera does not disperse)")
     return {"wavelengths_nm": [float(wavelengths_nm()[0]), float(wavelengths_nm()[-1])],
             "method": f"{wavelengths}, Mallett-Yuksel 2019 spectra, CIE 1931 2deg film",
             "wavelengths_sampled": sampled,
             "camera_disperses": disperses,
-            "secondaries": (_secondaries(traced, camera.model) if disperses
+            "secondaries": ("none: a ray per stretch of the spectrum landing in one pixel" if bands
+                            else _secondaries(traced, camera.model) if disperses
                             else "shared ray" if sampled else "none: integrated")}
 
 
@@ -78,9 +85,11 @@ def traced_wavelengths_for(model: str) -> int:
     the wavelength half the distribution away) reach 1 % relative RMSE on
     showcase through dgauss_abbe sooner (3.9x RGB's time against 4.6x;
     one: 8.6x, its colour noise too high; bench/bench_spectral.py). The thin
-    and thick lens trace all four: a secondary rides on the hero's ray
-    wherever that ray is its own, so most samples cost one ray anyway. The
-    composite keeps four (not measured with fewer).
+    and thick lens, when their wavelengths are drawn (``sample_wavelengths``
+    or a moving camera; otherwise they integrate each ray's band), trace all
+    four: a secondary rides on the hero's ray wherever that ray is its own,
+    so most samples cost one ray anyway. The composite keeps four (not
+    measured with fewer).
     """
     return 2 if model == "lens" else 4
 

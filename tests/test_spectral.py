@@ -126,7 +126,8 @@ def test_the_lens_system_traces_the_hero_and_its_antipode_by_default(tmp_path):
     # bench/bench_spectral.py: 2 traced wavelengths reach 1 % RMSE sooner than 1 or 4
     lens = render(_dispersive_showcase(tmp_path, model="lens"), spp=1, spectral=True, progress=False)
     assert lens.metadata["spectral"]["secondaries"] == "hero and antipode traced, others terminated"
-    thin = render(_dispersive_showcase(tmp_path, model="thin"), spp=1, spectral=True, progress=False)
+    thin = render(_dispersive_showcase(tmp_path, model="thin"), spp=1, spectral=True, sample_wavelengths=True,
+                  progress=False)
     assert thin.metadata["spectral"]["secondaries"] == "on the hero's ray where it is theirs, else traced"
 
 

@@ -386,7 +386,10 @@ NB_MODULE(_native, m) {
              [](ThinLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
                  self.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
-             "inverse_focus_per_m"_a, "1 / (plane of focus at λ), 1/m, every nm from 380 to 780.");
+             "inverse_focus_per_m"_a, "1 / (plane of focus at λ), 1/m, every nm from 380 to 780.")
+        .def("carries_bands", &ThinLensCamera::carries_bands,
+             "Whether a spectral render's rays each carry a band of wavelengths, integrated (a lens that "
+             "disperses, its plane of focus turning back at most 3 times).");
 
     nb::class_<ThickLensCamera>(m, "ThickLensCamera",
                                 "Thick lens: in object space the thin lens at its front principal plane H.")
@@ -399,7 +402,8 @@ NB_MODULE(_native, m) {
              [](ThickLensCamera& self, CArray<const double, -1> inverse_focus_per_m) {
                  self.at_front_principal_plane.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
-             "inverse_focus_per_m"_a, "1 / (plane of focus at λ from H), 1/m, every nm from 380 to 780.");
+             "inverse_focus_per_m"_a, "1 / (plane of focus at λ from H), 1/m, every nm from 380 to 780.")
+        .def("carries_bands", &ThickLensCamera::carries_bands, "As the thin lens's at H.");
 
     nb::class_<LensSystemCamera>(m, "LensSystemCamera",
                                  "Full lens system: film samples traced through every surface (lens frame in mm).")

@@ -7,6 +7,7 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
@@ -206,6 +207,57 @@ void bind_lens(nb::module_& m) {
           nb::call_guard<nb::gil_scoped_release>(),
           "Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), by the scalar per-wavelength "
           "trace or (batched) the lockstep trace of spectral renders.");
+
+    m.def("thin_band_rays",
+          [](const ThinLensCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<int, -1> sample, CArray<double, -1, 3> origin, CArray<double, -1, 3> direction,
+             CArray<double, -1> k_lo, CArray<double, -1> k_hi, CArray<bool, -1> whole) {
+              if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");
+              const size_t count = raster_px.shape(0), room = sample.shape(0);
+              if (lens.shape(0) != count || origin.shape(0) != room || direction.shape(0) != room ||
+                  k_lo.shape(0) != room || k_hi.shape(0) != room || whole.shape(0) != room)
+                  throw std::invalid_argument("one row per sample in, as many rows as room out");
+              size_t written = 0;
+              BandRays rays;
+              for (size_t first = 0; first < count; first += kCameraBatch) {
+                  const int n = int(std::min<size_t>(kCameraBatch, count - first));
+                  rays.clear();
+                  camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays);
+                  if (written + size_t(rays.size()) > room) throw std::invalid_argument("not enough room");
+                  for (int at = 0; at < rays.size(); at += kCameraBatch) {
+                      const int m = std::min(kCameraBatch, rays.size() - at);
+                      CameraRayRows rows;
+                      camera.band_ray_rows(rays, at, m, &rows);
+                      for (int r = 0; r < m; ++r, ++written) {
+                          const size_t ray = size_t(at + r);
+                          sample(written) = int(first) + rays.sample[ray];
+                          for (int a = 0; a < 3; ++a)
+                              origin(written, size_t(a)) = rows.origin[a][r],
+                                             direction(written, size_t(a)) = rows.direction[a][r];
+                          whole(written) = rays.whole[ray] != 0;
+                          k_lo(written) = rays.whole[ray] ? camera.band_runs().lowest() : rays.k_lo[ray];
+                          k_hi(written) = rays.whole[ray] ? camera.band_runs().highest() : rays.k_hi[ray];
+                      }
+                  }
+              }
+              return written;
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "sample"_a, "origin"_a, "direction"_a, "k_lo"_a, "k_hi"_a,
+          "whole"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "A dispersive thin lens's rays in a spectral render whose rays carry bands (cameras/thin_lens_bands.h): "
+          "each ray's sample, ray (float, widened), and band of 1 / focus [k_lo, k_hi); returns the ray count.");
+
+    m.def("dispersion_band",
+          [](const ThinLensCamera& camera, double k_lo, double k_hi) {
+              if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");
+              WavelengthBand band;
+              camera.band_runs().band_of(k_lo, k_hi, &band);
+              std::vector<std::pair<float, float>> out;
+              for (int r = 0; r < band.count; ++r) out.emplace_back(band.from_nm[r], band.to_nm[r]);
+              return out;
+          },
+          "camera"_a, "k_lo"_a, "k_hi"_a,
+          "The wavelength intervals (nm) whose 1 / focus lies in [k_lo, k_hi) (DispersionRuns::band_of).");
 
     m.def("generate_thin_rays_sharing",
           [](const ThinLensCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
