@@ -28,7 +28,10 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
 
 }  // namespace
 
-void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
+// Per instruction set (target_clones): baseline x86-64 has no rounding
+// instruction, and its floor in software, with the branch on whether a sample
+// straddles an edge, was most of this function (perf).
+__attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
                       double k_lowest, double k_highest, double x_scale, double y_scale, BandRays* out) {
     const double k_ref = 0.5 * (k_lowest + k_highest);
     const double below = k_lowest - k_ref, above = k_highest - k_ref;
