@@ -131,6 +131,7 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
 
 // render_tile (render.h) for a spectral render whose rays carry bands
 // (spectral_path's IntegratedBands, which only cameras with HasBandRays take).
+// Its pixel loop is written out again, as render_tile_spectral's is (why: there).
 template <class Camera>
 RenderStats render_tile_bands(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
                               float* rgb) {

@@ -126,7 +126,8 @@ class Scene {
 
     // Spectral renders through a dispersive thin or thick lens
     // (render_tile_bands.h): the same, each ray's spectrum integrated over
-    // the wavelengths it carries, bands[i] (spectral_bands.h).
+    // the wavelengths it carries, bands[i] (spectral_bands.h; bands null:
+    // every ray the whole spectrum, spectral_integrated_radiance).
     void spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands, Vec3f* radiance_out) const;
 
     // Set once, before rendering: the scene then renders spectrally.

@@ -75,45 +75,17 @@ LC_BUILT_PER_ISA void Scene::spectral_radiance(const RayBatch& rays, const HeroW
 // Through a camera that does not disperse: the wavelengths' integral,
 // exact (spectral.h, integrate_still), as RGB-like sums. Each colour of the
 // file reaches the film through film_of_basis, a lit reflectance through
-// its light's film_of_light: the RGB path's stages with those maps between.
-LC_BUILT_PER_ISA void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const {
-    const SpectralTables& spectra = *spectral_;
-    CameraHits hits;
-    trace_camera_rays(rays, hits);
-
-    float start[3][kPacketSize], rgb[3][kPacketSize];
-    int material[kPacketSize];
-    gather_surfaces(rays, hits, material, start);
-    map_colour_lanes(shading_kernel_, spectra.film_of_basis, start, rgb);
-    // A monochromatic emitter is its line alone.
-    if (spectra.any_line())
-        for (int i = 0; i < rays.count; ++i)
-            if (shows_line(hits, material, i)) {
-                const Vec3f line = spectra.line_film[size_t(material[i])];
-                rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
-            }
-    if (!lights_.empty() && any_diffuse(hits.surface)) {
-        surface_lanes(shading_kernel_, hits.packet, hits.surface);
-        SurfaceLanes& surface = hits.surface;
-        float albedo[3][kPacketSize];  // the albedo as a basis colour; surface.albedo gets each light's map of it
-        std::memcpy(albedo, surface.albedo, sizeof albedo);
-        const float white[3] = {1.0f, 1.0f, 1.0f};
-        for (size_t l = 0; l < lights_.size(); ++l) {
-            ShadowRays shadow;
-            if (!trace_shadow_rays(l, hits, shadow)) continue;
-            // The film's reading of this light off each albedo, then added as a white light's.
-            map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
-            add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
-        }
-    }
-    write_radiance(rays.count, rgb, out);
+// its light's film_of_light: the RGB path's stages with those maps between
+// (spectral_band_radiance's with every ray carrying the whole spectrum).
+void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const {
+    spectral_band_radiance(rays, nullptr, out);
 }
 
-// Through a dispersive thin or thick lens (render_tile_bands.h): as
-// spectral_integrated_radiance, each ray's integral taken over its own band
-// of wavelengths. A ray carrying the whole spectrum (most of them) is shaded
-// exactly as there; one carrying part of it gets its own maps, in place of
-// the whole spectrum's, before each is applied.
+// Through a dispersive thin or thick lens (render_tile_bands.h): each ray's
+// integral taken over its own band of wavelengths (bands null: every ray the
+// whole spectrum, spectral_integrated_radiance). A ray carrying the whole
+// spectrum is shaded through the whole spectrum's maps; one carrying part of
+// it gets its own maps in their place before each is applied.
 LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands,
                                                     Vec3f* out) const {
     const SpectralTables& spectra = *spectral_;
@@ -121,8 +93,9 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
     trace_camera_rays(rays, hits);
 
     int partial[kPacketSize], partial_count = 0;
-    for (int i = 0; i < rays.count; ++i)
-        if (!bands[i].whole()) partial[partial_count++] = i;
+    if (bands)
+        for (int i = 0; i < rays.count; ++i)
+            if (!bands[i].whole()) partial[partial_count++] = i;
 
     float start[3][kPacketSize], rgb[3][kPacketSize];
     int material[kPacketSize];
@@ -141,7 +114,7 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
             if (shows_line(hits, material, i)) {
                 const size_t m = size_t(material[i]);
                 Vec3f line = spectra.line_film[m];
-                if (!bands[i].whole()) {
+                if (bands && !bands[i].whole()) {
                     line = Vec3f{};
                     const float lo = spectra.line_nm[m] - spectra.line_half_width_nm;
                     const float hi = spectra.line_nm[m] + spectra.line_half_width_nm;
