@@ -103,7 +103,8 @@ class BandIntegral {
                 for (int c = 0; c < 3; ++c) {
                     const int e = 3 * k + c;
                     // (f + f' t)(b + b' t)(l + l' t): coefficients of t^0 .. t^3
-                    const double p0 = film[k][0] * basis[c][0], p1 = film[k][0] * basis[c][1] + film[k][1] * basis[c][0];
+                    const double p0 = film[k][0] * basis[c][0];
+                    const double p1 = film[k][0] * basis[c][1] + film[k][1] * basis[c][0];
                     const double p2 = film[k][1] * basis[c][1];
                     const double a[4] = {p0 * light[0], p0 * light[1] + p1 * light[0], p1 * light[1] + p2 * light[0],
                                          p2 * light[1]};
@@ -165,6 +166,8 @@ class DispersionRuns {
     bool fits() const { return !runs_.empty() && runs_.size() <= size_t(kMaxBandRuns); }
     double lowest() const { return lo_; }
     double highest() const { return hi_; }
+    // The middle plane: the band rays' reference (thin_lens_bands.h) and the pencil's (ThinLensCamera::pencil).
+    double middle() const { return 0.5 * (lo_ + hi_); }
 
     // The wavelengths whose 1 / focus lies in [k_lo, k_hi), into *out (needs fits()).
     void band_of(double k_lo, double k_hi, WavelengthBand* out) const {

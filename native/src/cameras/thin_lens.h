@@ -48,8 +48,8 @@ struct ThinLensCamera {
     void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
         double lens_x[kCameraBatch], lens_y[kCameraBatch];
         lens_points(lens_sample, n, lens_x, lens_y);
-        split_into_bands(n, raster_px, lens_x, lens_y, dispersion_runs.lowest(), dispersion_runs.highest(),
-                         film_px_per_screen_x(), film_px_per_screen_y(), out);
+        split_into_bands(n, raster_px, lens_x, lens_y, dispersion_runs, film_px_per_screen_x(),
+                         film_px_per_screen_y(), out);
     }
 
     // Rays [first, first + n) of band_rays' (n <= kCameraBatch) in float: each
@@ -58,8 +58,7 @@ struct ThinLensCamera {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);
         thin_lens_rays_lanes(n, screen_x, screen_y, rays.lens_x_m.data() + first, rays.lens_y_m.data() + first,
-                             0.5 * (dispersion_runs.lowest() + dispersion_runs.highest()),
-                             FrameF::of(world_from_camera), out);
+                             dispersion_runs.middle(), FrameF::of(world_from_camera), out);
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {
@@ -109,9 +108,8 @@ struct ThinLensCamera {
             *out = pencil_of(world_from_camera, film, radius_m, 1.0 / focus_distance_m, x0_px, y0_px, x1_px, y1_px);
             return true;
         }
-        const auto [lo, hi] = std::minmax_element(inverse_focus_per_m_by_nm.begin(), inverse_focus_per_m_by_nm.end());
-        const double half = 0.5 * (*hi - *lo);
-        *out = pencil_of(world_from_camera, film, radius_m, 0.5 * (*lo + *hi), x0_px, y0_px, x1_px, y1_px);
+        const double half = 0.5 * (dispersion_runs.highest() - dispersion_runs.lowest());
+        *out = pencil_of(world_from_camera, film, radius_m, dispersion_runs.middle(), x0_px, y0_px, x1_px, y1_px);
         for (int axis = 0; axis < 2; ++axis) {
             out->screen_lo[axis] -= radius_m * half;
             out->screen_hi[axis] += radius_m * half;

@@ -31,9 +31,10 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
 // Per instruction set (target_clones): baseline x86-64 has no rounding
 // instruction, and its floor in software, with the branch on whether a sample
 // straddles an edge, was most of this function (perf).
-__attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
-                      double k_lowest, double k_highest, double x_scale, double y_scale, BandRays* out) {
-    const double k_ref = 0.5 * (k_lowest + k_highest);
+__attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(
+    int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const DispersionRuns& runs,
+    double x_scale, double y_scale, BandRays* out) {
+    const double k_lowest = runs.lowest(), k_highest = runs.highest(), k_ref = runs.middle();
     const double below = k_lowest - k_ref, above = k_highest - k_ref;
     out->reserve_more(n);
     for (int i = 0; i < n; ++i) {
@@ -62,10 +63,11 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
         if (std::fabs(x_to - x_from) <= 1.0 && std::fabs(y_to - y_from) <= 1.0) {
             // At most one edge each way (a spread under a pixel): crossings' walk written out.
             out->reserve_more(3 + (n - 1 - i));
-            const double kx = x_to != x_from ? std::clamp(k_ref + (std::max(x_from, x_to) - x) / gx, k_lowest, k_highest)
-                                             : k_highest;
-            const double ky = y_to != y_from ? std::clamp(k_ref + (std::max(y_from, y_to) - y) / gy, k_lowest, k_highest)
-                                             : k_highest;
+            auto edge_k = [&](double from, double to, double position, double g) {
+                return to != from ? std::clamp(k_ref + (std::max(from, to) - position) / g, k_lowest, k_highest)
+                                  : k_highest;
+            };
+            const double kx = edge_k(x_from, x_to, x, gx), ky = edge_k(y_from, y_to, y, gy);
             const double k_first = std::min(kx, ky), k_second = std::max(kx, ky);
             const bool x_first = kx <= ky;
             emit_one(x_from, y_from, k_lowest, k_first);

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "spectral_bands.h"
 #include "vec.h"
 
 namespace lc {
@@ -51,10 +52,10 @@ struct BandRays {
 };
 
 // Samples [0, n) (film point raster_px[i], lens point in m) into their rays,
-// appended to out in sample order: 1 / focus over [k_lowest, k_highest], the
-// reference plane its middle, x_scale and y_scale the raster pixels per
-// screen unit (y against raster y).
+// appended to out in sample order: 1 / focus over runs' range, the reference
+// plane its middle, x_scale and y_scale the raster pixels per screen unit (y
+// against raster y).
 void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
-                      double k_lowest, double k_highest, double x_scale, double y_scale, BandRays* out);
+                      const DispersionRuns& runs, double x_scale, double y_scale, BandRays* out);
 
 }  // namespace lc
