@@ -60,10 +60,10 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
                               f64(radiance), LINE_WIDTH_NM, traced, sample_wavelengths)
     disperses = _set_dispersion(native_camera, scene, camera)
     # A dispersive thin or thick lens integrates each ray's band of wavelengths
-    # (native/src/render_tile_bands.h) unless asked to draw them, or unless the
-    # camera moves (its offset is applied ray by ray to drawn wavelengths' rays).
+    # (native/src/render_tile_bands.h; a moving camera's band rays shift with
+    # their sample's time) unless asked to draw them.
     bands = (disperses and not sample_wavelengths and camera.model in ("thin", "thick")
-             and native_camera.carries_bands() and not any(scene.camera.velocity))
+             and native_camera.carries_bands())
     sampled = (disperses or sample_wavelengths) and not bands
     wavelengths = ("hero wavelengths (Wilkie et al. 2014)" if sampled
                    else "integrated exactly over each ray's band of wavelengths" if bands
@@ -85,8 +85,8 @@ def traced_wavelengths_for(model: str) -> int:
     the wavelength half the distribution away) reach 1 % relative RMSE on
     showcase through dgauss_abbe sooner (3.9x RGB's time against 4.6x;
     one: 8.6x, its colour noise too high; bench/bench_spectral.py). The thin
-    and thick lens, when their wavelengths are drawn (``sample_wavelengths``
-    or a moving camera; otherwise they integrate each ray's band), trace all
+    and thick lens, when their wavelengths are drawn (``sample_wavelengths``;
+    otherwise they integrate each ray's band, moving or not), trace all
     four: a secondary rides on the hero's ray wherever that ray is its own,
     so most samples cost one ray anyway. The composite keeps four (not
     measured with fewer).

@@ -64,7 +64,7 @@ RenderStats render_tile(const Scene& scene, const Camera& camera, const RenderSe
 template <class Camera>
 RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSettings& s, int row_begin,
                         int row_end, float* rgb, bool mirror_rows = false) {
-    const SpectralPath path = scene.spectral() ? spectral_path(camera, *scene.spectral(), scene.motion().moves_camera())
+    const SpectralPath path = scene.spectral() ? spectral_path(camera, *scene.spectral())
                                                : SpectralPath::Integrated;
     const bool integrated = scene.spectral() && path == SpectralPath::Integrated;
     const bool bands = scene.spectral() && path == SpectralPath::IntegratedBands;

@@ -118,7 +118,7 @@ RenderStats render_mirrored_tile(const Scene& scene, const LensSystemCamera& cam
     Batcher batcher = [&] {
         if constexpr (spectral)
             return Batcher(camera, scene.motion(), *scene.spectral(),
-                           spectral_path(camera, *scene.spectral(), scene.motion().moves_camera()), packets);
+                           spectral_path(camera, *scene.spectral()), packets);
         else return Batcher(camera, scene.motion(), packets);
     }();
     for (unsigned m = 0; m < 4 && !scene.motion().moves_camera(); ++m) {  // a moving camera's rays shift: no cull

@@ -81,11 +81,15 @@ class BandRayPacket {
 
 // Samples waiting for the camera, a batch at a time: the camera splits them
 // into their rays (band_rays), and the rays go to the packet in float a
-// camera batch's worth at a time (band_ray_rows).
+// camera batch's worth at a time (band_ray_rows). A moving camera's rays
+// start where the camera is at their sample's time: a translation of the
+// whole camera moves every wavelength's ray alike, so the bands are a still
+// camera's.
 template <class Camera>
 class BandCameraSampleBatcher {
   public:
-    BandCameraSampleBatcher(const Camera& camera, BandRayPacket& packet) : camera_(camera), packet_(packet) {}
+    BandCameraSampleBatcher(const Camera& camera, const SceneMotion& motion, BandRayPacket& packet)
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet) {}
 
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
         for (int i = first; i < end;) {
@@ -105,6 +109,7 @@ class BandCameraSampleBatcher {
         for (int first = 0; first < count; first += kCameraBatch) {
             const int n = std::min(kCameraBatch, count - first);
             camera_.band_ray_rows(rays_, first, n, &rows_);
+            if (moves_camera_) moved(first, n);
             for (int r = 0; r < n; ++r) {
                 const size_t ray = size_t(first + r);
                 const int sample = rays_.sample[ray];
@@ -117,7 +122,20 @@ class BandCameraSampleBatcher {
     }
 
   private:
+    // Rows [0, n) (rays first.. of rays_) from where the camera is at their sample's time.
+    void moved(int first, int n) {
+        for (int r = 0; r < n; ++r) {
+            const Vec3d offset_m =
+                motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[rays_.sample[size_t(first + r)]]);
+            rows_.origin[0][r] = float(double(rows_.origin[0][r]) + offset_m.x);
+            rows_.origin[1][r] = float(double(rows_.origin[1][r]) + offset_m.y);
+            rows_.origin[2][r] = float(double(rows_.origin[2][r]) + offset_m.z);
+        }
+    }
+
     const Camera& camera_;
+    const SceneMotion& motion_;
+    bool moves_camera_;
     BandRayPacket& packet_;
     SampleColumns staged_;
     BandRays rays_;
@@ -147,9 +165,10 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
                              float* rgb) {
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     BandRayPacket packet(scene, sums);
-    BandCameraSampleBatcher<Camera> batcher(camera, packet);
+    BandCameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     // The derived pencil spans the planes of focus (ThinLensCamera::pencil):
-    // every band's ray is some wavelength's own ray from a film point in its pixel.
+    // every band's ray is some wavelength's own ray from a film point in its
+    // pixel. (A moving camera's tiles are not culled: its rays shift.)
     cull_tile(camera, scene.motion(), tile, &packet, &batcher);
     PixelSamples samples(s.spp, scene.motion().samples_time(), false, true);
     RenderStats stats;

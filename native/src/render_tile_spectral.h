@@ -323,13 +323,13 @@ enum class SpectralPath {
     RayPerWavelength   // a ray per traced wavelength
 };
 
-// moves_camera: the camera moves over the shutter (its rays' offset is
-// applied in double, ray by ray: not on the band path's float rows).
+// (A moving camera takes the same path as a still one: a translation moves
+// every wavelength's ray alike, so the band rays shift with the sample's time.)
 template <class Camera>
-SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra, bool moves_camera) {
+SpectralPath spectral_path(const Camera& camera, const SpectralTables& spectra) {
     if (!camera_disperses(camera)) return spectra.integrate_still ? SpectralPath::Integrated : SpectralPath::OneRay;
     if constexpr (HasBandRays<Camera>::value)
-        if (spectra.integrate_still && !moves_camera && camera.carries_bands()) return SpectralPath::IntegratedBands;
+        if (spectra.integrate_still && camera.carries_bands()) return SpectralPath::IntegratedBands;
     if constexpr (HasSharedWavelengthRays<Camera>::value)
         if (spectra.traced_wavelengths == kHeroWavelengths) return SpectralPath::RidingOnHero;
     return SpectralPath::RayPerWavelength;
@@ -524,7 +524,7 @@ template <class Camera>
 RenderStats render_tile_spectral(const Scene& scene, const Camera& camera, const RenderSettings& s,
                                  const Tile& tile, float* rgb) {
     const SpectralTables& spectra = *scene.spectral();
-    const SpectralPath path = spectral_path(camera, spectra, scene.motion().moves_camera());
+    const SpectralPath path = spectral_path(camera, spectra);
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
     SpectralRayPacket packet(scene, sums);
     SpectralCameraSampleBatcher<Camera> batcher(camera, scene.motion(), spectra, packet, path);
