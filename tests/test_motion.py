@@ -11,6 +11,7 @@ leave the static image untouched, bit for bit.
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -105,6 +106,26 @@ def test_moving_camera_gives_the_moving_objects_streak(model, extra):
     assert abs(sa.length_px - sb.length_px) < 0.5, (sa, sb)
     assert np.abs(a - b).max() < 0.02 * a.max()  # the same picture, up to float rounding of positions
 
+
+
+@pytest.mark.parametrize("model, sample_wavelengths", [("thin", False), ("thin", True), ("lens", False)])
+def test_a_moving_camera_through_a_dispersive_lens_gives_the_moving_objects_streak(model, sample_wavelengths):
+    """Spectral renders through a lens with Abbe numbers (the thin lens's band
+    rays and its drawn wavelengths; the lens system's two traced wavelengths):
+    the camera at -v gives the streak of the object at +v, each ray's origin
+    moved where the camera is at its time."""
+    lens = str(Path(__file__).parent / "data" / "lenses" / "dgauss_abbe.dat")
+    object_moves = streak_scene(model=model).with_camera(lens=lens, focal_length_mm=None)
+    camera_moves = streak_scene(model=model, object_velocity=(0, 0, 0), camera_velocity=(-SPEED_M_PER_S, 0.0, 0.0)
+                                ).with_camera(lens=lens, focal_length_mm=None)
+    kwargs = dict(model=model, spp=32, sampler="sobol", seed=2, threads=2, progress=False, spectral=True,
+                  sample_wavelengths=sample_wavelengths)
+    a, b = (render(scene, **kwargs).pixels for scene in (object_moves, camera_moves))
+    start, end = np.array([5.0, HEIGHT / 2]), np.array([WIDTH - 5.0, HEIGHT / 2])
+    sa, sb = (measure_streak(image, start_px=start, end_px=end) for image in (a, b))
+    assert sa.length_px > 75
+    assert abs(sa.length_px - sb.length_px) < 0.5, (sa, sb)
+    assert np.abs(a - b).max() < 0.02 * a.max()
 
 def test_zero_velocity_or_zero_shutter_is_the_static_image_bit_for_bit():
     static = load_scene(REFERENCE_SCENES / "showcase.toml").with_camera(resolution=(96, 64))

@@ -307,11 +307,30 @@ struct SampleColumns {
     }
 };
 
-// Samples waiting for the camera: the lens system traces kCameraBatch of them
-// in lockstep, and a tile's pixels together fill a batch at any spp.
 // A moving camera is the camera at t = 0 translated by v t: every model's ray
-// origin moves by the same offset and no direction changes, so the offset is
-// applied here, once for all models.
+// origin moves by the same offset and no direction changes. Rays [0, n) of
+// rows, ray i at shutter time time_u[i], from where the camera then is (the
+// offset added in double, the origin rounded to float once).
+inline void move_origins(const SceneMotion& motion, int n, const float* time_u, CameraRayRows* rows) {
+    for (int i = 0; i < n; ++i) {
+        const Vec3d offset_m = motion.camera_velocity_m_per_s * motion.time_s(time_u[i]);
+        rows->origin[0][i] = float(double(rows->origin[0][i]) + offset_m.x);
+        rows->origin[1][i] = float(double(rows->origin[1][i]) + offset_m.y);
+        rows->origin[2][i] = float(double(rows->origin[2][i]) + offset_m.z);
+    }
+}
+
+// The same for rays found in double columns.
+inline void move_origins(const SceneMotion& motion, int n, const float* time_u, CameraRayBatch* columns) {
+    for (int i = 0; i < n; ++i) {
+        const Vec3d offset_m = motion.camera_velocity_m_per_s * motion.time_s(time_u[i]);
+        columns->origin[0][i] += offset_m.x, columns->origin[1][i] += offset_m.y, columns->origin[2][i] += offset_m.z;
+    }
+}
+
+// Samples waiting for the camera: the lens system traces kCameraBatch of them
+// in lockstep, and a tile's pixels together fill a batch at any spp. A moving
+// camera's offset (move_origins) is applied here, once for all models.
 template <class Camera>
 class CameraSampleBatcher {
   public:
@@ -338,37 +357,29 @@ class CameraSampleBatcher {
     // Turns the queued samples into rays for the packet, in queue order.
     void flush() {
         if constexpr (GeneratesRayRows<Camera>::value) {
-            // In float straight to the packet (a moving camera's offset goes below, in double).
-            if (!moves_camera_) {
-                camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
-                packet_.add_rows(rows_, pending_, staged_.time, staged_.slot);
-                pending_ = 0;
-                return;
-            }
+            // In float straight to the packet.
+            camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
+            if (moves_camera_) move_origins(motion_, pending_, staged_.time, &rows_);
+            packet_.add_rows(rows_, pending_, staged_.time, staged_.slot);
         } else if constexpr (GeneratesWeightedRayRows<Camera>::value) {
-            if (!moves_camera_) {
-                check_.passed(camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_,
-                                                                 weight_, alive_, check_.active()),
-                              packet_);
-                packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
-                pending_ = 0;
-                return;
-            }
+            check_.passed(camera_.generate_weighted_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_,
+                                                             weight_, alive_, check_.active()),
+                          packet_);
+            if (moves_camera_) move_origins(motion_, pending_, staged_.time, &rows_);
+            packet_.add_rows(rows_, pending_, staged_.time, staged_.slot, alive_, weight_);
         } else if constexpr (GeneratesRayBatches<Camera>::value) {
-            // In columns straight to the packet; a moving camera's offset (in
-            // double, before rounding) goes through the rays one at a time below.
-            if (!moves_camera_) {
-                camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_);
-                packet_.add_batch(columns_, pending_, staged_.time, staged_.slot);
-                pending_ = 0;
-                return;
+            // In columns straight to the packet.
+            camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_);
+            if (moves_camera_) move_origins(motion_, pending_, staged_.time, &columns_);
+            packet_.add_batch(columns_, pending_, staged_.time, staged_.slot);
+        } else {
+            camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays_);
+            for (int i = 0; i < pending_; ++i) {
+                if (!rays_[i]) continue;  // vignetted: contributes nothing
+                if (moves_camera_)
+                    rays_[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
+                packet_.add(*rays_[i], staged_.time[i], staged_.slot[i]);
             }
-        }
-        camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays_);
-        for (int i = 0; i < pending_; ++i) {
-            if (!rays_[i]) continue;  // vignetted: contributes nothing
-            if (moves_camera_) rays_[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
-            packet_.add(*rays_[i], staged_.time[i], staged_.slot[i]);
         }
         pending_ = 0;
     }
@@ -388,20 +399,30 @@ class CameraSampleBatcher {
     int pending_ = 0;
 };
 
-// Culls a still camera's tile (a moving one's rays shift over the shutter):
-// packet tests only the own primitives some ray of the camera's pencil may
-// meet. A derived pencil (HasPencil) where derived_holds, i.e. it holds the
-// rays the render makes; a measured one (HasCheckedPencil) where
-// measured_holds, batcher then checking every traced batch against it.
+// Culls a camera's tile: packet tests only the own primitives some ray of
+// the camera's pencil may meet. A derived pencil (HasPencil) where
+// derived_holds, i.e. it holds the rays the render makes, swept over the
+// shutter for a moving camera (CameraPencil::sweep_mid_m); a measured one
+// (HasCheckedPencil) where measured_holds and the camera is still, batcher
+// then checking every traced batch against it (its check reads the rays
+// before a moving camera's offset).
 template <class Camera, class Packet, class Batcher>
 void cull_tile(const Camera& camera, const SceneMotion& motion, const Tile& tile, Packet* packet, Batcher* batcher,
                bool derived_holds = true, bool measured_holds = true) {
-    if (motion.moves_camera()) return;
     const int x0 = tile.cols().begin(), y0 = tile.rows().begin(), x1 = tile.cols().end(), y1 = tile.rows().end();
     CameraPencil pencil;
     if constexpr (HasPencil<Camera>::value) {
-        if (derived_holds && camera.pencil(x0, y0, x1, y1, &pencil)) packet->cull_by(pencil);
+        if (derived_holds && camera.pencil(x0, y0, x1, y1, &pencil)) {
+            if (motion.moves_camera()) {
+                const Vec3d open_m = motion.camera_velocity_m_per_s * motion.time_s(0.0f);
+                const Vec3d close_m = motion.camera_velocity_m_per_s * motion.time_s(1.0f);
+                pencil.sweep_mid_m = (open_m + close_m) * 0.5;
+                pencil.sweep_half_m = 0.5 * length(close_m - open_m);
+            }
+            packet->cull_by(pencil);
+        }
     }
+    if (motion.moves_camera()) return;
     if constexpr (HasCheckedPencil<Camera>::value) {
         LensPencilCheck check;
         if (measured_holds && camera.checked_pencil(x0, y0, x1, y1, &pencil, &check)) {

@@ -109,7 +109,11 @@ class BandCameraSampleBatcher {
         for (int first = 0; first < count; first += kCameraBatch) {
             const int n = std::min(kCameraBatch, count - first);
             camera_.band_ray_rows(rays_, first, n, &rows_);
-            if (moves_camera_) moved(first, n);
+            if (moves_camera_) {
+                float time_u[kCameraBatch];
+                for (int r = 0; r < n; ++r) time_u[r] = staged_.time[rays_.sample[size_t(first + r)]];
+                move_origins(motion_, n, time_u, &rows_);
+            }
             for (int r = 0; r < n; ++r) {
                 const size_t ray = size_t(first + r);
                 const int sample = rays_.sample[ray];
@@ -122,17 +126,6 @@ class BandCameraSampleBatcher {
     }
 
   private:
-    // Rows [0, n) (rays first.. of rays_) from where the camera is at their sample's time.
-    void moved(int first, int n) {
-        for (int r = 0; r < n; ++r) {
-            const Vec3d offset_m =
-                motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[rays_.sample[size_t(first + r)]]);
-            rows_.origin[0][r] = float(double(rows_.origin[0][r]) + offset_m.x);
-            rows_.origin[1][r] = float(double(rows_.origin[1][r]) + offset_m.y);
-            rows_.origin[2][r] = float(double(rows_.origin[2][r]) + offset_m.z);
-        }
-    }
-
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;
@@ -168,7 +161,7 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
     BandCameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     // The derived pencil spans the planes of focus (ThinLensCamera::pencil):
     // every band's ray is some wavelength's own ray from a film point in its
-    // pixel. (A moving camera's tiles are not culled: its rays shift.)
+    // pixel (a moving camera: swept along its path, cull_tile).
     cull_tile(camera, scene.motion(), tile, &packet, &batcher);
     PixelSamples samples(s.spp, scene.motion().samples_time(), false, true);
     RenderStats stats;

@@ -388,18 +388,16 @@ class SpectralCameraSampleBatcher {
   private:
     // One ray per sample, carrying all four wavelengths.
     void flush_shared() {
-        if constexpr (GeneratesRayRows<Camera>::value) {
-            if (!moves_camera_) {  // in float straight to the packet
-                camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
-                packet_.add_rows(rows_, pending_, wavelengths_, staged_.time, staged_.slot);
-                return;
-            }
-        } else if constexpr (GeneratesRayBatches<Camera>::value) {
-            if (!moves_camera_) {  // in columns (a moving camera's offset: below, ray by ray)
-                camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_[0]);
-                packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, staged_.time, staged_.slot);
-                return;
-            }
+        if constexpr (GeneratesRayRows<Camera>::value) {  // in float straight to the packet
+            camera_.generate_ray_rows(staged_.raster_px, staged_.lens, pending_, &rows_);
+            if (moves_camera_) move_origins(motion_, pending_, staged_.time, &rows_);
+            packet_.add_rows(rows_, pending_, wavelengths_, staged_.time, staged_.slot);
+            return;
+        } else if constexpr (GeneratesRayBatches<Camera>::value) {  // in columns
+            camera_.generate_ray_batch(staged_.raster_px, staged_.lens, pending_, &columns_[0]);
+            if (moves_camera_) move_origins(motion_, pending_, staged_.time, &columns_[0]);
+            packet_.add_batch(columns_, 1, 1, true, pending_, wavelengths_, staged_.time, staged_.slot);
+            return;
         }
         MaybeRay* rays = shared_rays_;
         camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays);
@@ -414,14 +412,13 @@ class SpectralCameraSampleBatcher {
     // The hero's ray carrying every wavelength whose ray it is, then a ray for
     // each other wavelength carrying that one alone.
     void flush_riding() {
-        if constexpr (HasSharedWavelengthRows<Camera>::value) {
-            if (!moves_camera_) {  // in float straight to the packet
-                camera_.generate_shared_ray_rows(staged_.raster_px, staged_.lens, wavelengths_, pending_,
-                                                 shared_rows_, shared_own_);
-                packet_.add_shared_rows(shared_rows_, shared_own_, pending_, wavelengths_, staged_.time,
-                                        staged_.slot);
-                return;
-            }
+        if constexpr (HasSharedWavelengthRows<Camera>::value) {  // in float straight to the packet
+            camera_.generate_shared_ray_rows(staged_.raster_px, staged_.lens, wavelengths_, pending_, shared_rows_,
+                                             shared_own_);
+            if (moves_camera_)
+                for (CameraRayRows& rows : shared_rows_) move_origins(motion_, pending_, staged_.time, &rows);
+            packet_.add_shared_rows(shared_rows_, shared_own_, pending_, wavelengths_, staged_.time, staged_.slot);
+            return;
         }
         if constexpr (HasSharedWavelengthRays<Camera>::value) {
             for (int i = 0; i < pending_; ++i) {
@@ -455,22 +452,22 @@ class SpectralCameraSampleBatcher {
         float nm[kCameraBatch][kHeroWavelengths];
         for (int i = 0; i < pending_; ++i)
             for (int k = 0; k < traced; ++k) nm[i][k] = wavelengths_[i].nm[k * stride];
-        if constexpr (HasWavelengthRayRows<Camera>::value) {
-            if (!moves_camera_) {  // in float straight to the packet
-                check_.passed(camera_.generate_weighted_ray_rows_at(staged_.raster_px, staged_.lens, nm, pending_,
-                                                                    traced, dispersed_rows_, dispersed_weight_,
-                                                                    dispersed_alive_, check_.active()),
-                              packet_);
-                const float* weight[kHeroWavelengths];
-                const bool* alive[kHeroWavelengths];
-                for (int k = 0; k < traced; ++k) weight[k] = dispersed_weight_[k], alive[k] = dispersed_alive_[k];
-                packet_.add_rows(dispersed_rows_, weight, alive, traced, stride, false, pending_, wavelengths_,
-                                 staged_.time, staged_.slot);
-                return;
-            }
+        if constexpr (HasWavelengthRayRows<Camera>::value) {  // in float straight to the packet
+            check_.passed(camera_.generate_weighted_ray_rows_at(staged_.raster_px, staged_.lens, nm, pending_, traced,
+                                                                dispersed_rows_, dispersed_weight_, dispersed_alive_,
+                                                                check_.active()),
+                          packet_);
+            if (moves_camera_)
+                for (int k = 0; k < traced; ++k) move_origins(motion_, pending_, staged_.time, &dispersed_rows_[k]);
+            const float* weight[kHeroWavelengths];
+            const bool* alive[kHeroWavelengths];
+            for (int k = 0; k < traced; ++k) weight[k] = dispersed_weight_[k], alive[k] = dispersed_alive_[k];
+            packet_.add_rows(dispersed_rows_, weight, alive, traced, stride, false, pending_, wavelengths_,
+                             staged_.time, staged_.slot);
+            return;
         }
         // (Only the rows above are checked: a camera with a checked pencil
-        // makes them, and cull_tile culls only a still camera's tiles.)
+        // makes them.)
         MaybeRay (*rays)[kHeroWavelengths] = dispersed_rays_;
         wavelength_rays(camera_, staged_.raster_px, staged_.lens, nm, pending_, traced, rays);
         for (int i = 0; i < pending_; ++i) {

@@ -122,14 +122,17 @@ void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const
     // The boxes' faces the whole aperture is behind (solid_faces.h): the
     // lens disk's box, widened far past the origins' float rounding.
     if (!own_solids_.empty() && pencil.origins_on_lens_disk) {
+        // (A moving camera's: the disk's box over its sweep.)
         const Frame& f = pencil.world_from_camera;
-        const double centre[3] = {f.origin.x, f.origin.y, f.origin.z};
+        const Vec3d mid = f.origin + pencil.sweep_mid_m;
+        const double centre[3] = {mid.x, mid.y, mid.z};
         const double right[3] = {f.right.x, f.right.y, f.right.z}, up[3] = {f.up.x, f.up.y, f.up.z};
-        const double margin_m =
-            1e-6 * (std::fabs(centre[0]) + std::fabs(centre[1]) + std::fabs(centre[2]) + pencil.lens_radius_m);
+        const double margin_m = 1e-6 * (std::fabs(centre[0]) + std::fabs(centre[1]) + std::fabs(centre[2]) +
+                                         pencil.lens_radius_m + pencil.sweep_half_m);
         double lo[3], hi[3];
         for (int a = 0; a < 3; ++a) {
-            const double reach = pencil.lens_radius_m * std::sqrt(right[a] * right[a] + up[a] * up[a]) + margin_m;
+            const double reach = pencil.lens_radius_m * std::sqrt(right[a] * right[a] + up[a] * up[a]) +
+                                 pencil.sweep_half_m + margin_m;
             lo[a] = centre[a] - reach, hi[a] = centre[a] + reach;
         }
         quads &= own_solids_.first_hits_from_box(lo, hi);

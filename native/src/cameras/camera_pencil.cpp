@@ -7,14 +7,14 @@ namespace lc {
 
 bool CameraPencil::may_meet_ball(const float centre_m[3], float radius_m) const {
     const Frame& f = world_from_camera;
-    const Vec3d d{double(centre_m[0]) - f.origin.x, double(centre_m[1]) - f.origin.y,
-                  double(centre_m[2]) - f.origin.z};
+    const Vec3d d{double(centre_m[0]) - sweep_mid_m.x - f.origin.x, double(centre_m[1]) - sweep_mid_m.y - f.origin.y,
+                  double(centre_m[2]) - sweep_mid_m.z - f.origin.z};
     const double x = dot(d, f.right), y = dot(d, f.up), z = dot(d, f.forward);
     // Far above the float rounding of the rays' origins (relative to the
-    // lens centre's coordinates), directions and the screen points.
+    // lens centre's coordinates and the camera's offset), directions and the screen points.
     const double scale_m = length(d) + double(radius_m) + std::fabs(f.origin.x) + std::fabs(f.origin.y) +
-                           std::fabs(f.origin.z) + lens_radius_m;
-    const double r = double(radius_m) + 1e-5 * scale_m;
+                           std::fabs(f.origin.z) + lens_radius_m + length(sweep_mid_m) + sweep_half_m;
+    const double r = double(radius_m) + sweep_half_m + 1e-5 * scale_m;
     if (!std::isfinite(x + y + z + r + scale_m)) return true;
     if (z + r < 0.0) return false;  // wholly behind the lens
     const double depth[2] = {std::max(z - r, 0.0), z + r};

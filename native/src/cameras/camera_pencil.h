@@ -36,6 +36,13 @@ struct CameraPencil {
     // cull the faces from their own origins, which measured faster than a
     // box round that surface (lit_showcase, 3 ns per sample).
     bool origins_on_lens_disk = true;
+    // A moving camera's rays over the shutter: the pencil's translated by an
+    // offset within sweep_half_m of sweep_mid_m (world space, m; zero for a
+    // still camera). A ball meets such a ray only if the ball moved back by
+    // the offset meets the pencil, so the test takes the ball at
+    // centre - sweep_mid_m with sweep_half_m more radius (render_tile.h, cull_tile).
+    Vec3d sweep_mid_m{0.0, 0.0, 0.0};
+    double sweep_half_m = 0.0;
 
     // Whether some ray of the pencil may come within radius_m of centre_m
     // (world space). A value not finite keeps the ball.
