@@ -34,18 +34,15 @@ struct MirroredColumns {
 // One mirror's traced rays in float rows, as the packets take them, alive
 // only in the lanes its image takes. A moving camera's go through double
 // columns (scratch: columns), each offset by the camera's motion at its time
-// before rounding, as CameraSampleBatcher offsets them.
+// before rounding (move_origins).
 inline void mirrored_rows(const LensToWorld& to_world, const SceneMotion& motion, const LensRayBatch& rays,
                           const double* cos_theta, const double* area_mm2, int n, const float* time,
                           const bool* taken, CameraRayBatch* columns, CameraRayRows* rows, float* weight,
                           bool* alive) {
     if (motion.moves_camera()) {
         LensSystemCamera::to_columns(to_world, rays, cos_theta, area_mm2, n, columns);
-        for (int i = 0; i < n; ++i) {
-            const Vec3d offset = motion.camera_velocity_m_per_s * motion.time_s(time[i]);
-            columns->origin[0][i] += offset.x, columns->origin[1][i] += offset.y, columns->origin[2][i] += offset.z;
-            weight[i] = columns->weight[i], alive[i] = columns->alive[i];
-        }
+        move_origins(motion, n, time, columns);
+        for (int i = 0; i < n; ++i) weight[i] = columns->weight[i], alive[i] = columns->alive[i];
         round_rows(*columns, n, rows);
     } else {
         LensSystemCamera::to_rows(to_world, rays, cos_theta, area_mm2, n, rows, weight, alive);

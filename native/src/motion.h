@@ -34,6 +34,8 @@ struct SceneMotion {
     }
 
     double time_s(float u) const { return open_s + double(u) * (close_s - open_s); }
+    // The camera's offset at shutter time u, m (render_tile.h, move_origins).
+    Vec3d camera_offset_m(float u) const { return camera_velocity_m_per_s * time_s(u); }
 };
 
 // The lane-wise test behind SweptBounds::may_hit (motion.cpp): n_boxes boxes

@@ -313,7 +313,7 @@ struct SampleColumns {
 // offset added in double, the origin rounded to float once).
 inline void move_origins(const SceneMotion& motion, int n, const float* time_u, CameraRayRows* rows) {
     for (int i = 0; i < n; ++i) {
-        const Vec3d offset_m = motion.camera_velocity_m_per_s * motion.time_s(time_u[i]);
+        const Vec3d offset_m = motion.camera_offset_m(time_u[i]);
         rows->origin[0][i] = float(double(rows->origin[0][i]) + offset_m.x);
         rows->origin[1][i] = float(double(rows->origin[1][i]) + offset_m.y);
         rows->origin[2][i] = float(double(rows->origin[2][i]) + offset_m.z);
@@ -323,7 +323,7 @@ inline void move_origins(const SceneMotion& motion, int n, const float* time_u, 
 // The same for rays found in double columns.
 inline void move_origins(const SceneMotion& motion, int n, const float* time_u, CameraRayBatch* columns) {
     for (int i = 0; i < n; ++i) {
-        const Vec3d offset_m = motion.camera_velocity_m_per_s * motion.time_s(time_u[i]);
+        const Vec3d offset_m = motion.camera_offset_m(time_u[i]);
         columns->origin[0][i] += offset_m.x, columns->origin[1][i] += offset_m.y, columns->origin[2][i] += offset_m.z;
     }
 }
@@ -376,8 +376,7 @@ class CameraSampleBatcher {
             camera_rays(camera_, staged_.raster_px, staged_.lens, pending_, rays_);
             for (int i = 0; i < pending_; ++i) {
                 if (!rays_[i]) continue;  // vignetted: contributes nothing
-                if (moves_camera_)
-                    rays_[i]->origin += motion_.camera_velocity_m_per_s * motion_.time_s(staged_.time[i]);
+                if (moves_camera_) rays_[i]->origin += motion_.camera_offset_m(staged_.time[i]);
                 packet_.add(*rays_[i], staged_.time[i], staged_.slot[i]);
             }
         }
@@ -414,8 +413,7 @@ void cull_tile(const Camera& camera, const SceneMotion& motion, const Tile& tile
     if constexpr (HasPencil<Camera>::value) {
         if (derived_holds && camera.pencil(x0, y0, x1, y1, &pencil)) {
             if (motion.moves_camera()) {
-                const Vec3d open_m = motion.camera_velocity_m_per_s * motion.time_s(0.0f);
-                const Vec3d close_m = motion.camera_velocity_m_per_s * motion.time_s(1.0f);
+                const Vec3d open_m = motion.camera_offset_m(0.0f), close_m = motion.camera_offset_m(1.0f);
                 pencil.sweep_mid_m = (open_m + close_m) * 0.5;
                 pencil.sweep_half_m = 0.5 * length(close_m - open_m);
             }

@@ -484,7 +484,7 @@ class SpectralCameraSampleBatcher {
     }
 
     void moved(CameraRay* ray, float time_u) const {
-        if (moves_camera_) ray->origin += motion_.camera_velocity_m_per_s * motion_.time_s(time_u);
+        if (moves_camera_) ray->origin += motion_.camera_offset_m(time_u);
     }
 
     // Members, not locals of the flushes: a local array of these was zeroed
