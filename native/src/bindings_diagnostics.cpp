@@ -208,6 +208,51 @@ void bind_lens(nb::module_& m) {
           "Each sample's rays at its four wavelengths (row i * 4 + k: nm[i, k]), by the scalar per-wavelength "
           "trace or (batched) the lockstep trace of spectral renders.");
 
+    m.def("lens_film_points_from",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<const float, -1> nm, CArray<const float, -1> back_nm, CArray<double, -1, 3> origin_mm,
+             CArray<double, -1, 3> direction, CArray<double, -1, 2> film_mm, CArray<bool, -1> alive) {
+              const size_t count = raster_px.shape(0);
+              if (lens.shape(0) != count || nm.shape(0) != count || back_nm.shape(0) != count ||
+                  origin_mm.shape(0) != count || direction.shape(0) != count || film_mm.shape(0) != count ||
+                  alive.shape(0) != count)
+                  throw std::invalid_argument("one row per sample");
+              if (!camera.disperses()) throw std::invalid_argument("the camera does not disperse: set_dispersion first");
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              for (size_t first = 0; first < count; first += kLensBatch) {
+                  const int n = int(std::min<size_t>(kLensBatch, count - first));
+                  LensRayBatch leaving;
+                  double area_mm2[kLensBatch];
+                  camera.sample_batch(raster + first, u + first, n, &leaving, area_mm2);
+                  int32_t row[kLensBatch], back_row[kLensBatch];
+                  for (int i = 0; i < kLensBatch; ++i) {
+                      row[i] = i < n ? camera.glass_row(nm(first + size_t(i))) : 0;
+                      back_row[i] = i < n ? camera.glass_row(back_nm(first + size_t(i))) : 0;
+                  }
+                  trace_from_film_batch(camera.elements, LaneGlass{&camera.dispersion, row}, &leaving,
+                                        camera.trace_kernel, camera.trace_precision);
+                  double x[kLensBatch], y[kLensBatch];
+                  bool back_alive[kLensBatch];
+                  camera.film_points_from(leaving, back_row, x, y, back_alive);
+                  for (int i = 0; i < n; ++i) {
+                      const size_t r = first + size_t(i);
+                      const bool passed = leaving.alive[i];
+                      origin_mm(r, 0) = passed ? leaving.ox[i] : 0.0, origin_mm(r, 1) = passed ? leaving.oy[i] : 0.0;
+                      origin_mm(r, 2) = passed ? leaving.oz[i] : 0.0;
+                      direction(r, 0) = passed ? leaving.dx[i] : 0.0, direction(r, 1) = passed ? leaving.dy[i] : 0.0;
+                      direction(r, 2) = passed ? leaving.dz[i] : 0.0;
+                      alive(r) = passed && back_alive[i];
+                      film_mm(r, 0) = alive(r) ? x[i] : 0.0, film_mm(r, 1) = alive(r) ? y[i] : 0.0;
+                  }
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "nm"_a, "back_nm"_a, "origin_mm"_a, "direction"_a, "film_mm"_a,
+          "alive"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Each sample traced toward the scene at nm (the ray leaving the lens, lens frame: origin_mm, direction; "
+          "0 when blocked), then traced back through the glass at back_nm to the film (film_mm, lens frame), "
+          "alive where both traces pass: LensSystemCamera::film_points_from.");
+
     m.def("thin_band_rays",
           [](const ThinLensCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
              CArray<int, -1> sample, CArray<double, -1, 3> origin, CArray<double, -1, 3> direction,

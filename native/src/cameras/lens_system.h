@@ -16,6 +16,7 @@
 #include "cameras/lens_pencil.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
+#include "lens/lens_reverse.h"
 #include "lens/lens_to_world.h"
 #include "lens/lens_trace.h"
 #include "scene.h"
@@ -86,6 +87,10 @@ struct LensSystemCamera {
     // indices at each nm from 380 nm (set_dispersion); empty: no dispersion.
     std::vector<std::vector<LensElement>> elements_by_nm;
     LensDispersion dispersion;  // the same indices as eta tables, for the batch trace (set_dispersion)
+    // The lens mirrored for back-tracing (lens_reverse.h) and its indices
+    // per nm likewise (set_dispersion): film_points_from.
+    std::vector<LensElement> reversed_elements;
+    LensDispersion reversed_dispersion;
     // The measured bounds of its rays per film cell (lens_pencil.h; set
     // after calibration): null, the render's tiles test every own primitive.
     std::shared_ptr<const LensPencils> pencils;
@@ -140,6 +145,33 @@ struct LensSystemCamera {
     void set_dispersion(std::vector<std::vector<LensElement>> by_nm) {
         elements_by_nm = std::move(by_nm);
         dispersion = LensDispersion::of(elements_by_nm);
+        std::vector<std::vector<LensElement>> reversed_by_nm;
+        reversed_by_nm.reserve(elements_by_nm.size());
+        for (const std::vector<LensElement>& row : elements_by_nm) reversed_by_nm.push_back(reversed_lens(row));
+        reversed_elements = reversed_lens(elements);
+        reversed_dispersion = LensDispersion::of(reversed_by_nm);
+    }
+
+    // Where on the film the rays of leaving came from at lane i's glass row
+    // (row[i], of elements_by_nm): each traced back through the glass at that
+    // wavelength, from where it left the lens (the batch trace's result: on
+    // the first surface, toward the scene) to the film plane, in the batch
+    // trace's precision. alive[i]: the ray gets back through every surface
+    // at that wavelength (film_x_mm and film_y_mm then hold its film point,
+    // lens frame; 0 otherwise). A dispersive lens only (set_dispersion).
+    void film_points_from(const LensRayBatch& leaving, const int32_t* row, double* film_x_mm, double* film_y_mm,
+                          bool* alive) const {
+        LensRayBatch back;
+        mirror_for_back_trace(leaving, &back);
+        trace_from_film_batch(reversed_elements, LaneGlass{&reversed_dispersion, row}, &back, trace_kernel,
+                              trace_precision);
+        for (int i = 0; i < kLensBatch; ++i) {
+            alive[i] = back.alive[i];
+            // The film plane at -film_z_mm in the mirrored frame.
+            const double t = alive[i] ? (-film_z_mm - back.oz[i]) / back.dz[i] : 0.0;
+            film_x_mm[i] = alive[i] ? back.ox[i] + back.dx[i] * t : 0.0;
+            film_y_mm[i] = alive[i] ? back.oy[i] + back.dy[i] * t : 0.0;
+        }
     }
 
     // The ray at wavelength nm (indices of the nearest nm): the same film and

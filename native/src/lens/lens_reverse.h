@@ -1,0 +1,43 @@
+// The lens seen from the scene: every surface mirrored in z (z -> -z), so
+// that the film-to-scene trace through the mirrored lens follows a ray from
+// the scene toward the film. It serves back-tracing: where on the film a ray
+// leaving the lens came from at another wavelength (the chromatic shift of a
+// fixed scene ray, lens_system.h's film_points_from).
+//
+// Mirroring keeps every test of the trace: a sphere's cap condition c (z - v)
+// < 1 holds for the mirrored c and v alike; the normal (0, 0, 1) - c (p - v)
+// is the mirrored surface's; refraction goes from the side the ray comes
+// from to the other, so the two indices swap; x and y, and with them the
+// apertures and a bladed stop's edges, are unchanged.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "lens/lens_trace.h"
+
+namespace lc {
+
+// elements (scene side first) mirrored in z, the former film side first.
+inline std::vector<LensElement> reversed_lens(const std::vector<LensElement>& elements) {
+    std::vector<LensElement> out(elements.rbegin(), elements.rend());
+    for (LensElement& e : out) {
+        e.curvature_per_mm = -e.curvature_per_mm;
+        e.vertex_z_mm = -e.vertex_z_mm;
+        std::swap(e.n_scene_side, e.n_film_side);
+    }
+    return out;
+}
+
+// A lens ray in the mirrored frame, and back: (x, y, z) -> (x, y, -z) for
+// the origin; the direction reversed too (a ray leaving toward the scene,
+// followed back toward the film): (dx, dy, dz) -> (-dx, -dy, dz).
+inline void mirror_for_back_trace(const LensRayBatch& leaving, LensRayBatch* back) {
+    for (int i = 0; i < kLensBatch; ++i) {
+        back->ox[i] = leaving.ox[i], back->oy[i] = leaving.oy[i], back->oz[i] = -leaving.oz[i];
+        back->dx[i] = -leaving.dx[i], back->dy[i] = -leaving.dy[i], back->dz[i] = leaving.dz[i];
+        back->alive[i] = leaving.alive[i];
+    }
+}
+
+}  // namespace lc
