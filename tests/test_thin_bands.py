@@ -56,10 +56,9 @@ def test_each_wavelength_rides_its_own_cameras_ray(disk_mapping):
     lens = rng.random((count, 2)).astype(np.float32)
     sample, origin, direction, k_lo, k_hi, whole = _band_rays(camera, raster, lens)
     assert 0.2 < 1.0 - whole.mean() < 0.9  # both kinds are tested
-    # The hero at the middle plane of focus: the bands' reference (the table falls with wavelength).
-    k_ref = 0.5 * (table.min() + table.max())
+    # The hero at the d line: its plane of focus is the bands' reference (DispersionRuns::reference).
     nm = wavelengths_nm()
-    hero = np.interp(k_ref, table[::-1], nm[::-1])
+    hero = 587.56
     others = rng.uniform(380.0, 780.0, (count, 3))
     quads = np.column_stack([np.full(count, hero), others]).astype(np.float32)
     reference = np.zeros((4 * count, 3)), np.zeros((4 * count, 3)), np.zeros(4 * count, bool)

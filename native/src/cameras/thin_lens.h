@@ -53,12 +53,12 @@ struct ThinLensCamera {
     }
 
     // Rays [first, first + n) of band_rays' (n <= kCameraBatch) in float: each
-    // the ray at the middle plane of focus from its film point.
+    // the ray at the reference plane of focus from its film point.
     void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);
         thin_lens_rays_lanes(n, screen_x, screen_y, rays.lens_x_m.data() + first, rays.lens_y_m.data() + first,
-                             dispersion_runs.middle(), FrameF::of(world_from_camera), out);
+                             dispersion_runs.reference(), FrameF::of(world_from_camera), out);
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {

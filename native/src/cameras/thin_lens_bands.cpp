@@ -34,7 +34,7 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
 __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(
     int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const DispersionRuns& runs,
     double x_scale, double y_scale, BandRays* out) {
-    const double k_lowest = runs.lowest(), k_highest = runs.highest(), k_ref = runs.middle();
+    const double k_lowest = runs.lowest(), k_highest = runs.highest(), k_ref = runs.reference();
     const double below = k_lowest - k_ref, above = k_highest - k_ref;
     out->reserve_more(n);
     for (int i = 0; i < n; ++i) {

@@ -3,7 +3,8 @@
 //
 // A thin lens of focal length f(λ) sends lens point p toward its own plane
 // of focus k(λ) = 1 / focus, so wavelength λ's ray from film point x is the
-// ray at a reference plane k_ref from x - p (k(λ) - k_ref) (screen units;
+// ray at a reference plane k_ref (the d line's: DispersionRuns::reference)
+// from x - p (k(λ) - k_ref) (screen units;
 // ThinLensCamera::generate_rays_sharing). Take the reference ray's film point
 // x uniform over the pixel: each λ's own film point x + p (k(λ) - k_ref),
 // wrapped back into the pixel (a shift modulo the pixel), is uniform over it
@@ -53,7 +54,7 @@ struct BandRays {
 
 // Samples [0, n) (film point raster_px[i], lens point in m) into their rays,
 // appended to out in sample order: 1 / focus over runs' range, the reference
-// plane its middle, x_scale and y_scale the raster pixels per screen unit (y
+// plane runs.reference(), x_scale and y_scale the raster pixels per screen unit (y
 // against raster y).
 void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
                       const DispersionRuns& runs, double x_scale, double y_scale, BandRays* out);
