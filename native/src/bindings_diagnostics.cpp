@@ -222,29 +222,33 @@ void bind_lens(nb::module_& m) {
               const Point2f* u = points(lens);
               for (size_t first = 0; first < count; first += kLensBatch) {
                   const int n = int(std::min<size_t>(kLensBatch, count - first));
-                  LensRayBatch leaving;
-                  double area_mm2[kLensBatch];
-                  camera.sample_batch(raster + first, u + first, n, &leaving, area_mm2);
-                  int32_t row[kLensBatch], back_row[kLensBatch];
-                  for (int i = 0; i < kLensBatch; ++i) {
-                      row[i] = i < n ? camera.glass_row(nm(first + size_t(i))) : 0;
-                      back_row[i] = i < n ? camera.glass_row(back_nm(first + size_t(i))) : 0;
-                  }
-                  trace_from_film_batch(camera.elements, LaneGlass{&camera.dispersion, row}, &leaving,
-                                        camera.trace_kernel, camera.trace_precision);
-                  double x[kLensBatch], y[kLensBatch];
-                  bool back_alive[kLensBatch];
-                  camera.film_points_from(leaving, back_row, x, y, back_alive);
+                  float wavelengths[kLensBatch][kHeroWavelengths] = {};
+                  int32_t back_row[kLensBatch] = {};
                   for (int i = 0; i < n; ++i) {
-                      const size_t r = first + size_t(i);
-                      const bool passed = leaving.alive[i];
-                      origin_mm(r, 0) = passed ? leaving.ox[i] : 0.0, origin_mm(r, 1) = passed ? leaving.oy[i] : 0.0;
-                      origin_mm(r, 2) = passed ? leaving.oz[i] : 0.0;
-                      direction(r, 0) = passed ? leaving.dx[i] : 0.0, direction(r, 1) = passed ? leaving.dy[i] : 0.0;
-                      direction(r, 2) = passed ? leaving.dz[i] : 0.0;
-                      alive(r) = passed && back_alive[i];
-                      film_mm(r, 0) = alive(r) ? x[i] : 0.0, film_mm(r, 1) = alive(r) ? y[i] : 0.0;
+                      wavelengths[i][0] = nm(first + size_t(i));
+                      back_row[i] = camera.glass_row(back_nm(first + size_t(i)));
                   }
+                  // Toward the scene as a spectral render traces (one traced wavelength), then back.
+                  camera.trace_each_wavelength(
+                      raster + first, u + first, wavelengths, n, 1, nullptr,
+                      [&](int, const LensRayBatch& leaving, const double*, const double*) {
+                          double x[kLensBatch], y[kLensBatch];
+                          bool back_alive[kLensBatch];
+                          camera.film_points_from(leaving, back_row, x, y, back_alive);
+                          for (int i = 0; i < n; ++i) {
+                              const size_t r = first + size_t(i);
+                              const bool passed = leaving.alive[i];
+                              origin_mm(r, 0) = passed ? leaving.ox[i] : 0.0;
+                              origin_mm(r, 1) = passed ? leaving.oy[i] : 0.0;
+                              origin_mm(r, 2) = passed ? leaving.oz[i] : 0.0;
+                              direction(r, 0) = passed ? leaving.dx[i] : 0.0;
+                              direction(r, 1) = passed ? leaving.dy[i] : 0.0;
+                              direction(r, 2) = passed ? leaving.dz[i] : 0.0;
+                              alive(r) = passed && back_alive[i];
+                              film_mm(r, 0) = alive(r) ? x[i] : 0.0, film_mm(r, 1) = alive(r) ? y[i] : 0.0;
+                          }
+                          return static_cast<const bool*>(leaving.alive);
+                      });
               }
           },
           "camera"_a, "raster_px"_a, "lens"_a, "nm"_a, "back_nm"_a, "origin_mm"_a, "direction"_a, "film_mm"_a,

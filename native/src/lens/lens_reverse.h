@@ -29,9 +29,9 @@ inline std::vector<LensElement> reversed_lens(const std::vector<LensElement>& el
     return out;
 }
 
-// A lens ray in the mirrored frame, and back: (x, y, z) -> (x, y, -z) for
-// the origin; the direction reversed too (a ray leaving toward the scene,
-// followed back toward the film): (dx, dy, dz) -> (-dx, -dy, dz).
+// Rays that left the lens, in the mirrored frame and followed back toward
+// the film: the origin (x, y, z) -> (x, y, -z), the direction mirrored and
+// reversed, (dx, dy, dz) -> (-dx, -dy, dz).
 inline void mirror_for_back_trace(const LensRayBatch& leaving, LensRayBatch* back) {
     for (int i = 0; i < kLensBatch; ++i) {
         back->ox[i] = leaving.ox[i], back->oy[i] = leaving.oy[i], back->oz[i] = -leaving.oz[i];
