@@ -5,7 +5,7 @@ A camera that moves during the shutter keeps the band rays of a still one
 alike). This prints, for ``showcase`` through the thin lens derived from the
 Double Gauss with Abbe numbers, the camera moving at 0.5 m/s over a 0.04 s
 shutter: ns per sample (1e9 over the render loop's samples/s, one thread, best
-of ``--repeat``), relative RMSE at ``--spp`` (two seeds, as bench_spectral's),
+of ``--repeat``), relative RMSE at ``--spp`` (one pair of seeds; bench_spectral pools three),
 and the time to a given error over the RGB render's (ns per sample times RMSE
 squared), for the band rays (``bands``), drawn hero wavelengths
 (``render(sample_wavelengths=True)``, the path a moving camera took before
