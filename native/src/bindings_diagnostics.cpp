@@ -272,20 +272,33 @@ void bind_lens(nb::module_& m) {
                   const int n = int(std::min<size_t>(kCameraBatch, count - first));
                   rays.clear();
                   camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays);
-                  if (written + size_t(rays.size()) > room) throw std::invalid_argument("not enough room");
-                  for (int at = 0; at < rays.size(); at += kCameraBatch) {
-                      const int m = std::min(kCameraBatch, rays.size() - at);
-                      CameraRayRows rows;
-                      camera.band_ray_rows(rays, at, m, &rows);
-                      for (int r = 0; r < m; ++r, ++written) {
-                          const size_t ray = size_t(at + r);
-                          sample(written) = int(first) + rays.sample[ray];
-                          for (int a = 0; a < 3; ++a)
-                              origin(written, size_t(a)) = rows.origin[a][r],
-                                             direction(written, size_t(a)) = rows.direction[a][r];
-                          whole(written) = rays.whole[ray] != 0;
-                          k_lo(written) = rays.whole[ray] ? camera.band_runs().lowest() : rays.k_lo[ray];
-                          k_hi(written) = rays.whole[ray] ? camera.band_runs().highest() : rays.k_hi[ray];
+                  if (written + size_t(rays.whole_count + rays.size()) > room)
+                      throw std::invalid_argument("not enough room");
+                  CameraRayRows whole_rows, split_rows;
+                  camera.whole_ray_rows(rays, &whole_rows);
+                  auto write = [&](const CameraRayRows& rows, int r, int batch_sample, bool is_whole, double lo,
+                                   double hi) {
+                      sample(written) = int(first) + batch_sample;
+                      for (int a = 0; a < 3; ++a)
+                          origin(written, size_t(a)) = rows.origin[a][r],
+                                         direction(written, size_t(a)) = rows.direction[a][r];
+                      whole(written) = is_whole, k_lo(written) = lo, k_hi(written) = hi;
+                      ++written;
+                  };
+                  // In sample order: a whole sample's one ray, or a split one's rays.
+                  int next_whole = 0, next_split = 0;
+                  for (int i = 0; i < n; ++i) {
+                      if (next_whole < rays.whole_count && rays.whole_sample[next_whole] == i) {
+                          write(whole_rows, next_whole++, i, true, camera.band_runs().lowest(),
+                                camera.band_runs().highest());
+                          continue;
+                      }
+                      for (; next_split < rays.size() && rays.sample[size_t(next_split)] == i; ++next_split) {
+                          const int at = next_split % kCameraBatch;
+                          if (at == 0)
+                              camera.band_ray_rows(rays, next_split, std::min(kCameraBatch, rays.size() - next_split),
+                                                   &split_rows);
+                          write(split_rows, at, i, false, rays.k_lo[size_t(next_split)], rays.k_hi[size_t(next_split)]);
                       }
                   }
               }

@@ -23,33 +23,52 @@
 
 namespace lc {
 
-// Rays waiting for the scene, each with its band; a camera sample's rays
-// arrive together and in order, its value (their sum) going to the pixel
-// after its last, so that an adaptive render's variance is the samples'.
+// Rays waiting for the scene. A whole sample's ray, carrying the whole
+// spectrum, goes to a packet of its own, shaded as through a camera that
+// does not disperse (RayPacket, integrate_wavelengths), with no band to
+// look up or carry. A split sample's rays go here each with its band; they
+// arrive together and in order, the sample's value (their sum) going to the
+// pixel after its last, so that an adaptive render's variance is the
+// samples'.
 class BandRayPacket {
   public:
-    BandRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums) {}
+    BandRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums), whole_(scene, sums, true) {}
 
-    void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
-    void uncull() { batch_.uncull(); }
+    void cull_by(const CameraPencil& pencil) {
+        scene_.camera_candidates(pencil, &batch_);
+        whole_.cull_by(pencil);
+    }
+    void uncull() { batch_.uncull(), whole_.uncull(); }
 
-    // Queues row i of rows carrying the whole spectrum, or (whole false) the
-    // wavelengths runs finds for planes of focus [k_lo, k_hi); last: its
-    // sample's last ray. (The band is written in place: a local copied in
-    // stalled on store forwarding, 40 % of the batcher's time, perf.)
-    void add(const CameraRayRows& rows, int i, bool whole, double k_lo, double k_hi, const DispersionRuns& runs,
-             float time_u, bool last, size_t slot) {
+    // Queues whole samples' rays [0, n) of rows, ray i for the pixel at slot[i].
+    void add_whole(const CameraRayRows& rows, int n, const float* time_u, const size_t* slot) {
+        whole_.add_rows(rows, n, time_u, slot);
+    }
+
+    // Queues row i of rows carrying the wavelengths runs finds for planes of
+    // focus [k_lo, k_hi); last: its sample's last ray. (The band is written
+    // in place: a local copied in stalled on store forwarding, 40 % of the
+    // batcher's time, perf.)
+    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, const DispersionRuns& runs, float time_u,
+             bool last, size_t slot) {
         const int j = batch_.count;
         batch_.set(j, rows, i);
         batch_.time[j] = time_u;
-        if (whole) band_[j].count = -1;
-        else runs.band_of(k_lo, k_hi, &band_[j]);
+        runs.band_of(k_lo, k_hi, &band_[j]);
         last_[j] = last;
         slot_[j] = slot;
-        if (++batch_.count == kPacketSize) flush();
+        if (++batch_.count == kPacketSize) flush_bands();
     }
 
     void flush() {
+        whole_.flush();
+        flush_bands();
+    }
+
+    uint64_t samples_shaded() const { return samples_shaded_ + whole_.rays_shaded(); }
+
+  private:
+    void flush_bands() {
         if (batch_.count == 0) return;
         scene_.spectral_band_radiance(batch_, band_, radiance_);
         Vec3f pending = pending_;
@@ -65,11 +84,9 @@ class BandRayPacket {
         batch_.count = 0;
     }
 
-    uint64_t samples_shaded() const { return samples_shaded_; }
-
-  private:
     const Scene& scene_;
     TileAccumulator& sums_;
+    RayPacket whole_;
     RayBatch batch_;
     WavelengthBand band_[kPacketSize];
     bool last_[kPacketSize];
@@ -80,8 +97,9 @@ class BandRayPacket {
 };
 
 // Samples waiting for the camera, a batch at a time: the camera splits them
-// into their rays (band_rays), and the rays go to the packet in float a
-// camera batch's worth at a time (band_ray_rows). A moving camera's rays
+// into their rays (band_rays), and the rays go to the packet in float, the
+// whole samples' at once (whole_ray_rows), the split samples' a camera
+// batch's worth at a time (band_ray_rows). A moving camera's rays
 // start where the camera is at their sample's time: a translation of the
 // whole camera moves every wavelength's ray alike, so the bands are a still
 // camera's.
@@ -104,6 +122,17 @@ class BandCameraSampleBatcher {
         if (pending_ == 0) return;
         rays_.clear();
         camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_);
+        if (const int whole = rays_.whole_count; whole > 0) {
+            camera_.whole_ray_rows(rays_, &rows_);
+            float time_u[kCameraBatch];
+            size_t slot[kCameraBatch];
+            for (int r = 0; r < whole; ++r) {
+                const int sample = rays_.whole_sample[r];
+                time_u[r] = staged_.time[sample], slot[r] = staged_.slot[sample];
+            }
+            if (moves_camera_) move_origins(motion_, whole, time_u, &rows_);
+            packet_.add_whole(rows_, whole, time_u, slot);
+        }
         const DispersionRuns& runs = camera_.band_runs();
         const int count = rays_.size();
         for (int first = 0; first < count; first += kCameraBatch) {
@@ -118,8 +147,8 @@ class BandCameraSampleBatcher {
                 const size_t ray = size_t(first + r);
                 const int sample = rays_.sample[ray];
                 const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
-                packet_.add(rows_, r, rays_.whole[ray], rays_.k_lo[ray], rays_.k_hi[ray], runs, staged_.time[sample],
-                            last, staged_.slot[sample]);
+                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], runs, staged_.time[sample], last,
+                            staged_.slot[sample]);
             }
         }
         pending_ = 0;

@@ -52,6 +52,9 @@ struct ThickLensCamera {
     void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
         at_front_principal_plane.band_rays(raster_px, lens_sample, n, out);
     }
+    void whole_ray_rows(const BandRays& rays, CameraRayRows* out) const {
+        at_front_principal_plane.whole_ray_rows(rays, out);
+    }
     void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
         at_front_principal_plane.band_ray_rows(rays, first, n, out);
     }

@@ -44,7 +44,8 @@ struct ThinLensCamera {
     bool carries_bands() const { return disperses() && dispersion_runs.fits(); }
     const DispersionRuns& band_runs() const { return dispersion_runs; }
 
-    // Samples [0, n)'s rays, each carrying a band of planes of focus (thin_lens_bands.h), appended to out.
+    // Samples [0, n)'s rays (n <= kCameraBatch), each carrying the whole spectrum or a band of planes of
+    // focus (thin_lens_bands.h), into out (cleared).
     void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
         double lens_x[kCameraBatch], lens_y[kCameraBatch];
         lens_points(lens_sample, n, lens_x, lens_y);
@@ -52,8 +53,17 @@ struct ThinLensCamera {
                          film_px_per_screen_y(), out);
     }
 
-    // Rays [first, first + n) of band_rays' (n <= kCameraBatch) in float: each
-    // the ray at the reference plane of focus from its film point.
+    // The whole samples' rays of band_rays' in float: each the ray at the
+    // reference plane of focus from its film point.
+    void whole_ray_rows(const BandRays& rays, CameraRayRows* out) const {
+        float screen_x[kCameraBatch], screen_y[kCameraBatch];
+        screen_points_lanes(rays.whole_count, film, rays.whole_raster_px, screen_x, screen_y);
+        thin_lens_rays_lanes(rays.whole_count, screen_x, screen_y, rays.whole_lens_x_m, rays.whole_lens_y_m,
+                             dispersion_runs.reference(), FrameF::of(world_from_camera), out);
+    }
+
+    // The split samples' rays [first, first + n) of band_rays' (n <=
+    // kCameraBatch) in float, as whole_ray_rows'.
     void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);

@@ -29,26 +29,35 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
 }  // namespace
 
 // Per instruction set (target_clones): baseline x86-64 has no rounding
-// instruction, and its floor in software, with the branch on whether a sample
-// straddles an edge, was most of this function (perf).
+// instruction, and its floor in software was most of this function (perf).
 __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(
     int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const DispersionRuns& runs,
     double x_scale, double y_scale, BandRays* out) {
     const double k_lowest = runs.lowest(), k_highest = runs.highest(), k_ref = runs.reference();
     const double below = k_lowest - k_ref, above = k_highest - k_ref;
-    out->reserve_more(n);
+    // Every sample's test first, without a branch (a fifth of them split, at
+    // random: the branch on it was a third of this function, perf): each
+    // written as a whole sample, kept only where it is one, and its index
+    // kept for the walk below where it is not.
+    int split[kCameraBatch];
+    int whole_count = 0, split_count = 0;
     for (int i = 0; i < n; ++i) {
         const double x = raster_px[i].x, y = raster_px[i].y;
         // Screen x grows with raster x, screen y against raster y (FilmToScreen).
         const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
-        if (std::floor(x + gx * below) == std::floor(x + gx * above) &&
-            std::floor(y + gy * below) == std::floor(y + gy * above)) {
-            // Every wavelength lands in the pixel: one ray, the whole spectrum (room reserved above)
-            const size_t at = size_t(out->count++);
-            out->sample[at] = i, out->raster_px[at] = raster_px[i], out->whole[at] = 1;
-            out->lens_x_m[at] = float(lens_x_m[i]), out->lens_y_m[at] = float(lens_y_m[i]);
-            continue;
-        }
+        const bool whole = (std::floor(x + gx * below) == std::floor(x + gx * above)) &
+                           (std::floor(y + gy * below) == std::floor(y + gy * above));
+        out->whole_sample[whole_count] = i, out->whole_raster_px[whole_count] = raster_px[i];
+        out->whole_lens_x_m[whole_count] = float(lens_x_m[i]), out->whole_lens_y_m[whole_count] = float(lens_y_m[i]);
+        whole_count += int(whole);
+        split[split_count] = i;
+        split_count += int(!whole);
+    }
+    out->whole_count = whole_count;
+    for (int s = 0; s < split_count; ++s) {
+        const int i = split[s];
+        const double x = raster_px[i].x, y = raster_px[i].y;
+        const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
         const double pixel_x = std::floor(x), pixel_y = std::floor(y);
         auto emit_one = [&](double cell_x, double cell_y, double k_from, double k_to) {
             if (!(k_to > k_from)) return;  // a corner: no wavelength lands there
@@ -56,13 +65,13 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
             out->sample[at] = i;
             out->raster_px[at] = {float(x - (cell_x - pixel_x)), float(y - (cell_y - pixel_y))};
             out->lens_x_m[at] = float(lens_x_m[i]), out->lens_y_m[at] = float(lens_y_m[i]);
-            out->k_lo[at] = k_from, out->k_hi[at] = k_to, out->whole[at] = 0;
+            out->k_lo[at] = k_from, out->k_hi[at] = k_to;
         };
         const double x_from = std::floor(x + gx * below), x_to = std::floor(x + gx * above);
         const double y_from = std::floor(y + gy * below), y_to = std::floor(y + gy * above);
         if (std::fabs(x_to - x_from) <= 1.0 && std::fabs(y_to - y_from) <= 1.0) {
             // At most one edge each way (a spread under a pixel): crossings' walk written out.
-            out->reserve_more(3 + (n - 1 - i));
+            out->reserve_more(3);
             auto edge_k = [&](double from, double to, double position, double g) {
                 return to != from ? std::clamp(k_ref + (std::max(from, to) - position) / g, k_lowest, k_highest)
                                   : k_highest;
@@ -80,8 +89,7 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
         const int step_x = crossings(x, gx, k_ref, k_lowest, k_highest, &out->x_edges, &cell_x);
         const int step_y = crossings(y, gy, k_ref, k_lowest, k_highest, &out->y_edges, &cell_y);
         const std::vector<double>&x_edges = out->x_edges, &y_edges = out->y_edges;
-        // The rest of the batch's samples keep the room reserved for them.
-        out->reserve_more(int(x_edges.size() + y_edges.size()) + 1 + (n - 1 - i));
+        out->reserve_more(int(x_edges.size() + y_edges.size()) + 1);
         auto emit = [&](double k_from, double k_to) { emit_one(cell_x, cell_y, k_from, k_to); };
         // Walk the two lists of edges in k order, a ray per stretch between them.
         double k = k_lowest;
