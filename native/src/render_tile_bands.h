@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 
 #include "cameras/thin_lens_bands.h"
 #include "render_tile.h"
@@ -54,7 +55,11 @@ class BandRayPacket {
         const int j = batch_.count;
         batch_.set(j, rows, i);
         batch_.time[j] = time_u;
-        runs.band_of(k_lo, k_hi, &band_[j]);
+        // The ends at k_lo are the last ray's at its k_hi when the two share an edge.
+        if (!(k_lo == ends_hi_.k)) runs.ends_at(k_lo, &ends_lo_);
+        else ends_lo_ = ends_hi_;
+        runs.ends_at(k_hi, &ends_hi_);
+        runs.band_between(ends_lo_, ends_hi_, &band_[j]);
         last_[j] = last;
         slot_[j] = slot;
         if (++batch_.count == kPacketSize) flush_bands();
@@ -93,6 +98,8 @@ class BandRayPacket {
     size_t slot_[kPacketSize];
     Vec3f radiance_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
+    // The last ray's band ends (k NaN: none yet).
+    DispersionRuns::Ends ends_lo_{}, ends_hi_{std::numeric_limits<double>::quiet_NaN(), {}};
     uint64_t samples_shaded_ = 0;
 };
 

@@ -183,16 +183,32 @@ class DispersionRuns {
     double reference() const { return reference_; }
     static constexpr double kReferenceNm = 587.56;  // Fraunhofer d (helium)
 
+    // Where plane of focus k falls in each run: the wavelength where the
+    // set {k' < k} ends in a rising run, or begins in a falling one.
+    struct Ends {
+        double k;
+        float nm[kMaxBandRuns];
+    };
+    void ends_at(double k, Ends* out) const {
+        out->k = k;
+        for (size_t r = 0; r < runs_.size(); ++r)
+            out->nm[r] = runs_[r].rising ? runs_[r].nm_where_reaches(k) : runs_[r].nm_where_passes(-k);
+    }
+
     // The wavelengths whose 1 / focus lies in [k_lo, k_hi), into *out (needs fits()).
     void band_of(double k_lo, double k_hi, WavelengthBand* out) const {
+        Ends lo, hi;
+        ends_at(k_lo, &lo), ends_at(k_hi, &hi);
+        band_between(lo, hi, out);
+    }
+    // The same from the ends at k_lo and k_hi (a split sample's rays share
+    // theirs: one ray's k_hi is the next one's k_lo).
+    void band_between(const Ends& lo, const Ends& hi, WavelengthBand* out) const {
         out->count = 0;
-        for (const Run& run : runs_) {
-            float from, to;
-            if (run.rising) {  // {k < x} is [start, at(x)): the band is [at(k_lo), at(k_hi))
-                from = run.nm_where_reaches(k_lo), to = run.nm_where_reaches(k_hi);
-            } else {  // values -k: {k < x} is (at(-x), end]: the band is (at(-k_hi), at(-k_lo)]
-                from = run.nm_where_passes(-k_hi), to = run.nm_where_passes(-k_lo);
-            }
+        for (size_t r = 0; r < runs_.size(); ++r) {
+            // rising: {k < x} is [start, at(x)), the band [at(k_lo), at(k_hi));
+            // falling (values -k): {k < x} is (at(-x), end], the band (at(-k_hi), at(-k_lo)]
+            const float from = runs_[r].rising ? lo.nm[r] : hi.nm[r], to = runs_[r].rising ? hi.nm[r] : lo.nm[r];
             if (to > from) {
                 out->from_nm[out->count] = from, out->to_nm[out->count] = to;
                 ++out->count;
