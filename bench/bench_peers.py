@@ -73,6 +73,7 @@ import json
 import math
 import os
 import platform
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -171,6 +172,19 @@ def decomposition(scenes, threads):
     return out
 
 
+def spread(seconds_by_key: dict, samples: int) -> dict:
+    """Each renderer's median samples/s over the rounds and its slowest round over its fastest, and the
+    llvm ratios of the medians: how far the best-of ratios could move on this machine."""
+    median = {key: samples / statistics.median(times) for key, times in seconds_by_key.items()}
+    out = {"median_samples_per_second": median,
+           "slowest_over_fastest_round": {key: max(t) / min(t) for key, t in seconds_by_key.items()}}
+    out["median_ratios"] = {f"native_{m}_over_mitsuba_llvm_ad_rgb": median[f"native_{m}"] /
+                            median[f"mitsuba_llvm_ad_rgb_{m}"]
+                            for m in ("thin", "pinhole")
+                            if f"native_{m}" in median and f"mitsuba_llvm_ad_rgb_{m}" in median}
+    return out
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--spp", type=int, default=64)
@@ -252,11 +266,13 @@ def main() -> int:
             if not args.no_povray and not empty:
                 timers["povray_thin"] = povray_timer(scene, args.spp, args.threads)
             best = {key: float("inf") for key in timers}
+            every = {key: [] for key in timers}  # each round's seconds: the spread of a noisy machine
             for round_ in range(args.repeat):
                 # Serpentine: forward, then backward (see the top).
                 order = list(timers) if round_ % 2 == 0 else list(reversed(timers))
                 for key in order:
-                    best[key] = min(best[key], timers[key]())
+                    every[key].append(timers[key]())
+                    best[key] = min(best[key], every[key][-1])
                 log(f"{name} round {round_ + 1}: " + ", ".join(f"{k} {samples / v / 1e6:.2f}" for k, v in best.items())
                     + " M samples/s (best so far)")
             sps = {key: samples / seconds for key, seconds in best.items()}
@@ -290,6 +306,7 @@ def main() -> int:
                 "best_seconds": best,
                 "samples_per_second": sps,
                 "ratios": ratios,
+                "spread": spread(every, samples),
             }
 
     if args.empty:
