@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import time
 from pathlib import Path
 
@@ -43,12 +44,14 @@ def main():
     # Alternate the two models and keep each one's best of --repeat: a slow
     # spell of the machine then costs both alike instead of one.
     # lens_mirrored: render(lens_mirrors=True), a quarter of the samples traced, the rest reflected.
-    sps = {"pinhole": 0.0, "lens": 0.0, "lens_mirrored": 0.0}
+    rounds = {"pinhole": [], "lens": [], "lens_mirrored": []}
     for _ in range(args.repeat):
-        for key in sps:
+        for key, values in rounds.items():
             model = key.removesuffix("_mirrored")
-            sps[key] = max(sps[key], render(scene, model=model, spp=args.spp, threads=args.threads, progress=False,
-                                            lens_mirrors=key.endswith("_mirrored")).metadata["samples_per_second"])
+            values.append(render(scene, model=model, spp=args.spp, threads=args.threads, progress=False,
+                                 lens_mirrors=key.endswith("_mirrored")).metadata["samples_per_second"])
+    sps = {key: max(values) for key, values in rounds.items()}
+    median = {key: statistics.median(values) for key, values in rounds.items()}
     results = {
         "benchmark": "lens_system",
         "scene": scene.name,
@@ -59,6 +62,11 @@ def main():
         "lens_samples_per_second": sps["lens"],
         "lens_over_pinhole": sps["lens"] / sps["pinhole"],
         "lens_mirrored_over_pinhole": sps["lens_mirrored"] / sps["pinhole"],
+        # The same from each path's median round, and how far its rounds spread: a noisy machine's
+        # best-of ratios can move by as much.
+        "median_lens_over_pinhole": median["lens"] / median["pinhole"],
+        "median_lens_mirrored_over_pinhole": median["lens_mirrored"] / median["pinhole"],
+        "fastest_over_slowest_round": {key: max(v) / min(v) for key, v in rounds.items()},
         "goal_lens_over_pinhole": 0.85,
         "lenses": {},
     }
