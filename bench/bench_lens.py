@@ -26,6 +26,7 @@ from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
 from lenscompare.render import render
 from lenscompare.scene import load_scene
+from machine import describe as describe_machine
 
 SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
 LENSES = {"dgauss.50mm": 3.0, "wide.22mm": 3.0, "fisheye.10mm": 3.0, "telephoto.250mm": 10.0}
@@ -54,6 +55,7 @@ def main():
     median = {key: statistics.median(values) for key, values in rounds.items()}
     results = {
         "benchmark": "lens_system",
+        "machine": describe_machine(),
         "scene": scene.name,
         "resolution": list(scene.camera.resolution),
         "spp": args.spp,

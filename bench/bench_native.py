@@ -21,7 +21,6 @@ import argparse
 import json
 import os
 import dataclasses
-import platform
 import statistics
 from pathlib import Path
 
@@ -30,6 +29,7 @@ from lenscompare.cameras import camera_for
 from lenscompare.native_scene import build_native_scene
 from lenscompare.render import render
 from lenscompare.scene import load_scene
+from machine import describe as describe_machine
 
 SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
 
@@ -66,7 +66,7 @@ def main():
         "resolution": list(scene.camera.resolution),
         "spp": args.spp,
         "threads": args.threads,
-        "machine": platform.machine(),
+        "machine": describe_machine(),
         "cpu_count": os.cpu_count(),
         "raw_embree_primary_rays_per_second": raw_rays_per_second,
     }

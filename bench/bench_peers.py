@@ -72,7 +72,6 @@ import dataclasses
 import json
 import math
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -91,6 +90,7 @@ from lenscompare.mitsuba.runner import load_mitsuba, write_mitsuba  # noqa: E402
 from lenscompare.povray import render_povray  # noqa: E402
 from lenscompare.render import render  # noqa: E402
 from lenscompare.scene import load_scene  # noqa: E402
+from machine import describe as describe_machine  # noqa: E402
 
 SCENES = {
     "lit_showcase": ROOT / "reference_scenes" / "lit_showcase.toml",
@@ -225,7 +225,7 @@ def main() -> int:
         "lens": LENS,
         "mitsuba_version": getattr(mi, "__version__", None),
         "mitsuba_skipped": {v: e for v, e in variants.items() if e},
-        "machine": platform.machine(),
+        "machine": describe_machine(),
         "cpu_count": os.cpu_count(),
         "scenes": {},
     }

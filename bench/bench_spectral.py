@@ -46,6 +46,7 @@ import numpy as np
 from lenscompare.render import render
 from lenscompare.render_spectral import traced_wavelengths_for
 from lenscompare.scene import load_scene
+from machine import describe as describe_machine
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "reference_scenes" / "showcase.toml"
@@ -147,6 +148,7 @@ def main():
     thin_over_rgb = sps["thin_spectral"] / sps["thin_rgb"]
     print(json.dumps({
         "benchmark": "spectral",
+        "machine": describe_machine(),
         "scene": showcase.name,
         "lens": DISPERSIVE_LENS.name,
         "resolution": list(args.resolution),
