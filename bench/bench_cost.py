@@ -4,7 +4,10 @@ Prints one JSON object: for showcase.toml at quarter resolution, every model and
 sampler at 1-64 spp: seconds, samples/s and relative RMSE against a cached
 converged reference; the time to reach 1 % relative RMSE; POV-Ray's row.
 
-Usage: python bench/bench_cost.py [--threads T] [--no-povray]
+``--timing-repeats N`` renders the grid N times and times each point by its fastest
+round (``lenscompare cost --timing-repeats``), for a machine whose speed varies.
+
+Usage: python bench/bench_cost.py [--threads T] [--no-povray] [--timing-repeats N]
 """
 
 from __future__ import annotations
@@ -25,8 +28,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--threads", type=int, default=os.cpu_count())
     parser.add_argument("--no-povray", action="store_true")
+    parser.add_argument("--timing-repeats", type=int, default=1)
     args = parser.parse_args()
-    settings = CostSettings(quick=True, threads=args.threads, povray=not args.no_povray)
+    settings = CostSettings(quick=True, threads=args.threads, povray=not args.no_povray,
+                            timing_repeats=args.timing_repeats)
     with tempfile.TemporaryDirectory() as out:
         results = run_cost_study([load_scene(SCENE)], out, settings, progress=False)
     study = results["scenes"]["showcase"]
@@ -35,6 +40,7 @@ def main():
         "scene": "showcase",
         "resolution": study["resolution"],
         "threads": args.threads,
+        "timing_repeats": args.timing_repeats,
         "spp_values": results["settings"]["spp_values"],
         "seconds_to_1_percent": {
             model: {sampler: s["seconds_to_1_percent"] for sampler, s in series.items()}

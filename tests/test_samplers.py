@@ -416,3 +416,24 @@ def test_a_pixel_without_lens_points_has_the_same_film_time_and_wavelength(name,
                 assert a.tobytes() == b.tobytes(), (name, pixel)
         assert np.any(drawn[1] != 0.0)  # the lens points were drawn in the first call
 
+
+
+def test_poisson_patterns_made_ahead_are_the_patterns_made_on_first_use():
+    """prepare_poisson_patterns (render's warm-up, outside its time) makes the pool that first use would:
+    the pixels' samples are the same either way, and a render at that spp then reports no set-up."""
+    from lenscompare.render import render
+    from lenscompare.scene import load_scene
+
+    from helpers import REFERENCE_SCENES
+
+    spp = 37  # a count no other test draws, so its pool is made here
+    lazily = [pixel_samples(_native.SAMPLER_POISSON, spp, seed=5, pixel=p) for p in range(40)]
+    _native.prepare_poisson_patterns(spp)
+    ahead = [pixel_samples(_native.SAMPLER_POISSON, spp, seed=5, pixel=p) for p in range(40)]
+    for (film_a, lens_a), (film_b, lens_b) in zip(lazily, ahead):
+        assert np.array_equal(film_a, film_b) and np.array_equal(lens_a, lens_b)
+    scene = load_scene(REFERENCE_SCENES / "showcase.toml").with_camera(resolution=(24, 16)).with_render(
+        spp=41, sampler="poisson")
+    first, second = (render(scene, model="pinhole", seed=1, threads=1, progress=False) for _ in range(2))
+    assert first.metadata["sampler_setup_seconds"] > 0 and second.metadata["sampler_setup_seconds"] < 1e-3
+    assert np.array_equal(first.pixels, second.pixels)

@@ -9,9 +9,12 @@ from ..cost import CostSettings, run_cost_study
 from ..cluster import open_cluster
 from ..lenses import resolve_lens
 from ..scene import load_scene
-from ._options import THREADS
+from ._options import THREADS, integer_option
 
 __all__ = ["add_parser", "run"]
+
+# Each repeat renders the whole grid again.
+MAX_TIMING_REPEATS = 20
 
 
 def add_parser(subparsers) -> None:
@@ -28,6 +31,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--threads", type=THREADS, default=None,
                    help="threads per render (default and at most: every core; on a cluster, its machine's cores over "
                         "its Dask slots)")
+    p.add_argument("--timing-repeats", type=integer_option(minimum=1, maximum=MAX_TIMING_REPEATS), default=1,
+                   metavar="N",
+                   help="render every point N times, in rounds over the whole grid, and time it by its fastest "
+                        "round (for a machine whose speed varies; default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the renders as tasks on the Dask cluster of this scheduler (tcp://HOST:PORT)")
     p.set_defaults(run=run)
@@ -37,7 +44,7 @@ def run(args) -> int:
     resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
     scenes = [load_scene(p) for p in args.scenes]
     settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
-                            cache_dir=Path(args.cache) if args.cache else None)
+                            cache_dir=Path(args.cache) if args.cache else None, timing_repeats=args.timing_repeats)
     with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:
         results = run_cost_study(scenes, args.output, settings, cluster=cluster, final=True)
     for line in results["findings"]:

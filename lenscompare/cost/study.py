@@ -38,6 +38,10 @@ class CostSettings:
     povray: bool = True
     samplers: tuple[str, ...] = field(default_factory=lambda: tuple(SAMPLERS))
     models: tuple[str, ...] = MODELS
+    # Renders of each (model, sampler, spp) point, in rounds over the whole grid; its time is the
+    # fastest round's (its image is the same every round: the same seed). More than one for a
+    # machine whose speed varies between repeats, so that a slow spell does not reorder the table.
+    timing_repeats: int = 1
 
     @property
     def spp_values(self) -> tuple[int, ...]:
@@ -77,17 +81,26 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
                                        "seconds": ref.metadata.get("seconds")}
     grid = [(model, sampler, spp) for model in settings.models for sampler in settings.samplers
             for spp in settings.spp_values]
-    images = dict(zip(grid, run_calls(
-        cluster, render, [((scene,), {"model": model, "spp": spp, "sampler": sampler, "seed": 0, "progress": False})
-                          for model, sampler, spp in grid], threads=settings.threads, progress=progress)))
+    calls = [((scene,), {"model": model, "spp": spp, "sampler": sampler, "seed": 0, "progress": False})
+             for model, sampler, spp in grid]
+    images = dict(zip(grid, run_calls(cluster, render, calls, threads=settings.threads, progress=progress)))
+    by_round = {cell: [images[cell].metadata] for cell in grid}
+    rounds = max(1, settings.timing_repeats)
+    # Later rounds only for their times (the same seed, the same image): their pixels are dropped.
+    for _ in range(rounds - 1):
+        for cell, image in zip(grid, run_calls(cluster, render, calls, threads=settings.threads, progress=progress)):
+            by_round[cell].append(image.metadata)
     for model in settings.models:
         series = {}
         for sampler in settings.samplers:
             points = []
             for spp in settings.spp_values:
                 image = images[model, sampler, spp]
-                points.append({"spp": spp, "seconds": image.metadata["seconds"],
-                               "samples_per_second": image.metadata["samples_per_second"],
+                fastest = min(by_round[model, sampler, spp], key=lambda m: m["seconds"])
+                points.append({"spp": spp, "seconds": fastest["seconds"],
+                               "samples_per_second": fastest["samples_per_second"],
+                               **({"seconds_by_round": [m["seconds"] for m in by_round[model, sampler, spp]]}
+                                  if rounds > 1 else {}),
                                **_error(references[model], image.pixels)})
             series[sampler] = {"points": points, "slope": fitted_slope(points),
                                "seconds_to_1_percent": time_to_error(points, TARGET_RELATIVE_RMSE)}

@@ -310,6 +310,8 @@ NB_MODULE(_native, m) {
     m.attr("SAMPLER_REGULAR") = int(SamplerKind::Regular);
     m.attr("SAMPLER_POISSON") = int(SamplerKind::Poisson);
     m.attr("SAMPLER_SOBOL") = int(SamplerKind::Sobol);
+    m.def("prepare_poisson_patterns", &prepare_poisson_patterns, "spp"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "Make the poisson sampler's patterns for spp now, kept for the process (otherwise on first use).");
     m.attr("DISK_POLAR") = int(DiskMapping::Polar);
     m.attr("DISK_CONCENTRIC") = int(DiskMapping::Concentric);
     m.attr("MATERIAL_EMISSIVE") = int(MaterialKind::Emissive);

@@ -143,6 +143,8 @@ PolarDiskPoint map_to_disk_polar(Point2f u, DiskMapping mapping);
 
 // One function per sampler defined in its own file; each fills one pixel.
 void fill_poisson(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens);
+// Makes the poisson sampler's patterns for spp now (they are otherwise made on first use).
+void prepare_poisson_patterns(int spp);
 void fill_sobol(uint64_t seed, uint64_t pixel_index, int spp, bool scrambled, Point2f* film, Point2f* lens,
                 float* time, float* wavelength = nullptr, bool time_from_index = false);
 void fill_sobol_padded(uint64_t seed, uint64_t pixel_index, int spp, Point2f* film, Point2f* lens, float* time);
