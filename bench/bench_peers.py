@@ -173,11 +173,12 @@ def decomposition(scenes, threads):
 
 
 def spread(seconds_by_key: dict, samples: int) -> dict:
-    """Each renderer's median samples/s over the rounds and its slowest round over its fastest, and the
-    llvm ratios of the medians: how far the best-of ratios could move on this machine."""
+    """Each renderer's median samples/s over the rounds and its fastest round over its slowest (as
+    bench_native's and bench_lens's), and the llvm ratios of the medians: how far the best-of ratios
+    could move on this machine."""
     median = {key: samples / statistics.median(times) for key, times in seconds_by_key.items()}
     out = {"median_samples_per_second": median,
-           "slowest_over_fastest_round": {key: max(t) / min(t) for key, t in seconds_by_key.items()}}
+           "fastest_over_slowest_round": {key: max(t) / min(t) for key, t in seconds_by_key.items()}}
     out["median_ratios"] = {f"native_{m}_over_mitsuba_llvm_ad_rgb": median[f"native_{m}"] /
                             median[f"mitsuba_llvm_ad_rgb_{m}"]
                             for m in ("thin", "pinhole")

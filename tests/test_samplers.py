@@ -417,7 +417,6 @@ def test_a_pixel_without_lens_points_has_the_same_film_time_and_wavelength(name,
         assert np.any(drawn[1] != 0.0)  # the lens points were drawn in the first call
 
 
-
 def test_poisson_patterns_made_ahead_are_the_patterns_made_on_first_use():
     """prepare_poisson_patterns (render's warm-up, outside its time) makes the pool that first use would:
     the pixels' samples are the same either way, and a render at that spp then reports no set-up."""

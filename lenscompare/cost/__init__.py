@@ -42,13 +42,13 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
     stems = stems or unique_file_names(s.name for s in scenes)
     start = time.perf_counter()
     renders = sum(len(settings.models) * len(settings.samplers) * len(settings.spp_values)
-                  * max(1, settings.timing_repeats)
+                  * settings.timing_rounds
                   + (len(settings.povray_spp_values) if povray_series_wanted(p, settings) else 0)
                   for p in prepared_scenes)
     results = {"settings": {"quick": settings.quick, "lens": settings.lens, "samplers": list(settings.samplers),
                             "spp_values": list(settings.spp_values), "reference_spp": settings.reference_spp,
                             "threads": settings.threads or os.cpu_count(), "target_relative_rmse": 0.01,
-                            "timing_repeats": max(1, settings.timing_repeats),
+                            "timing_repeats": settings.timing_rounds,
                             "scheduler": cluster.address if cluster else None},
                "scenes": {}, "findings": []}
     with progress_bar(renders, description="cost study", unit="render", enabled=progress) as bar:

@@ -44,6 +44,11 @@ class CostSettings:
     timing_repeats: int = 1
 
     @property
+    def timing_rounds(self) -> int:
+        """Rounds over the grid: timing_repeats, and at least one."""
+        return max(1, self.timing_repeats)
+
+    @property
     def spp_values(self) -> tuple[int, ...]:
         return (1, 4, 16, 64) if self.quick else (1, 4, 16, 64, 256, 1024)
 
@@ -85,7 +90,7 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
              for model, sampler, spp in grid]
     images = dict(zip(grid, run_calls(cluster, render, calls, threads=settings.threads, progress=progress)))
     by_round = {cell: [images[cell].metadata] for cell in grid}
-    rounds = max(1, settings.timing_repeats)
+    rounds = settings.timing_rounds
     # Later rounds only for their times (the same seed, the same image): their pixels are dropped.
     for _ in range(rounds - 1):
         for cell, image in zip(grid, run_calls(cluster, render, calls, threads=settings.threads, progress=progress)):
