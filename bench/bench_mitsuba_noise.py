@@ -41,6 +41,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(BENCH))
 
 from bench_povray import spp_list, time_to_target  # noqa: E402
+from idle_threads import wait_for_idle_threads  # noqa: E402
 
 from lenscompare.metrics import relative_rmse  # noqa: E402
 from lenscompare.mitsuba.export import scene_to_mitsuba  # noqa: E402
@@ -65,6 +66,7 @@ def mitsuba_sweep(mi, scene, model, counts, repeat, reference, folder, sampler):
         np.asarray(mi.render(loaded, seed=0))  # JIT warm-up, not counted
         best, pixels = float("inf"), None
         for _ in range(repeat):
+            wait_for_idle_threads()
             start = time.perf_counter()
             pixels = np.array(mi.render(loaded, seed=0), dtype=np.float32)  # the array forces evaluation
             best = min(best, time.perf_counter() - start)
@@ -76,8 +78,10 @@ def mitsuba_sweep(mi, scene, model, counts, repeat, reference, folder, sampler):
 def native_sweep(scene, model, counts, repeat, threads, sampler, reference):
     points = []
     for spp in counts:
-        runs = [render(scene, model=model, spp=spp, sampler=sampler, threads=threads, progress=False)
-                for _ in range(repeat)]
+        runs = []
+        for _ in range(repeat):
+            wait_for_idle_threads()  # Dr.Jit's workers spin for a while after the Mitsuba sweep
+            runs.append(render(scene, model=model, spp=spp, sampler=sampler, threads=threads, progress=False))
         points.append({"spp": spp, "seconds": min(r.metadata["seconds"] for r in runs),
                        "relative_rmse": relative_rmse(reference, runs[0].pixels)})
         log(f"native  {spp:5d} spp: {points[-1]['seconds']:.3f} s, relative RMSE {points[-1]['relative_rmse']:.4f}")

@@ -3,11 +3,12 @@
 For each scene, every renderer renders the same picture at the same
 resolution, spp and thread count; the renders alternate (one of each per
 round, ``--repeat`` rounds) and each keeps its best, so a slow spell of a
-shared machine costs all alike. The rounds run forward and backward in
-turn: a native render straight after one of Mitsuba's is about a tenth
-slower than after a native one (Mitsuba's after a native one is not;
-bench_peers_order.py), and in a fixed order the native thin lens always
-came straight after the others. Times are render time only:
+shared machine costs all alike. Before each timed render the process's
+other threads are let go idle (idle_threads.py): Dr.Jit's workers spin for
+about 20 ms after a Mitsuba render returns, and a native render started in
+that window shared a core with them (1.08-1.20x its time, session 35;
+bench_peers_order.py). The rounds still run forward and backward in turn,
+so that no renderer always follows the same one. Times are render time only:
 
 - native: the render loop (no scene build), ``Image.metadata["seconds"]``;
 - Mitsuba 3: ``mi.render`` on a scene loaded once, evaluated to an array;
@@ -90,6 +91,7 @@ from lenscompare.mitsuba.runner import load_mitsuba, write_mitsuba  # noqa: E402
 from lenscompare.povray import render_povray  # noqa: E402
 from lenscompare.render import render  # noqa: E402
 from lenscompare.scene import load_scene  # noqa: E402
+from idle_threads import wait_for_idle_threads  # noqa: E402
 from machine import describe as describe_machine  # noqa: E402
 
 SCENES = {
@@ -272,6 +274,7 @@ def main() -> int:
                 # Serpentine: forward, then backward (see the top).
                 order = list(timers) if round_ % 2 == 0 else list(reversed(timers))
                 for key in order:
+                    wait_for_idle_threads()  # no renderer pays for the spin of the one before it
                     every[key].append(timers[key]())
                     best[key] = min(best[key], every[key][-1])
                 log(f"{name} round {round_ + 1}: " + ", ".join(f"{k} {samples / v / 1e6:.2f}" for k, v in best.items())
