@@ -297,11 +297,11 @@ struct SampleColumns {
         const float px = float(x), py = float(y);
         const Point2f* film = samples.film.data() + first;
         const Point2f* lens_points = samples.lens.data() + first;
-        for (int j = 0; j < n; ++j) {
-            raster_px[at + j] = {px + film[j].x, py + film[j].y};
-            lens[at + j] = lens_points[j];
-            slot[at + j] = pixel_slot;
-        }
+        // Three loops, not one: GCC vectorises the first and copies the lens
+        // points whole, where the one loop moved them a point at a time.
+        for (int j = 0; j < n; ++j) raster_px[at + j] = {px + film[j].x, py + film[j].y};
+        std::memcpy(lens + at, lens_points, sizeof(Point2f) * size_t(n));
+        std::fill_n(slot + at, n, pixel_slot);
         if (samples.time.empty()) std::fill_n(time + at, n, 0.0f);
         else std::copy_n(samples.time.data() + first, n, time + at);
     }
