@@ -176,15 +176,21 @@ def decomposition(scenes, threads):
 
 def spread(seconds_by_key: dict, samples: int) -> dict:
     """Each renderer's median samples/s over the rounds and its fastest round over its slowest (as
-    bench_native's and bench_lens's), and the llvm ratios of the medians: how far the best-of ratios
+    bench_native's and bench_lens's), the llvm ratios of the medians, and the median over the
+    rounds of each round's own ratio (the two renders of a round a second or so apart, so that a
+    slow spell of the machine lasting longer than that costs both): how far the best-of ratios
     could move on this machine."""
     median = {key: samples / statistics.median(times) for key, times in seconds_by_key.items()}
     out = {"median_samples_per_second": median,
            "fastest_over_slowest_round": {key: max(t) / min(t) for key, t in seconds_by_key.items()}}
-    out["median_ratios"] = {f"native_{m}_over_mitsuba_llvm_ad_rgb": median[f"native_{m}"] /
-                            median[f"mitsuba_llvm_ad_rgb_{m}"]
-                            for m in ("thin", "pinhole")
-                            if f"native_{m}" in median and f"mitsuba_llvm_ad_rgb_{m}" in median}
+    pairs = [(f"native_{m}", f"mitsuba_llvm_ad_rgb_{m}") for m in ("thin", "pinhole")]
+    pairs = [(n, m) for n, m in pairs if n in median and m in median]
+    out["median_ratios"] = {f"{n}_over_{m.removesuffix('_thin').removesuffix('_pinhole')}": median[n] / median[m]
+                            for n, m in pairs}
+    out["median_round_ratios"] = {
+        f"{n}_over_{m.removesuffix('_thin').removesuffix('_pinhole')}": statistics.median(
+            t_m / t_n for t_n, t_m in zip(seconds_by_key[n], seconds_by_key[m]))
+        for n, m in pairs}
     return out
 
 
