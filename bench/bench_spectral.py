@@ -23,6 +23,11 @@ over the image's mean, its square pooled over --noise-pairs pairs (3; one
 pair's swung by 3-5 % with the seeds). It falls as 1/sqrt(spp) for these
 samplers at these counts (checked at two spp), so the time to 1 % is
 seconds(spp) * (rmse(spp) / 0.01)^2, seconds the fastest of the renders.
+The noise renders of one configuration are made together, a minute or more
+from the other's on a machine whose speed drifts, so
+time_to_1_percent_over_rgb_alternated also gives each ratio with the
+seconds of the alternated samples/s rounds (the two renders side by side in
+every round) and the seed pairs' errors.
 
 Timing: wall clock by default (the render loop's, from the image's metadata);
 --cpu-time instead takes this process's CPU time of a render less that of a
