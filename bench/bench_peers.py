@@ -183,14 +183,14 @@ def spread(seconds_by_key: dict, samples: int) -> dict:
     median = {key: samples / statistics.median(times) for key, times in seconds_by_key.items()}
     out = {"median_samples_per_second": median,
            "fastest_over_slowest_round": {key: max(t) / min(t) for key, t in seconds_by_key.items()}}
-    pairs = [(f"native_{m}", f"mitsuba_llvm_ad_rgb_{m}") for m in ("thin", "pinhole")]
-    pairs = [(n, m) for n, m in pairs if n in median and m in median]
-    out["median_ratios"] = {f"{n}_over_{m.removesuffix('_thin').removesuffix('_pinhole')}": median[n] / median[m]
-                            for n, m in pairs}
+    models = [m for m in ("thin", "pinhole") if f"native_{m}" in median and f"mitsuba_llvm_ad_rgb_{m}" in median]
+    out["median_ratios"] = {f"native_{m}_over_mitsuba_llvm_ad_rgb": median[f"native_{m}"] /
+                            median[f"mitsuba_llvm_ad_rgb_{m}"] for m in models}
     out["median_round_ratios"] = {
-        f"{n}_over_{m.removesuffix('_thin').removesuffix('_pinhole')}": statistics.median(
-            t_m / t_n for t_n, t_m in zip(seconds_by_key[n], seconds_by_key[m]))
-        for n, m in pairs}
+        f"native_{m}_over_mitsuba_llvm_ad_rgb": statistics.median(
+            t_mitsuba / t_native for t_native, t_mitsuba in zip(seconds_by_key[f"native_{m}"],
+                                                                seconds_by_key[f"mitsuba_llvm_ad_rgb_{m}"]))
+        for m in models}
     return out
 
 

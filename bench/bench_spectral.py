@@ -147,6 +147,7 @@ def main():
         "showcase_thin_spectral": noise_of(runner(showcase, "thin", True)),
         "showcase_thin_spectral_sampled": noise_of(runner(showcase, "thin", True, sampled=True)),
     }
+
     def alternated(spectral_noise, rgb_noise, spectral_sps, rgb_sps):
         """Time to 1 % over RGB's with the seconds from the alternated rounds above (each render's
         best samples/s), the errors from the seed pairs: the pairs' own seconds are each

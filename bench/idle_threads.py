@@ -14,7 +14,6 @@ field is the thread's time on a CPU in nanoseconds.
 
 from __future__ import annotations
 
-import os
 import threading
 import time
 from pathlib import Path
@@ -60,7 +59,7 @@ def wait_for_idle_threads(*, window_s: float = 0.01, busy_fraction: float = 0.05
     """
     start = time.perf_counter()
     before = _busy_ns_of_other_threads()
-    if before is None or os.environ.get("LENSCOMPARE_BENCH_NO_IDLE_WAIT") == "1":
+    if before is None:
         return 0.0
     while time.perf_counter() - start < timeout_s:
         time.sleep(window_s)
