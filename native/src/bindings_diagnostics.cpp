@@ -309,6 +309,36 @@ void bind_lens(nb::module_& m) {
           "A dispersive thin lens's rays in a spectral render whose rays carry bands (cameras/thin_lens_bands.h): "
           "each ray's sample, ray (float, widened), and band of 1 / focus [k_lo, k_hi); returns the ray count.");
 
+    m.def("focus_band_map",
+          [](CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
+             std::vector<std::array<float, 3>> light_intensities, std::vector<double> inverse_focus_per_m_by_nm,
+             int table, double k_lo, double k_hi) {
+              if (basis.shape(0) != film.shape(0) || basis.shape(0) < 2)
+                  throw std::invalid_argument("basis and film: one row per nm from 380 nm, alike");
+              if (table < 0 || table > int(light_intensities.size()))
+                  throw std::invalid_argument("table: 0 (the basis) or 1 + a light's index");
+              SpectralTables spectra;
+              for (size_t j = 0; j < basis.shape(0); ++j) {
+                  spectra.basis.push_back({float(basis(j, 0)), float(basis(j, 1)), float(basis(j, 2))});
+                  spectra.film.push_back({float(film(j, 0)), float(film(j, 1)), float(film(j, 2))});
+              }
+              std::vector<Vec3f> intensities;
+              for (const auto& i : light_intensities) intensities.push_back({i[0], i[1], i[2]});
+              const FocusBandIntegrals integrals(spectra, intensities, inverse_focus_per_m_by_nm);
+              const FocusBandIntegrals::End lo = integrals.end_at(k_lo), hi = integrals.end_at(k_hi);
+              std::array<std::array<float, 3>, 3> map{};  // [k][c]
+              for (int c = 0; c < 3; ++c) {
+                  float colour[3] = {0.0f, 0.0f, 0.0f}, out[3];
+                  colour[c] = 1.0f;
+                  integrals.apply(table, lo, hi, colour[0], colour[1], colour[2], out);
+                  for (int k = 0; k < 3; ++k) map[size_t(k)][size_t(c)] = out[k];
+              }
+              return map;
+          },
+          "basis"_a, "film"_a, "light_intensities"_a, "inverse_focus_per_m_by_nm"_a, "table"_a, "k_lo"_a, "k_hi"_a,
+          "The film's reading over the wavelengths whose 1 / focus lies in [k_lo, k_hi) (spectral_bands.h's "
+          "FocusBandIntegrals): map[k][c] of basis colour c, table 0, or lit by light table - 1.");
+
     m.def("dispersion_band",
           [](const ThinLensCamera& camera, double k_lo, double k_hi) {
               if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");

@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
 
 #include "cameras/thin_lens_bands.h"
 #include "render_tile.h"
@@ -33,7 +32,9 @@ namespace lc {
 // samples'.
 class BandRayPacket {
   public:
-    BandRayPacket(const Scene& scene, TileAccumulator& sums) : scene_(scene), sums_(sums), whole_(scene, sums, true) {}
+    BandRayPacket(const Scene& scene, TileAccumulator& sums, const FocusBandIntegrals& integrals,
+                  const DispersionRuns& runs)
+        : scene_(scene), sums_(sums), whole_(scene, sums, true), bands_{&integrals, &runs, k_lo_, k_hi_} {}
 
     void cull_by(const CameraPencil& pencil) {
         scene_.camera_candidates(pencil, &batch_);
@@ -46,20 +47,13 @@ class BandRayPacket {
         whole_.add_rows(rows, n, time_u, slot);
     }
 
-    // Queues row i of rows carrying the wavelengths runs finds for planes of
-    // focus [k_lo, k_hi); last: its sample's last ray. (The band is written
-    // in place: a local copied in stalled on store forwarding, 40 % of the
-    // batcher's time, perf.)
-    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, const DispersionRuns& runs, float time_u,
-             bool last, size_t slot) {
+    // Queues row i of rows carrying the wavelengths of planes of focus
+    // [k_lo, k_hi); last: its sample's last ray.
+    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, float time_u, bool last, size_t slot) {
         const int j = batch_.count;
         batch_.set(j, rows, i);
         batch_.time[j] = time_u;
-        // The ends at k_lo are the last ray's at its k_hi when the two share an edge.
-        if (!(k_lo == ends_hi_.k)) runs.ends_at(k_lo, &ends_lo_);
-        else ends_lo_ = ends_hi_;
-        runs.ends_at(k_hi, &ends_hi_);
-        runs.band_between(ends_lo_, ends_hi_, &band_[j]);
+        k_lo_[j] = k_lo, k_hi_[j] = k_hi;
         last_[j] = last;
         slot_[j] = slot;
         if (++batch_.count == kPacketSize) flush_bands();
@@ -75,7 +69,7 @@ class BandRayPacket {
   private:
     void flush_bands() {
         if (batch_.count == 0) return;
-        scene_.spectral_band_radiance(batch_, band_, radiance_);
+        scene_.spectral_band_radiance(batch_, &bands_, radiance_);
         Vec3f pending = pending_;
         for (int j = 0; j < batch_.count; ++j) {
             pending += radiance_[j];
@@ -93,13 +87,12 @@ class BandRayPacket {
     TileAccumulator& sums_;
     RayPacket whole_;
     RayBatch batch_;
-    WavelengthBand band_[kPacketSize];
+    double k_lo_[kPacketSize], k_hi_[kPacketSize];
+    RayFocusBands bands_;  // batch_'s bands: k_lo_ and k_hi_
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f radiance_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
-    // The last ray's band ends (k NaN: none yet).
-    DispersionRuns::Ends ends_lo_{}, ends_hi_{std::numeric_limits<double>::quiet_NaN(), {}};
     uint64_t samples_shaded_ = 0;
 };
 
@@ -140,7 +133,6 @@ class BandCameraSampleBatcher {
             if (moves_camera_) move_origins(motion_, whole, time_u, &rows_);
             packet_.add_whole(rows_, whole, time_u, slot);
         }
-        const DispersionRuns& runs = camera_.band_runs();
         const int count = rays_.size();
         for (int first = 0; first < count; first += kCameraBatch) {
             const int n = std::min(kCameraBatch, count - first);
@@ -154,7 +146,7 @@ class BandCameraSampleBatcher {
                 const size_t ray = size_t(first + r);
                 const int sample = rays_.sample[ray];
                 const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
-                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], runs, staged_.time[sample], last,
+                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], staged_.time[sample], last,
                             staged_.slot[sample]);
             }
         }
@@ -174,26 +166,28 @@ class BandCameraSampleBatcher {
 
 template <class Camera>
 RenderStats render_band_rays(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
-                             float* rgb);
+                             const FocusBandIntegrals& integrals, float* rgb);
 
 // render_tile (render.h) for a spectral render whose rays carry bands
-// (spectral_path's IntegratedBands, which only cameras with HasBandRays take).
-// Its pixel loop is written out again, as render_tile_spectral's is (why: there).
+// (spectral_path's IntegratedBands, which only cameras with HasBandRays take),
+// read from integrals (Scene::focus_band_integrals of the camera's table,
+// made once per render). Its pixel loop is written out again, as
+// render_tile_spectral's is (why: there).
 template <class Camera>
 RenderStats render_tile_bands(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
-                              float* rgb) {
+                              const FocusBandIntegrals* integrals, float* rgb) {
     if constexpr (!HasBandRays<Camera>::value) {
         return RenderStats{};
     } else {
-        return render_band_rays(scene, camera, s, tile, rgb);
+        return render_band_rays(scene, camera, s, tile, *integrals, rgb);
     }
 }
 
 template <class Camera>
 RenderStats render_band_rays(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
-                             float* rgb) {
+                             const FocusBandIntegrals& integrals, float* rgb) {
     TileAccumulator sums(tile, s.variance_of_mean != nullptr);
-    BandRayPacket packet(scene, sums);
+    BandRayPacket packet(scene, sums, integrals, camera.band_runs());
     BandCameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     // The derived pencil spans the planes of focus (ThinLensCamera::pencil):
     // every band's ray is some wavelength's own ray from a film point in its

@@ -14,7 +14,6 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "embree_packet.h"
@@ -126,9 +125,13 @@ class Scene {
 
     // Spectral renders through a dispersive thin or thick lens
     // (render_tile_bands.h): the same, each ray's spectrum integrated over
-    // the wavelengths it carries, bands[i] (spectral_bands.h; bands null:
-    // every ray the whole spectrum, spectral_integrated_radiance).
-    void spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands, Vec3f* radiance_out) const;
+    // the wavelengths it carries, those of its band of planes of focus
+    // (spectral_bands.h; bands null: every ray the whole spectrum,
+    // spectral_integrated_radiance).
+    void spectral_band_radiance(const RayBatch& rays, const RayFocusBands* bands, Vec3f* radiance_out) const;
+    // The band integrals those renders read, for a lens whose 1 / focus per
+    // nm is inverse_focus_per_m_by_nm (after set_spectral).
+    FocusBandIntegrals focus_band_integrals(const std::vector<double>& inverse_focus_per_m_by_nm) const;
 
     // Set once, before rendering: the scene then renders spectrally.
     void set_spectral(std::shared_ptr<const SpectralTables> tables);
@@ -247,9 +250,6 @@ class Scene {
         float of_basis[3][3];
     };
     std::vector<FilmMap> film_of_lights_;
-    // The same over any band of wavelengths: of a basis colour, and per light.
-    std::optional<BandIntegral> band_of_basis_;
-    std::vector<BandIntegral> band_of_lights_;
 };
 
 // Checker: parity of floor(p/size + 0.001) summed over the axes; even -> the

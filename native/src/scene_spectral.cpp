@@ -82,45 +82,44 @@ void Scene::spectral_integrated_radiance(const RayBatch& rays, Vec3f* out) const
 }
 
 // Through a dispersive thin or thick lens (render_tile_bands.h): each ray's
-// integral taken over its own band of wavelengths (bands null: every ray the
-// whole spectrum, spectral_integrated_radiance). A ray carrying the whole
-// spectrum is shaded through the whole spectrum's maps; one carrying part of
-// it gets its own maps in their place before each is applied.
-LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const WavelengthBand* bands,
+// integral taken over its own band of planes of focus (bands null: every
+// ray the whole spectrum, spectral_integrated_radiance). Each ray is shaded
+// through the whole spectrum's maps, and one carrying a band gets its own
+// maps in their place before each is applied.
+LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const RayFocusBands* bands,
                                                     Vec3f* out) const {
     const SpectralTables& spectra = *spectral_;
     CameraHits hits;
     trace_camera_rays(rays, hits);
 
-    int partial[kPacketSize], partial_count = 0;
-    if (bands)
-        for (int i = 0; i < rays.count; ++i)
-            if (!bands[i].whole()) partial[partial_count++] = i;
-
     float start[3][kPacketSize], rgb[3][kPacketSize];
     int material[kPacketSize];
     gather_surfaces(rays, hits, material, start);
     map_colour_lanes(shading_kernel_, spectra.film_of_basis, start, rgb);
-    for (int p = 0; p < partial_count; ++p) {
-        const int i = partial[p];
-        if (start[0][i] == 0.0f && start[1][i] == 0.0f && start[2][i] == 0.0f) continue;  // no light of its own
-        BandIntegral::Map m;
-        band_of_basis_->over(bands[i], m);
-        for (int k = 0; k < 3; ++k) rgb[k][i] = m[k][0] * start[0][i] + m[k][1] * start[1][i] + m[k][2] * start[2][i];
-    }
+    // Where each ray's band begins and ends in the integrals' tables, shared by the basis and the lights.
+    FocusBandIntegrals::End lo[kPacketSize], hi[kPacketSize];
+    if (bands)
+        for (int i = 0; i < rays.count; ++i) {
+            lo[i] = bands->integrals->end_at(bands->k_lo[i]), hi[i] = bands->integrals->end_at(bands->k_hi[i]);
+            if (start[0][i] == 0.0f && start[1][i] == 0.0f && start[2][i] == 0.0f) continue;  // no light of its own
+            float mapped[3];
+            bands->integrals->apply(0, lo[i], hi[i], start[0][i], start[1][i], start[2][i], mapped);
+            rgb[0][i] = mapped[0], rgb[1][i] = mapped[1], rgb[2][i] = mapped[2];
+        }
     // A monochromatic emitter is its line alone: the part of its band the ray carries.
     if (spectra.any_line())
         for (int i = 0; i < rays.count; ++i)
             if (shows_line(hits, material, i)) {
                 const size_t m = size_t(material[i]);
                 Vec3f line = spectra.line_film[m];
-                if (bands && !bands[i].whole()) {
+                if (bands) {
+                    WavelengthBand band;
+                    bands->runs->band_of(bands->k_lo[i], bands->k_hi[i], &band);
                     line = Vec3f{};
-                    const float lo = spectra.line_nm[m] - spectra.line_half_width_nm;
-                    const float hi = spectra.line_nm[m] + spectra.line_half_width_nm;
-                    for (int r = 0; r < bands[i].count; ++r)
-                        line += spectra.film_over_band(std::max(lo, bands[i].from_nm[r]),
-                                                       std::min(hi, bands[i].to_nm[r])) *
+                    const float from = spectra.line_nm[m] - spectra.line_half_width_nm;
+                    const float to = spectra.line_nm[m] + spectra.line_half_width_nm;
+                    for (int r = 0; r < band.count; ++r)
+                        line += spectra.film_over_band(std::max(from, band.from_nm[r]), std::min(to, band.to_nm[r])) *
                                 spectra.line_radiance[m];
                 }
                 rgb[0][i] = line.x, rgb[1][i] = line.y, rgb[2][i] = line.z;
@@ -135,14 +134,14 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
             ShadowRays shadow;
             if (!trace_shadow_rays(l, hits, shadow)) continue;
             map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
-            for (int p = 0; p < partial_count; ++p) {
-                const int i = partial[p];
-                if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
-                BandIntegral::Map m;
-                band_of_lights_[l].over(bands[i], m);
-                for (int k = 0; k < 3; ++k)
-                    surface.albedo[k][i] = m[k][0] * albedo[0][i] + m[k][1] * albedo[1][i] + m[k][2] * albedo[2][i];
-            }
+            if (bands)
+                for (int i = 0; i < rays.count; ++i) {
+                    if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
+                    float mapped[3];
+                    bands->integrals->apply(1 + int(l), lo[i], hi[i], albedo[0][i], albedo[1][i], albedo[2][i],
+                                            mapped);
+                    surface.albedo[0][i] = mapped[0], surface.albedo[1][i] = mapped[1], surface.albedo[2][i] = mapped[2];
+                }
             add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
         }
     }
@@ -152,12 +151,13 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
 void Scene::set_spectral(std::shared_ptr<const SpectralTables> tables) {
     spectral_ = std::move(tables);
     film_of_lights_.assign(lights_.size(), FilmMap{});
-    band_of_lights_.clear();
-    for (size_t l = 0; l < lights_.size(); ++l) {
-        spectral_->film_of_light(lights_[l].intensity, film_of_lights_[l].of_basis);
-        band_of_lights_.push_back(BandIntegral::of_light(*spectral_, lights_[l].intensity));
-    }
-    band_of_basis_ = BandIntegral::of_basis(*spectral_);
+    for (size_t l = 0; l < lights_.size(); ++l) spectral_->film_of_light(lights_[l].intensity, film_of_lights_[l].of_basis);
+}
+
+FocusBandIntegrals Scene::focus_band_integrals(const std::vector<double>& inverse_focus_per_m_by_nm) const {
+    std::vector<Vec3f> intensities;
+    for (const PointLight& light : lights_) intensities.push_back(light.intensity);
+    return FocusBandIntegrals(*spectral_, intensities, inverse_focus_per_m_by_nm);
 }
 
 }  // namespace lc

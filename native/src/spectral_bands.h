@@ -10,16 +10,18 @@
 // range (SpectralTables::film_of_basis), only integrated over S:
 //     ∫_S film_k E = sum_c [∫_S film_k B_c] e_c,
 //     ∫_S film_k R I = sum_c [∫_S film_k B_c I] r_c.
-// BandIntegral holds such a map's integral from 380 nm to any wavelength,
-// exact for the per-nm tables read linearly (the integrand is a product of
-// two or three linear functions within a nm: a polynomial, integrated per
-// nm in closed form); a band's map is the difference at its ends.
+// A ray's set S is a band of planes of focus [k_lo, k_hi) (1 / focus,
+// 1/m, the thin lens's table, linear between whole nm): the wavelengths
+// focused there. FocusBandIntegrals holds such a map's integral over the
+// wavelengths focused below any k, exact for the per-nm tables read
+// linearly (the integrand is a product of two or three linear functions
+// within a nm: a polynomial, integrated in closed form); a band's map is
+// the difference at its ends.
 //
-// DispersionRuns turns a band of planes of focus (1 / focus, 1/m, the
-// thin lens's table, linear between whole nm) into the wavelengths whose
-// plane of focus lies in it: one interval per stretch of the table that
-// rises or falls (a singlet's has one; an achromat's, whose focus turns
-// back, two).
+// DispersionRuns turns a band of planes of focus into the wavelengths
+// themselves (a monochromatic light's line needs them): one interval per
+// stretch of the table that rises or falls (a singlet's has one; an
+// achromat's, whose focus turns back, two).
 #pragma once
 
 #include <algorithm>
@@ -44,101 +46,91 @@ struct WavelengthBand {
     bool whole() const { return count < 0; }
 };
 
-class BandIntegral {
+// The film's reading over the wavelengths whose plane of focus lies below
+// k, F(k) = ∫_{λ: k(λ) < k} film_k B_c [I] dλ, for the maps above: of the
+// basis (table 0) and of each light (table 1 + l). A ray carrying planes of
+// focus [k_lo, k_hi) reads F(k_hi) - F(k_lo) (a band given by its planes
+// of focus, not by wavelengths: no wavelength is looked up). With k(λ)
+// linear within each nm and the integrand a cubic there, F is a quartic in
+// k between consecutive values of the table (over each such interval every
+// monotone stretch of k(λ) has one nm cell in it), so F is exact, as the
+// per-nm integrals were. (Session 36: a band's ends found in nm first, per
+// stretch of the table, then integrated per nm, were a fifth of a
+// dispersive thin-lens render, perf.)
+class FocusBandIntegrals {
   public:
-    using Map = float[3][3];
+    // inverse_focus_per_m_by_nm: 1 / focus at every nm from 380 nm (the
+    // spectral tables' grid); light_intensities: the scene's lights' RGB.
+    FocusBandIntegrals(const SpectralTables& t, const std::vector<Vec3f>& light_intensities,
+                       const std::vector<double>& inverse_focus_per_m_by_nm);
 
-    // ∫ film_k B_c dλ: the emission map, film_of_basis over a band.
-    static BandIntegral of_basis(const SpectralTables& t) { return BandIntegral(t, nullptr); }
-    // ∫ film_k B_c I dλ for a light of RGB intensity i (I = sum_d i_d B_d):
-    // its reflectance map, SpectralTables::film_of_light over a band.
-    static BandIntegral of_light(const SpectralTables& t, const Vec3f& intensity) {
-        return BandIntegral(t, &intensity);
+    // Where F is read at k: the interval holding k and how far into it,
+    // shared by every table.
+    struct End {
+        int interval;  // -1: at or below the lowest plane (F = 0); intervals(): at or above the highest (F whole)
+        float s;       // [0, 1) within the interval
+    };
+    End end_at(double k) const {
+        if (!(k > breaks_.front())) return {-1, 0.0f};
+        if (k >= breaks_.back()) return {intervals(), 0.0f};
+        const size_t g = std::min(size_t((k - breaks_.front()) * guide_scale_), guide_.size() - 1);
+        size_t i = size_t(guide_[g]);
+        while (breaks_[i + 1] <= k) ++i;
+        return {int(i), float((k - breaks_[i]) * inverse_width_[i])};
     }
 
-    // The map over band into out.
-    void over(const WavelengthBand& band, Map& out) const {
-        Entries sum = {};
-        if (band.whole())
-            for (int v = 0; v < kVectors; ++v) sum[v] = whole_[v];
-        for (int r = 0; r < band.count; ++r) {
-            Entries from, to;
-            up_to(band.from_nm[r], from);
-            up_to(band.to_nm[r], to);
-            for (int v = 0; v < kVectors; ++v) sum[v] += to[v] - from[v];
-        }
-        for (int e = 0; e < 9; ++e) out[e / 3][e % 3] = sum[e / 4][e % 4];
+    // Table table's map over [lo, hi) applied to a colour: out_k = sum_c map[k][c] colour_c.
+    void apply(int table, const End& lo, const End& hi, float c0, float c1, float c2, float out[3]) const {
+        Entries from, to;
+        read(table, lo, from);
+        read(table, hi, to);
+        const Lanes mapped = (to[0] - from[0]) * c0 + (to[1] - from[1]) * c1 + (to[2] - from[2]) * c2;
+        out[0] = mapped[0], out[1] = mapped[1], out[2] = mapped[2];
     }
+
+    int intervals() const { return int(breaks_.size()) - 1; }
+    int tables() const { return tables_; }
 
   private:
-    // Per nm cell j ([380 + j, 381 + j]): the integral from 380 nm to its
-    // start, and the in-cell integral's coefficients, ∫_0^t f = t (b0 + t (b1
-    // + t (b2 + t b3))), for each of the nine entries (k * 3 + c), padded
-    // with zeros to three 4-wide vectors (GCC's vector extension: written
-    // as floats, the entries' loop stayed scalar, a fifth of a render, perf).
+    // A map's columns, the film's three channels k of basis colour c in
+    // vector c's lanes 0-2 (lane 3 zero), so that a map applies in three
+    // vector products (GCC's vector extension: written as floats, the
+    // entries' loop stayed scalar, a fifth of a render, perf, session 29).
     typedef float Lanes __attribute__((vector_size(16)));
     static constexpr int kVectors = 3;
     using Entries = Lanes[kVectors];
+    // F over one interval for one table: c[0] + s (c[1] + s (c[2] + s (c[3] + s c[4]))).
     struct Cell {
-        Entries start;
-        Entries b[4];
+        Entries c[5];
+    };
+    struct Sum {
+        Entries e;
     };
 
-    BandIntegral(const SpectralTables& t, const Vec3f* intensity) {
-        const size_t cells = t.basis.size() - 1;
-        cells_.assign(cells, Cell{});
-        double start[9] = {};
-        for (size_t j = 0; j < cells; ++j) {
-            const Vec3f f0 = t.film[j], f1 = t.film[j + 1], b0 = t.basis[j], b1 = t.basis[j + 1];
-            const double film[3][2] = {{f0.x, f1.x - f0.x}, {f0.y, f1.y - f0.y}, {f0.z, f1.z - f0.z}};
-            const double basis[3][2] = {{b0.x, b1.x - b0.x}, {b0.y, b1.y - b0.y}, {b0.z, b1.z - b0.z}};
-            double light[2] = {1.0, 0.0};  // the light's spectrum in the cell, a + b t (1: no light)
-            if (intensity) {
-                const double i[3] = {intensity->x, intensity->y, intensity->z};
-                light[0] = i[0] * basis[0][0] + i[1] * basis[1][0] + i[2] * basis[2][0];
-                light[1] = i[0] * basis[0][1] + i[1] * basis[1][1] + i[2] * basis[2][1];
-            }
-            Cell& cell = cells_[j];
-            for (int k = 0; k < 3; ++k)
-                for (int c = 0; c < 3; ++c) {
-                    const int e = 3 * k + c;
-                    // (f + f' t)(b + b' t)(l + l' t): coefficients of t^0 .. t^3
-                    const double p0 = film[k][0] * basis[c][0];
-                    const double p1 = film[k][0] * basis[c][1] + film[k][1] * basis[c][0];
-                    const double p2 = film[k][1] * basis[c][1];
-                    const double a[4] = {p0 * light[0], p0 * light[1] + p1 * light[0], p1 * light[1] + p2 * light[0],
-                                         p2 * light[1]};
-                    cell.start[e / 4][e % 4] = float(start[e]);
-                    for (int m = 0; m < 4; ++m) cell.b[m][e / 4][e % 4] = float(a[m] / (m + 1));
-                    start[e] += a[0] + a[1] / 2 + a[2] / 3 + a[3] / 4;
-                }
-        }
-        for (int e = 0; e < 9; ++e) whole_[e / 4][e % 4] = float(start[e]);
-        end_nm_ = SpectralTables::kMinNm + float(cells);
-    }
-
-    // The integral from 380 nm to nm, entry by entry. (A band's ends are
-    // often the range's: those need no cell.)
-    void up_to(float nm, Entries& out) const {
-        if (nm <= SpectralTables::kMinNm) {
+    void read(int table, const End& at, Entries& out) const {
+        if (at.interval < 0) {
             for (int v = 0; v < kVectors; ++v) out[v] = Lanes{};
             return;
         }
-        if (nm >= end_nm_) {
-            for (int v = 0; v < kVectors; ++v) out[v] = whole_[v];
+        if (at.interval >= intervals()) {
+            for (int v = 0; v < kVectors; ++v) out[v] = whole_[size_t(table)].e[v];
             return;
         }
-        const float x = std::clamp(nm, SpectralTables::kMinNm, end_nm_) - SpectralTables::kMinNm;
-        const int j = std::min(int(x), int(cells_.size()) - 1);
-        const float t = x - float(j);
-        const Cell& cell = cells_[size_t(j)];
+        const Cell& cell = cells_[size_t(at.interval) * size_t(tables_) + size_t(table)];
+        const float s = at.s;
         for (int v = 0; v < kVectors; ++v)
-            out[v] = cell.start[v] + t * (cell.b[0][v] + t * (cell.b[1][v] + t * (cell.b[2][v] + t * cell.b[3][v])));
+            out[v] = cell.c[0][v] + s * (cell.c[1][v] + s * (cell.c[2][v] + s * (cell.c[3][v] + s * cell.c[4][v])));
     }
 
-    std::vector<Cell> cells_;
-    Entries whole_ = {};
-    float end_nm_ = SpectralTables::kMaxNm;
+    int tables_ = 0;
+    std::vector<double> breaks_;         // the table's values, sorted, each once
+    std::vector<double> inverse_width_;  // 1 / (breaks_[i + 1] - breaks_[i])
+    // guide_[g]: the interval holding the start of the g-th of guide_.size()
+    // equal steps over the breaks (so a search from it takes a step or none).
+    std::vector<int> guide_;
+    double guide_scale_ = 0.0;
+    std::vector<Cell> cells_;  // [interval * tables_ + table]
+    std::vector<Sum> whole_;  // F at and above the highest plane, per table
 };
 
 class DispersionRuns {
@@ -147,6 +139,7 @@ class DispersionRuns {
     // inverse_focus_per_m_by_nm: 1 / focus at every nm from 380 nm.
     explicit DispersionRuns(const std::vector<double>& inverse_focus_per_m_by_nm) {
         const std::vector<double>& k = inverse_focus_per_m_by_nm;
+        table_ = k;
         if (k.size() < 2) return;
         lo_ = *std::min_element(k.begin(), k.end()), hi_ = *std::max_element(k.begin(), k.end());
         // The d line's plane, read linearly between the table's nm.
@@ -168,6 +161,8 @@ class DispersionRuns {
     }
 
     bool fits() const { return !runs_.empty() && runs_.size() <= size_t(kMaxBandRuns); }
+    // The table it was made from (FocusBandIntegrals reads it too).
+    const std::vector<double>& inverse_focus_per_m_by_nm() const { return table_; }
     double lowest() const { return lo_; }
     double highest() const { return hi_; }
     // The middle plane: the pencil's (ThinLensCamera::pencil).
@@ -276,8 +271,18 @@ class DispersionRuns {
         runs_.push_back(std::move(run));
     }
 
+    std::vector<double> table_;
     std::vector<Run> runs_;
     double lo_ = 0.0, hi_ = 0.0, reference_ = 0.0;
+};
+
+// The bands a batch's rays carry (render_tile_bands.h): ray i the
+// wavelengths whose 1 / focus lies in [k_lo[i], k_hi[i]).
+struct RayFocusBands {
+    const FocusBandIntegrals* integrals;
+    const DispersionRuns* runs;  // for the wavelengths themselves (a monochromatic light's line)
+    const double* k_lo;
+    const double* k_hi;
 };
 
 }  // namespace lc
