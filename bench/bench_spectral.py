@@ -15,7 +15,8 @@ Prints one JSON object (issue 15's goals):
   over RGB (goal <= 2), for 1, 2 and 4 traced wavelengths; and the same for
   the thin lens derived from it, and for the thin lens of the file
   (integrated and drawn wavelengths);
-- whether each goal is met, for the default.
+- whether each goal is met, for the default (and the time goal for the thin lens derived
+  from the dispersive prescription too).
 
 Relative RMSE: the RMS difference of two renders with different seeds,
 divided by sqrt(2) (each render's own error, with no reference image needed),
@@ -160,6 +161,8 @@ def main():
     lens_over_rgb = {n: sps[f"lens_spectral_{n}"] / sps["lens_rgb"] for n in counts}
     time_over_rgb = {n: noise[f"spectral_{n}"]["seconds_to_1_percent"] / rgb_time for n in counts}
     thin_over_rgb = sps["thin_spectral"] / sps["thin_rgb"]
+    thin_dispersive_time_over_rgb = (noise["thin_spectral"]["seconds_to_1_percent"]
+                                     / noise["thin_rgb"]["seconds_to_1_percent"])
     print(json.dumps({
         "benchmark": "spectral",
         "machine": describe_machine(),
@@ -187,8 +190,7 @@ def main():
         "time_to_1_percent_rmse": noise,
         "spectral_over_rgb_time_to_1_percent": time_over_rgb[default],
         "spectral_over_rgb_time_to_1_percent_by_traced_wavelengths": time_over_rgb,
-        "thin_spectral_over_rgb_time_to_1_percent":
-            noise["thin_spectral"]["seconds_to_1_percent"] / noise["thin_rgb"]["seconds_to_1_percent"],
+        "thin_spectral_over_rgb_time_to_1_percent": thin_dispersive_time_over_rgb,
         "time_to_1_percent_over_rgb_alternated": {
             "thin_dispersive": alternated("thin_spectral", "thin_rgb", "thin_dispersive_spectral",
                                           "thin_dispersive_rgb"),
@@ -200,7 +202,9 @@ def main():
         "goal_spectral_over_rgb_time_to_1_percent": 2.0,
         "goals_met": {"thin_spectral_over_rgb": thin_over_rgb >= 0.8,
                       "lens_spectral_over_rgb": lens_over_rgb[default] >= 0.6,
-                      "spectral_over_rgb_time_to_1_percent": time_over_rgb[default] <= 2.0},
+                      "spectral_over_rgb_time_to_1_percent": time_over_rgb[default] <= 2.0,
+                      # the same goal through the thin lens derived from the dispersive prescription
+                      "thin_dispersive_time_to_1_percent": thin_dispersive_time_over_rgb <= 2.0},
     }, indent=2))
 
 
