@@ -73,7 +73,7 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
     const RowSet rows{row_begin, row_end, mirror_rows, s.height_px};
     std::optional<FocusBandIntegrals> band_integrals;  // the bands' tables, one for every tile
     if constexpr (HasBandRays<Camera>::value)
-        if (bands) band_integrals.emplace(scene.focus_band_integrals(camera.band_runs().inverse_focus_per_m_by_nm()));
+        if (bands) band_integrals.emplace(scene.focus_band_integrals(camera.band_focus_table()));
     if constexpr (std::is_same_v<Camera, LensSystemCamera>) {
         if (camera.mirror_axes) {
             if (sampled) return render_mirrored_rows<MirroredRender::Spectral>(scene, camera, s, rows, rgb);
@@ -87,7 +87,7 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
         tbb::blocked_range2d<int> rows_cols(begin, end, kTileSize, 0, s.width_px, kTileSize);
         tbb::parallel_for(rows_cols, [&](const Tile& tile) {
             const RenderStats tile_stats = sampled ? render_tile_spectral(scene, camera, s, tile, rgb)
-                                           : bands   ? render_tile_bands(scene, camera, s, tile, band_integrals ? &*band_integrals : nullptr, rgb)
+                                           : bands   ? render_tile_bands(scene, camera, s, tile, band_integrals, rgb)
                                                      : render_tile(scene, camera, s, tile, rgb, integrated);
             rays_passed += tile_stats.rays_passed;
             samples_drawn += tile_stats.samples;

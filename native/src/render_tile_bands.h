@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 
 #include "cameras/thin_lens_bands.h"
 #include "render_tile.h"
@@ -175,7 +176,7 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
 // render_tile_spectral's is (why: there).
 template <class Camera>
 RenderStats render_tile_bands(const Scene& scene, const Camera& camera, const RenderSettings& s, const Tile& tile,
-                              const FocusBandIntegrals* integrals, float* rgb) {
+                              const std::optional<FocusBandIntegrals>& integrals, float* rgb) {
     if constexpr (!HasBandRays<Camera>::value) {
         return RenderStats{};
     } else {

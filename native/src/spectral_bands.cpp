@@ -37,8 +37,8 @@ void cell_integrand(const SpectralTables& t, size_t j, const Vec3f* intensity, d
 FocusBandIntegrals::FocusBandIntegrals(const SpectralTables& t, const std::vector<Vec3f>& light_intensities,
                                        const std::vector<double>& inverse_focus_per_m_by_nm) {
     const std::vector<double>& k = inverse_focus_per_m_by_nm;
-    const size_t cells = std::min(t.basis.size(), k.size()) - 1;
     if (k.size() < 2 || t.basis.size() < 2) throw std::invalid_argument("a band needs two planes of focus");
+    const size_t cells = std::min(t.basis.size(), k.size()) - 1;
     tables_ = 1 + int(light_intensities.size());
 
     breaks_.assign(k.begin(), k.begin() + std::ptrdiff_t(cells + 1));

@@ -38,12 +38,10 @@ namespace lc {
 // twice, so has three) the render draws wavelengths instead.
 constexpr int kMaxBandRuns = 4;
 
-// A set of wavelengths a ray carries: count intervals [from_nm, to_nm], or
-// all of 380-780 nm when count < 0.
+// A set of wavelengths: count intervals [from_nm, to_nm].
 struct WavelengthBand {
-    int count = -1;
+    int count = 0;
     float from_nm[kMaxBandRuns], to_nm[kMaxBandRuns];
-    bool whole() const { return count < 0; }
 };
 
 // The film's reading over the wavelengths whose plane of focus lies below
@@ -89,7 +87,6 @@ class FocusBandIntegrals {
     }
 
     int intervals() const { return int(breaks_.size()) - 1; }
-    int tables() const { return tables_; }
 
   private:
     // A map's columns, the film's three channels k of basis colour c in
@@ -139,7 +136,6 @@ class DispersionRuns {
     // inverse_focus_per_m_by_nm: 1 / focus at every nm from 380 nm.
     explicit DispersionRuns(const std::vector<double>& inverse_focus_per_m_by_nm) {
         const std::vector<double>& k = inverse_focus_per_m_by_nm;
-        table_ = k;
         if (k.size() < 2) return;
         lo_ = *std::min_element(k.begin(), k.end()), hi_ = *std::max_element(k.begin(), k.end());
         // The d line's plane, read linearly between the table's nm.
@@ -161,8 +157,6 @@ class DispersionRuns {
     }
 
     bool fits() const { return !runs_.empty() && runs_.size() <= size_t(kMaxBandRuns); }
-    // The table it was made from (FocusBandIntegrals reads it too).
-    const std::vector<double>& inverse_focus_per_m_by_nm() const { return table_; }
     double lowest() const { return lo_; }
     double highest() const { return hi_; }
     // The middle plane: the pencil's (ThinLensCamera::pencil).
@@ -178,32 +172,16 @@ class DispersionRuns {
     double reference() const { return reference_; }
     static constexpr double kReferenceNm = 587.56;  // Fraunhofer d (helium)
 
-    // Where plane of focus k falls in each run: the wavelength where the
-    // set {k' < k} ends in a rising run, or begins in a falling one.
-    struct Ends {
-        double k;
-        float nm[kMaxBandRuns];
-    };
-    void ends_at(double k, Ends* out) const {
-        out->k = k;
-        for (size_t r = 0; r < runs_.size(); ++r)
-            out->nm[r] = runs_[r].rising ? runs_[r].nm_where_reaches(k) : runs_[r].nm_where_passes(-k);
-    }
-
     // The wavelengths whose 1 / focus lies in [k_lo, k_hi), into *out (needs fits()).
     void band_of(double k_lo, double k_hi, WavelengthBand* out) const {
-        Ends lo, hi;
-        ends_at(k_lo, &lo), ends_at(k_hi, &hi);
-        band_between(lo, hi, out);
-    }
-    // The same from the ends at k_lo and k_hi (a split sample's rays share
-    // theirs: one ray's k_hi is the next one's k_lo).
-    void band_between(const Ends& lo, const Ends& hi, WavelengthBand* out) const {
         out->count = 0;
-        for (size_t r = 0; r < runs_.size(); ++r) {
+        for (const Run& run : runs_) {
+            // Where plane of focus x falls in the run: the wavelength where the
+            // set {k < x} ends in a rising run, or begins in a falling one.
             // rising: {k < x} is [start, at(x)), the band [at(k_lo), at(k_hi));
             // falling (values -k): {k < x} is (at(-x), end], the band (at(-k_hi), at(-k_lo)]
-            const float from = runs_[r].rising ? lo.nm[r] : hi.nm[r], to = runs_[r].rising ? hi.nm[r] : lo.nm[r];
+            const float from = run.rising ? run.nm_where_reaches(k_lo) : run.nm_where_passes(-k_hi);
+            const float to = run.rising ? run.nm_where_reaches(k_hi) : run.nm_where_passes(-k_lo);
             if (to > from) {
                 out->from_nm[out->count] = from, out->to_nm[out->count] = to;
                 ++out->count;
@@ -271,7 +249,6 @@ class DispersionRuns {
         runs_.push_back(std::move(run));
     }
 
-    std::vector<double> table_;
     std::vector<Run> runs_;
     double lo_ = 0.0, hi_ = 0.0, reference_ = 0.0;
 };

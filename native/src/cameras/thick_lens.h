@@ -49,6 +49,7 @@ struct ThickLensCamera {
     }
     bool carries_bands() const { return at_front_principal_plane.carries_bands(); }
     const DispersionRuns& band_runs() const { return at_front_principal_plane.band_runs(); }
+    const std::vector<double>& band_focus_table() const { return at_front_principal_plane.band_focus_table(); }
     void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
         at_front_principal_plane.band_rays(raster_px, lens_sample, n, out);
     }

@@ -43,6 +43,8 @@ struct ThinLensCamera {
     // back at most kMaxBandRuns - 1 times over the spectrum.
     bool carries_bands() const { return disperses() && dispersion_runs.fits(); }
     const DispersionRuns& band_runs() const { return dispersion_runs; }
+    // The table the bands' integrals are read over (Scene::focus_band_integrals).
+    const std::vector<double>& band_focus_table() const { return inverse_focus_per_m_by_nm; }
 
     // Samples [0, n)'s rays (n <= kCameraBatch), each carrying the whole spectrum or a band of planes of
     // focus (thin_lens_bands.h), into out (cleared).
