@@ -178,7 +178,8 @@ def _dense_band_map(table, k_lo, k_hi, intensity=None, samples=400_001):
     nm = wavelengths_nm()
     dense = np.linspace(nm[0], nm[-1], samples)
     step = dense[1] - dense[0]
-    inside = (np.interp(dense, nm, table) >= k_lo) & (np.interp(dense, nm, table) < k_hi)
+    k_dense = np.interp(dense, nm, table)
+    inside = (k_dense >= k_lo) & (k_dense < k_hi)
     basis = np.stack([np.interp(dense, nm, basis_table()[:, c]) for c in range(3)], axis=1)
     film = np.stack([np.interp(dense, nm, film_table()[:, k]) for k in range(3)], axis=1)
     weight = inside * step
@@ -192,9 +193,9 @@ def test_a_bands_film_reading_is_the_integral_over_its_wavelengths(shape):
     """FocusBandIntegrals (spectral_bands.h), the map a ray of a band of
     planes of focus reads, against a dense sum over the wavelengths whose
     plane lies in the band: the lens's table (rising), a falling one and
-    one that turns twice; of the basis colours and
-    lit by a light; agree within 3e-5 of the whole spectrum's map (measured
-    1e-6 to 4e-6 on the lens's)."""
+    one that turns twice; of the basis colours and lit by a light; agree
+    within 3e-5 of the whole spectrum's map (measured 1e-6 to 4e-6 on the
+    lens's)."""
     scene = _scene()
     nm = wavelengths_nm()
     if shape == "lens":
