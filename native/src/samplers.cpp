@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 #include <algorithm>
+#include <type_traits>
 
 #include "cpu_kernels.h"
 #include "rng.h"
@@ -14,54 +15,141 @@ namespace {
 
 // Stream dimensions: independent random streams per pixel for each use.
 constexpr uint64_t kFilmStream = 0;
-constexpr uint64_t kLensStream = 1;
-constexpr uint64_t kShuffleStream = 2;
+constexpr uint64_t kLensStream = 1;  // (2 was the lens strata's shuffle, now hashed from this stream)
 constexpr uint64_t kTimeStream = 3;  // the time samples' own stream: drawing them changes no film or lens point
 constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 
+// A thread's scratch for the samplers, reached once per pixel: each
+// thread_local of a shared library is a call to __tls_get_addr (with one per
+// buffer, 2 % of an empty scene's thin-lens render under callgrind).
+struct Scratch {
+    std::vector<uint32_t> bits;       // draw_u32's numbers
+    std::vector<float> corners;       // stratum_corners', made for corners_spp
+    int corners_spp = -1;
+    std::vector<float> lens_flat;     // fill_jittered_paired's points before their pairing,
+    std::vector<uint32_t> to_sample;  // and the pairing
+    std::vector<Point2f> unused_lens; // the lens points a pinhole does not ask for
+};
+
+Scratch& thread_scratch() {
+    thread_local Scratch scratch;
+    return scratch;
+}
+
 // rng's next n outputs, drawn by Pcg32::fill_u32 (several states at a time,
-// not one chain of multiplications) into a thread's scratch, valid until the
-// next call: fill_random's, fill_jittered's and shuffle's random numbers.
-// (fill_jittered is built per instruction set: its divisions run 16 wide on
-// AVX-512 and round as the baseline's do.)
-const uint32_t* draw_u32(Pcg32& rng, int n) {
-    thread_local std::vector<uint32_t> bits;
-    bits.resize(size_t(n));
-    rng.fill_u32(bits.data(), n);
-    return bits.data();
+// not one chain of multiplications) into the scratch, valid until the next
+// call: fill_random's and jitter_strata's random numbers.
+const uint32_t* draw_u32(Pcg32& rng, int n, Scratch& scratch) {
+    scratch.bits.resize(size_t(n));
+    rng.fill_u32(scratch.bits.data(), n);
+    return scratch.bits.data();
 }
 
 // The same numbers in the same order as next_float twice per point.
-void fill_random(Pcg32& rng, int spp, Point2f* out) {
-    const uint32_t* bits = draw_u32(rng, 2 * spp);
+void fill_random(Pcg32& rng, int spp, Scratch& scratch, Point2f* out) {
+    const uint32_t* bits = draw_u32(rng, 2 * spp, scratch);
     for (int i = 0; i < spp; ++i) out[i] = {Pcg32::to_float(bits[2 * i]), Pcg32::to_float(bits[2 * i + 1])};
 }
 
-LC_BUILT_PER_ISA void fill_jittered(Pcg32& rng, int spp, Point2f* out) {
+// The corners of point i's stratum (row by row: column i mod nx, row i / nx)
+// as floats, x and y side by side, made once per spp and thread, so that the
+// jitter below is one flat loop: over a row of nx points (8 at 64 spp) GCC's
+// vectors were mostly empty.
+const float* stratum_corners(int spp, int nx, Scratch& scratch) {
+    if (scratch.corners_spp != spp) {
+        scratch.corners.resize(size_t(2 * spp));
+        for (int i = 0; i < spp; ++i)
+            scratch.corners[size_t(2 * i)] = float(i % nx), scratch.corners[size_t(2 * i + 1)] = float(i / nx);
+        scratch.corners_spp = spp;
+    }
+    return scratch.corners.data();
+}
+
+// One jittered point per stratum, point i in stratum i (row by row), as x
+// and y side by side in out[0, 2 spp): the random numbers first, then the
+// arithmetic in SIMD lanes (built per instruction set: the divisions run 16
+// wide on AVX-512 and round as the baseline's do), the same numbers in the
+// same order as next_float per coordinate.
+LC_BUILT_PER_ISA void jitter_strata(Pcg32& rng, int spp, Scratch& scratch, float* out) {
     int nx, ny;
     jittered_strata(spp, &nx, &ny);
-    // The random numbers first, then the arithmetic, which GCC runs in SIMD
-    // lanes: the same numbers in the same order as next_float per stratum.
-    const uint32_t* bits = draw_u32(rng, 2 * spp);
-    for (int iy = 0; iy < ny; ++iy) {
-        const uint32_t* row_bits = bits + size_t(2 * iy) * size_t(nx);
-        Point2f* row = out + size_t(iy) * size_t(nx);
-        for (int ix = 0; ix < nx; ++ix) {
-            // (ix + u) / nx stays below 1 because u <= 1 - 2^-24.
-            const float x = (float(ix) + Pcg32::to_float(row_bits[2 * ix])) / float(nx);
-            const float y = (float(iy) + Pcg32::to_float(row_bits[2 * ix + 1])) / float(ny);
-            row[ix] = {below_one(x), below_one(y)};
-        }
+    const float* corner = stratum_corners(spp, nx, scratch);
+    const uint32_t* bits = draw_u32(rng, 2 * spp, scratch);
+    const float x_strata = float(nx), y_strata = float(ny);
+    for (int k = 0; k < 2 * spp; ++k) {
+        // (corner + u) / strata stays below 1 because u <= 1 - 2^-24, but for its rounding.
+        const float strata = (k & 1) ? y_strata : x_strata;
+        out[k] = below_one((corner[k] + Pcg32::to_float(bits[k])) / strata);
     }
 }
 
-// Random permutation so that film stratum i is not always paired with lens
-// stratum i (which would correlate the two 2-D dimensions).
-// The random numbers first, as fill_jittered's; next_below's bound per swap.
-void shuffle(Pcg32& rng, int n, Point2f* points) {
-    if (n < 2) return;
-    const uint32_t* bits = draw_u32(rng, n - 1);
-    for (int i = n - 1; i > 0; --i) std::swap(points[i], points[Pcg32::below(bits[n - 1 - i], uint32_t(i + 1))]);
+// Point2f is two floats side by side: an array of them is 2 n floats.
+static_assert(std::is_standard_layout_v<Point2f> && sizeof(Point2f) == 2 * sizeof(float));
+float* as_floats(Point2f* points) { return &points->x; }
+
+void fill_jittered(Pcg32& rng, int spp, Scratch& scratch, Point2f* out) {
+    jitter_strata(rng, spp, scratch, as_floats(out));
+}
+
+// Kensler's hashed permutation ("Correlated Multi-Jittered Sampling", Pixar
+// technical memo 13-01, 2013), the form of pbrt-v4's PermutationElement: each
+// step is invertible on the low bits that mask w keeps, so i -> hash is a
+// permutation of [0, w + 1) chosen by p.
+[[gnu::always_inline]] inline uint32_t kensler_hash(uint32_t i, uint32_t w, uint32_t p) {
+    i ^= p;
+    i *= 0xe170893du;
+    i ^= p >> 16;
+    i ^= (i & w) >> 4;
+    i ^= p >> 8;
+    i *= 0x0929eb3fu;
+    i ^= p >> 23;
+    i ^= (i & w) >> 1;
+    i *= 1u | p >> 27;
+    i *= 0x6935fa69u;
+    i ^= (i & w) >> 11;
+    i *= 0x74dcb303u;
+    i ^= (i & w) >> 2;
+    i *= 0x9e501cc3u;
+    i ^= (i & w) >> 2;
+    i *= 0xc860a3dfu;
+    i &= w;
+    i ^= i >> 5;
+    return i;
+}
+
+// The permutation of [0, n) that p picks: kensler_hash on the next power of
+// two, walked until it falls below n (cycle walking keeps it a bijection),
+// then turned by p mod n. A power-of-two n needs no walk, and its loop runs
+// in SIMD lanes.
+LC_BUILT_PER_ISA void hashed_permutation(int n, uint32_t p, uint32_t* out) {
+    uint32_t w = uint32_t(n - 1);
+    w |= w >> 1, w |= w >> 2, w |= w >> 4, w |= w >> 8, w |= w >> 16;
+    if ((uint32_t(n) & uint32_t(n - 1)) == 0) {
+        for (int i = 0; i < n; ++i) out[i] = (kensler_hash(uint32_t(i), w, p) + p) & w;
+        return;
+    }
+    const uint32_t turn = p % uint32_t(n);
+    for (int i = 0; i < n; ++i) {
+        uint32_t j = uint32_t(i);
+        do j = kensler_hash(j, w, p); while (j >= uint32_t(n));
+        j += turn;
+        out[i] = j >= uint32_t(n) ? j - uint32_t(n) : j;
+    }
+}
+
+// The lens strata paired with the film's at random: lens point j (stratum j)
+// goes to sample permutation(j), so that film stratum i is not always paired
+// with lens stratum i (which would correlate the two 2-D dimensions). The
+// permutation is hashed from one more number of the lens stream; it was a
+// Fisher-Yates shuffle, whose chain of dependent swaps through memory was a
+// tenth of an empty scene's thin-lens render (perf).
+void fill_jittered_paired(Pcg32& rng, int spp, Scratch& scratch, Point2f* out) {
+    scratch.lens_flat.resize(size_t(2 * spp)), scratch.to_sample.resize(size_t(spp));
+    const float* flat = scratch.lens_flat.data();
+    const uint32_t* to_sample = scratch.to_sample.data();
+    jitter_strata(rng, spp, scratch, scratch.lens_flat.data());
+    hashed_permutation(spp, rng.next_u32(), scratch.to_sample.data());
+    for (int j = 0; j < spp; ++j) out[to_sample[j]] = {flat[2 * j], flat[2 * j + 1]};
 }
 
 // The multiplier coprime to n nearest n / golden ratio: i -> a * i mod n is
@@ -154,28 +242,26 @@ void jittered_strata(int spp, int* nx, int* ny) {
 void fill_pixel_samples(SamplerKind kind, uint64_t seed, uint64_t pixel_index, int spp,
                         Point2f* film, Point2f* lens, float* time, float* wavelength) {
     if (spp <= 0) return;
+    Scratch& scratch = thread_scratch();
     // No lens points asked for (a pinhole): random and jittered draw them from
     // streams of their own, so they skip them and the rest is unchanged; the
     // other samplers make them with the film's and they go to scratch.
     if (lens == nullptr && kind != SamplerKind::Random && kind != SamplerKind::Jittered) {
-        thread_local std::vector<Point2f> scratch;
-        scratch.resize(size_t(spp));
-        lens = scratch.data();
+        scratch.unused_lens.resize(size_t(spp));
+        lens = scratch.unused_lens.data();
     }
     switch (kind) {
         case SamplerKind::Random: {
             Pcg32 film_rng(seed, pixel_index, kFilmStream), lens_rng(seed, pixel_index, kLensStream);
-            fill_random(film_rng, spp, film);
-            if (lens) fill_random(lens_rng, spp, lens);
+            fill_random(film_rng, spp, scratch, film);
+            if (lens) fill_random(lens_rng, spp, scratch, lens);
             break;
         }
         case SamplerKind::Jittered: {
             Pcg32 film_rng(seed, pixel_index, kFilmStream), lens_rng(seed, pixel_index, kLensStream);
-            fill_jittered(film_rng, spp, film);
+            fill_jittered(film_rng, spp, scratch, film);
             if (lens == nullptr) break;
-            fill_jittered(lens_rng, spp, lens);
-            Pcg32 shuffle_rng(seed, pixel_index, kShuffleStream);
-            shuffle(shuffle_rng, spp, lens);
+            fill_jittered_paired(lens_rng, spp, scratch, lens);
             break;
         }
         case SamplerKind::Regular:
