@@ -81,8 +81,9 @@ MAX_MITSUBA_SEED = 2**32 - 1
 MITSUBA_SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
 """Mitsuba's samplers the export may write: ``independent`` (a uniform point
 per dimension, as the native ``random``; the default), ``stratified`` (one
-jittered point per stratum, the strata shuffled between dimensions, as the
-native ``jittered``; it takes a square sample count), and the stratified ones
+jittered point per stratum, the strata paired between dimensions by a per-pixel
+hashed permutation (Kensler 2013), as the native ``jittered``; it takes a square
+sample count), and the stratified ones
 that round the count themselves."""
 
 NEAR_CLIP_M, FAR_CLIP_M = 1e-5, 1e9  # Mitsuba's defaults (1 cm, 10 km) would clip scenes the native tracer shows
