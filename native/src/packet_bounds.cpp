@@ -18,15 +18,6 @@ constexpr int N = kPacketSize;
 constexpr float kRelativeMargin = 1e-4f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// The largest of v[0..N), halving with fixed widths: GCC runs each step in lanes.
-[[gnu::always_inline]] inline float largest(float (&v)[N]) {
-    static_assert(N == 16, "four halvings");
-    for (int i = 0; i < 8; ++i) v[i] = v[i + 8] > v[i] ? v[i + 8] : v[i];
-    for (int i = 0; i < 4; ++i) v[i] = v[i + 4] > v[i] ? v[i + 4] : v[i];
-    for (int i = 0; i < 2; ++i) v[i] = v[i + 2] > v[i] ? v[i + 2] : v[i];
-    return v[1] > v[0] ? v[1] : v[0];
-}
-
 }  // namespace
 
 bool packet_cull_enabled() {
@@ -34,32 +25,25 @@ bool packet_cull_enabled() {
     return !(text && std::strcmp(text, "0") == 0);  // as LENSCOMPARE_EMBREE_ROBUST (embree_packet.cpp)
 }
 
-LC_BUILT_PER_ISA bool capsule_of_segments(const RTCRayPacket& packet, const int* valid, const float light_m[3],
-                                          SegmentCapsule* out) {
-    int first = 0;  // the first valid lane's origin is the axis's start
-    while (first < N && valid[first] == 0) ++first;
-    if (first == N) return false;
-    const float ax = packet.org_x[first], ay = packet.org_y[first], az = packet.org_z[first];
+SegmentCapsule capsule_toward(const SurfaceLanes& s, const float light_m[3]) {
+    SegmentCapsule out;
+    const float cx = s.from_centre_m[0], cy = s.from_centre_m[1], cz = s.from_centre_m[2];
     const float lx = light_m[0], ly = light_m[1], lz = light_m[2];
-    float farthest2[N];
-    for (int i = 0; i < N; ++i) {  // branch-free, so that GCC runs it 16 wide
-        const float ox = packet.org_x[i], oy = packet.org_y[i], oz = packet.org_z[i], t = packet.tfar[i];
-        const float ex = ox + t * packet.dir_x[i] - lx, ey = oy + t * packet.dir_y[i] - ly,
-                    ez = oz + t * packet.dir_z[i] - lz;
-        const float mx = ox - ax, my = oy - ay, mz = oz - az;
-        const float from_first2 = mx * mx + my * my + mz * mz, end_from_light2 = ex * ex + ey * ey + ez * ez;
-        const float d2 = from_first2 > end_from_light2 ? from_first2 : end_from_light2;
-        // Not finite (or NaN): an infinite radius, so that every primitive stays a candidate
-        const float sure = d2 <= std::numeric_limits<float>::max() ? d2 : kInf;
-        farthest2[i] = valid[i] != 0 ? sure : 0.0f;
+    const float ax = lx - cx, ay = ly - cy, az = lz - cz;
+    // Every origin lies within r of the centre, so within |axis| + r of the
+    // light, and its segment ends (1 - kShadowEnd) of that short of it.
+    const float reach_m = std::sqrt(ax * ax + ay * ay + az * az) + s.from_radius_m;
+    const float radius_m = s.from_radius_m + 2.0f * (1.0f - kShadowEnd) * reach_m;
+    out.a[0] = cx, out.a[1] = cy, out.a[2] = cz;
+    out.b[0] = lx, out.b[1] = ly, out.b[2] = lz;
+    out.radius_m = radius_m <= std::numeric_limits<float>::max() ? radius_m : kInf;  // NaN too
+    float size = 1.0f + out.radius_m;
+    for (int k = 0; k < 3; ++k) {
+        const float ends = 1.0f + std::max(std::fabs(out.a[k]), std::fabs(out.b[k]));
+        size = ends > size ? ends : size;
     }
-    out->a[0] = ax, out->a[1] = ay, out->a[2] = az;
-    out->b[0] = lx, out->b[1] = ly, out->b[2] = lz;
-    out->radius_m = std::sqrt(largest(farthest2));
-    float size = 1.0f + out->radius_m;
-    for (int a = 0; a < 3; ++a) size = std::max({size, 1.0f + std::fabs(out->a[a]), 1.0f + std::fabs(out->b[a])});
-    out->size_m = size;
-    return true;
+    out.size_m = size;
+    return out;
 }
 
 CullColumns CullColumns::of_own(const std::vector<float>& spheres, const std::vector<OwnQuad>& quads) {

@@ -5,8 +5,9 @@
 // A packet's shadow rays start at nearby hits (a camera packet's samples lie
 // in one or two pixels) and all end at one light, so every segment lies in
 // one capsule: round the axis from one lane's origin to the light, as wide
-// as the farthest origin from that one (or the farthest end from the
-// light). A primitive whose bounding ball lies farther from the axis than
+// as the farthest diffuse lane's origin from that one (a ball made once per
+// camera packet, surface_lanes, for every light), widened for the segments'
+// ends short of the light. A primitive whose bounding ball lies farther from the axis than
 // that radius plus a margin (1e-4 of the coordinates, far above any
 // rounding), or whose plane leaves the whole capsule on one side, meets no
 // lane: it is skipped after one test per packet, all primitives side by side
@@ -29,16 +30,18 @@ namespace lc {
 bool packet_cull_enabled();
 
 struct SegmentCapsule {
-    float a[3], b[3];  // the axis: the first valid lane's origin, the light (m)
+    float a[3], b[3];  // the axis: the centre of the origins' ball, the light (m)
     float radius_m;    // every valid segment lies within this of the axis
     float size_m;      // 1 + the largest coordinate or radius: the margin's scale
 };
 
-// The valid lanes' segments t in [0, tfar] (an RTCRayPacket as shadow_lanes
-// fills it, toward light_m); false when no lane is valid. A value not finite
-// makes the radius infinite: every primitive stays a candidate.
-bool capsule_of_segments(const RTCRayPacket& packet, const int* valid, const float light_m[3],
-                         SegmentCapsule* out);
+// The capsule round a camera packet's shadow segments toward light_m (s
+// after surface_lanes): the axis from the ball round the segments' origins
+// to the light, as wide as that ball, widened by twice the ends' distance
+// short of the light (1 - kShadowEnd of each segment's length, doubled for
+// the rounding of o + t d), so one ball serves every light. A value not
+// finite makes the radius infinite: every primitive stays a candidate.
+SegmentCapsule capsule_toward(const SurfaceLanes& s, const float light_m[3]);
 
 // The own primitives as the cull takes them, in columns: a bounding ball
 // each, and a quad's plane (its unit normal and offset n . v0; a sphere's

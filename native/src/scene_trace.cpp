@@ -213,9 +213,8 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     // The own primitives some lane's segment may reach (packet_bounds.h); the
     // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
-    SegmentCapsule capsule;
-    if (occluders.packet_cull && capsule_of_segments(packet, valid, light_m, &capsule)) {
-        const uint64_t near = near_capsule(shading_kernel_, capsule, occluders.columns);
+    if (occluders.packet_cull) {
+        const uint64_t near = near_capsule(shading_kernel_, capsule_toward(hits.surface, light_m), occluders.columns);
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
         near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
     }

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <initializer_list>
+#include <limits>
 
 namespace lc {
 namespace {
@@ -113,6 +114,34 @@ struct Columns {
         texture[1][i] = moving ? s.p[1][i] - s.shift_m[1][i] : s.p[1][i];
         texture[2][i] = moving ? s.p[2][i] - s.shift_m[2][i] : s.p[2][i];
     }
+    // The shadow rays' origins, lifted off the surface by an offset that grows
+    // with the coordinates as float spacing does, and the ball round the
+    // diffuse lanes' (every light's shadow packet starts from them).
+    for (int i = 0; i < N; ++i) {
+        const float px = s.p[0][i], py = s.p[1][i], pz = s.p[2][i];
+        const float offset = 1e-4f * coordinate_size(px, py, pz);
+        s.from_m[0][i] = px + s.n[0][i] * offset;
+        s.from_m[1][i] = py + s.n[1][i] * offset;
+        s.from_m[2][i] = pz + s.n[2][i] * offset;
+    }
+    int first = 0;
+    while (first < N - 1 && s.diffuse[first] == 0) ++first;
+    const float cx = s.from_m[0][first], cy = s.from_m[1][first], cz = s.from_m[2][first];
+    float farthest2[N];
+    for (int i = 0; i < N; ++i) {
+        const float dx = s.from_m[0][i] - cx, dy = s.from_m[1][i] - cy, dz = s.from_m[2][i] - cz;
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        // Not finite (or NaN): an infinite radius, so that every primitive stays a candidate
+        const float sure = d2 <= std::numeric_limits<float>::max() ? d2 : INFINITY;
+        farthest2[i] = s.diffuse[i] != 0 ? sure : 0.0f;
+    }
+    // The largest, halving with fixed widths: GCC runs each step in lanes.
+    static_assert(N == 16, "four halvings");
+    for (int i = 0; i < 8; ++i) farthest2[i] = farthest2[i + 8] > farthest2[i] ? farthest2[i + 8] : farthest2[i];
+    for (int i = 0; i < 4; ++i) farthest2[i] = farthest2[i + 4] > farthest2[i] ? farthest2[i + 4] : farthest2[i];
+    for (int i = 0; i < 2; ++i) farthest2[i] = farthest2[i + 2] > farthest2[i] ? farthest2[i + 2] : farthest2[i];
+    s.from_centre_m[0] = cx, s.from_centre_m[1] = cy, s.from_centre_m[2] = cz;
+    s.from_radius_m = std::sqrt(farthest2[1] > farthest2[0] ? farthest2[1] : farthest2[0]);
     int odd[N];
     // A lane without a checker divides by 0; the select below discards it.
     for (int i = 0; i < N; ++i) odd[i] = checker_odd(texture[0][i], texture[1][i], texture[2][i], s.checker_size_m[i]);
@@ -123,10 +152,6 @@ struct Columns {
         s.albedo[2][i] = checker ? s.checker_color[2][i] : s.color[2][i];
     }
 }
-
-// Where a shadow segment stops, as a fraction of the way to its light: short
-// of it by 1e-5 of the distance, as the unit rays' t_far = distance (1 - 1e-5) had been.
-constexpr float kShadowEnd = 1.0f - 1e-5f;
 
 [[gnu::always_inline]] inline bool shadow_body(const float light_m[3], bool inverse_square,
                                                const SurfaceLanes& __restrict s, const float* __restrict time,
@@ -150,8 +175,7 @@ constexpr float kShadowEnd = 1.0f - 1e-5f;
         inverse_d2[i] = d2 < kNearestFalloffM2 ? 1.0f / kNearestFalloffM2 : inverse;
         // The origin lifted off the surface, by an offset that grows with the
         // coordinates as float spacing does.
-        const float offset = 1e-4f * coordinate_size(px, py, pz);
-        const float fx = px + nx * offset, fy = py + ny * offset, fz = pz + nz * offset;
+        const float fx = s.from_m[0][i], fy = s.from_m[1][i], fz = s.from_m[2][i];
         from[0][i] = fx, from[1][i] = fy, from[2][i] = fz;
         // The segment to the light as it is, not normalised (every occlusion
         // test takes any direction's length): t in [0, 1) short of the light.

@@ -53,7 +53,16 @@ struct SurfaceLanes {
     float p[3][kPacketSize];       // point (m)
     float n[3][kPacketSize];       // unit normal facing the ray
     float albedo[3][kPacketSize];
+    float from_m[3][kPacketSize];  // where its shadow rays start: p lifted off the surface along n
+    // A ball round the diffuse lanes' from_m (centre the first one's; radius
+    // infinite if any is not finite): one bound for every light's shadow
+    // packet (capsule_toward, packet_bounds.h) instead of one per light.
+    float from_centre_m[3], from_radius_m;
 };
+
+// Where a shadow segment stops, as a fraction of the way from its origin to
+// its light (shadow_lanes' rays are not normalised): 1e-5 of the distance short.
+constexpr float kShadowEnd = 1.0f - 1e-5f;
 
 // Lane i takes row material[i] of table (its miss row for a miss or an idle
 // lane): its inputs into s, its radiance before any light into rgb.
