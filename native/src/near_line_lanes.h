@@ -105,6 +105,15 @@ template <int N, class Set>
     return any_set<N>(set, near);
 }
 
+// The largest of v[0..16) (v is overwritten), halving with fixed widths:
+// GCC runs each step in lanes, where a running maximum stayed scalar.
+[[gnu::always_inline]] inline float largest_of_16(float (&v)[16]) {
+    for (int i = 0; i < 8; ++i) v[i] = v[i + 8] > v[i] ? v[i + 8] : v[i];
+    for (int i = 0; i < 4; ++i) v[i] = v[i + 4] > v[i] ? v[i + 4] : v[i];
+    for (int i = 0; i < 2; ++i) v[i] = v[i + 2] > v[i] ? v[i + 2] : v[i];
+    return v[1] > v[0] ? v[1] : v[0];
+}
+
 // Per lane: 1 / |d|^2 and the largest origin coordinate, which near_line takes.
 template <int N>
 [[gnu::always_inline]] inline void lane_scales(const float* const origin[3], const float* const direction[3],

@@ -24,8 +24,7 @@ constexpr uint64_t kWavelengthStream = 4;  // the same for wavelengths
 // buffer, 2 % of an empty scene's thin-lens render under callgrind).
 struct Scratch {
     std::vector<uint32_t> bits;       // draw_u32's numbers
-    std::vector<float> corners;       // stratum_corners', made for corners_spp
-    int corners_spp = -1;
+    std::vector<float> corners;       // stratum_corners', made for size() / 2 points
     std::vector<float> lens_flat;     // fill_jittered_paired's points before their pairing,
     std::vector<uint32_t> to_sample;  // and the pairing
     std::vector<Point2f> unused_lens; // the lens points a pinhole does not ask for
@@ -56,11 +55,10 @@ void fill_random(Pcg32& rng, int spp, Scratch& scratch, Point2f* out) {
 // jitter below is one flat loop: over a row of nx points (8 at 64 spp) GCC's
 // vectors were mostly empty.
 const float* stratum_corners(int spp, int nx, Scratch& scratch) {
-    if (scratch.corners_spp != spp) {
+    if (scratch.corners.size() != size_t(2 * spp)) {  // nx follows from spp
         scratch.corners.resize(size_t(2 * spp));
         for (int i = 0; i < spp; ++i)
             scratch.corners[size_t(2 * i)] = float(i % nx), scratch.corners[size_t(2 * i + 1)] = float(i / nx);
-        scratch.corners_spp = spp;
     }
     return scratch.corners.data();
 }

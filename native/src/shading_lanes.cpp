@@ -6,6 +6,8 @@
 #include <initializer_list>
 #include <limits>
 
+#include "near_line_lanes.h"
+
 namespace lc {
 namespace {
 
@@ -135,13 +137,8 @@ struct Columns {
         const float sure = d2 <= std::numeric_limits<float>::max() ? d2 : INFINITY;
         farthest2[i] = s.diffuse[i] != 0 ? sure : 0.0f;
     }
-    // The largest, halving with fixed widths: GCC runs each step in lanes.
-    static_assert(N == 16, "four halvings");
-    for (int i = 0; i < 8; ++i) farthest2[i] = farthest2[i + 8] > farthest2[i] ? farthest2[i + 8] : farthest2[i];
-    for (int i = 0; i < 4; ++i) farthest2[i] = farthest2[i + 4] > farthest2[i] ? farthest2[i + 4] : farthest2[i];
-    for (int i = 0; i < 2; ++i) farthest2[i] = farthest2[i + 2] > farthest2[i] ? farthest2[i + 2] : farthest2[i];
     s.from_centre_m[0] = cx, s.from_centre_m[1] = cy, s.from_centre_m[2] = cz;
-    s.from_radius_m = std::sqrt(farthest2[1] > farthest2[0] ? farthest2[1] : farthest2[0]);
+    s.from_radius_m = std::sqrt(lanes::largest_of_16(farthest2));
     int odd[N];
     // A lane without a checker divides by 0; the select below discards it.
     for (int i = 0; i < N; ++i) odd[i] = checker_odd(texture[0][i], texture[1][i], texture[2][i], s.checker_size_m[i]);
@@ -158,7 +155,7 @@ struct Columns {
                                                ShadowLanes& __restrict shadow, RTCRayPacket& __restrict packet) {
     const float lx = light_m[0], ly = light_m[1], lz = light_m[2];
     int valid[N];
-    float from[3][N], to_light[3][N], inverse_d2[N];
+    float to_light[3][N], inverse_d2[N];
     for (int i = 0; i < N; ++i) {
         const float px = s.p[0][i], py = s.p[1][i], pz = s.p[2][i];
         const float nx = s.n[0][i], ny = s.n[1][i], nz = s.n[2][i];
@@ -173,24 +170,21 @@ struct Columns {
         // (The division before the select: GCC keeps a division under a condition scalar.)
         const float inverse = 1.0f / d2;
         inverse_d2[i] = d2 < kNearestFalloffM2 ? 1.0f / kNearestFalloffM2 : inverse;
-        // The origin lifted off the surface, by an offset that grows with the
-        // coordinates as float spacing does.
-        const float fx = s.from_m[0][i], fy = s.from_m[1][i], fz = s.from_m[2][i];
-        from[0][i] = fx, from[1][i] = fy, from[2][i] = fz;
-        // The segment to the light as it is, not normalised (every occlusion
-        // test takes any direction's length): t in [0, 1) short of the light.
+        // From the origin lifted off the surface (surface_lanes), the segment
+        // to the light as it is, not normalised (every occlusion test takes
+        // any direction's length): t in [0, 1) short of the light.
         // Normalising it was a square root and three divisions per lane, half
         // of this loop's time (perf).
-        to_light[0][i] = lx - fx, to_light[1][i] = ly - fy, to_light[2][i] = lz - fz;
+        to_light[0][i] = lx - s.from_m[0][i], to_light[1][i] = ly - s.from_m[1][i], to_light[2][i] = lz - s.from_m[2][i];
     }
     int any = 0;
     for (int i = 0; i < N; ++i) {
         // An idle lane holds a harmless ray: Embree's narrower kernels (SSE, AVX)
         // split the packet and check the rays of every lane they are handed.
         const bool traced = valid[i] != 0;
-        packet.org_x[i] = traced ? from[0][i] : 0.0f;
-        packet.org_y[i] = traced ? from[1][i] : 0.0f;
-        packet.org_z[i] = traced ? from[2][i] : 0.0f;
+        packet.org_x[i] = traced ? s.from_m[0][i] : 0.0f;
+        packet.org_y[i] = traced ? s.from_m[1][i] : 0.0f;
+        packet.org_z[i] = traced ? s.from_m[2][i] : 0.0f;
         packet.dir_x[i] = traced ? to_light[0][i] : 0.0f;
         packet.dir_y[i] = traced ? to_light[1][i] : 0.0f;
         packet.dir_z[i] = traced ? to_light[2][i] : 1.0f;
