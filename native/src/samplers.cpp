@@ -126,12 +126,32 @@ LC_BUILT_PER_ISA void hashed_permutation(int n, uint32_t p, uint32_t* out) {
         for (int i = 0; i < n; ++i) out[i] = (kensler_hash(uint32_t(i), w, p) + p) & w;
         return;
     }
-    const uint32_t turn = p % uint32_t(n);
-    for (int i = 0; i < n; ++i) {
-        uint32_t j = uint32_t(i);
-        do j = kensler_hash(j, w, p); while (j >= uint32_t(n));
-        j += turn;
-        out[i] = j >= uint32_t(n) ? j - uint32_t(n) : j;
+    // Sixteen indices walk side by side, each lane hashed again while it is
+    // outside [0, n): the same walk per index as one at a time (the same
+    // permutation), in SIMD, without the walk's unpredictable branch. One
+    // index at a time it was 9 % of peers_lit's thin-lens render at 48 spp
+    // (61 instructions a sample under callgrind, a branch missed every
+    // 2.4 samples). Lanes past n start inside and stay: a walk from an
+    // index >= n need not end, since its cycle may hold no index below n.
+    const uint32_t count = uint32_t(n), turn = p % count;
+    constexpr int kLanes = 16;
+    for (int first = 0; first < n; first += kLanes) {
+        uint32_t j[kLanes];
+        for (int k = 0; k < kLanes; ++k) {
+            const uint32_t i = uint32_t(first + k);
+            j[k] = i < count ? kensler_hash(i, w, p) : 0u;
+        }
+        for (;;) {
+            uint32_t outside = 0;
+            for (int k = 0; k < kLanes; ++k) outside |= uint32_t(j[k] >= count);
+            if (outside == 0) break;
+            for (int k = 0; k < kLanes; ++k) j[k] = j[k] >= count ? kensler_hash(j[k], w, p) : j[k];
+        }
+        const int end = std::min(kLanes, n - first);
+        for (int k = 0; k < end; ++k) {
+            const uint32_t turned = j[k] + turn;
+            out[first + k] = turned >= count ? turned - count : turned;
+        }
     }
 }
 
