@@ -18,8 +18,9 @@ PACKAGE_FILES := $(shell find lenscompare -name '*.py' -o -name '*.dat')
 demo: install
 	$(LENSCOMPARE) report -o reports/latest
 
+# Two test workers (pytest-xdist): on 2 cores the suite takes about 13 minutes instead of 16.
 test: install
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n 2
 
 # Mitsuba's LLVM variant (bench_peers.py) needs Debian's LLVM 19 (its JIT fails with LLVM 15).
 LLVM_LIBRARY := /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
