@@ -162,3 +162,55 @@ def test_a_moving_cameras_swept_cull_changes_no_bit(monkeypatch, name, model):
         culled, tested = render_both(monkeypatch, scene.with_camera(lens=lens, focal_length_mm=None), model=model,
                                      spp=8, threads=2, spectral=True)
         assert np.array_equal(culled, tested)
+
+
+def own_primitive_scenes():
+    """Scenes for the shadow rays of packets whose lanes are all on one own sphere or quad
+    (Scene::single_own_primitive): the primitive, and a box's other faces, are then not tested."""
+    lamp = light((0.5, 3.0, 2.0))
+    boxes = box((-1.0, 0.0, 1.5), (-0.4, 0.6, 2.1)) + box((0.6, 0.0, 2.5), (1.4, 1.2, 3.3))
+    return {
+        # Boxes on the floor lit from above, from the side (some faces behind the light) and from low
+        "boxes_lit_three_ways": HEADER + boxes + lamp + light((3.0, 0.3, 2.9)) + light((-2.5, 0.05, 1.0)),
+        # A light a hair off the floor's plane (inside the plane drop's margin) and one a hair off a box's face
+        "light_a_hair_off_a_plane": HEADER + boxes + light((1.0, 2e-4, 2.0)) + light((1.4005, 0.6, 2.9)),
+        # The camera inside a box room: its walls are met from inside, and a light outside stays out
+        "room_lit_from_outside": HEADER + sphere((0.3, 0.6, 1.0), 0.3)
+        + box((-3.0, -0.5, -3.0), (3.0, 3.0, 5.0)) + light((0.0, 2.0, 1.0)) + light((0.0, 2.0, 8.0)),
+        # Large spheres filling packets, lit from outside, and one with the light inside it
+        "big_spheres": HEADER + sphere((-0.6, 0.6, 2.0), 0.6) + sphere((0.8, 0.5, 2.5), 0.5)
+        + sphere((0.0, 2.2, 3.0), 0.5) + light((0.0, 2.2, 3.0)) + lamp,
+    }
+
+
+@pytest.mark.parametrize("model", ["pinhole", "thin"])
+@pytest.mark.parametrize("name", list(own_primitive_scenes()))
+def test_shadow_rays_skip_the_primitive_they_start_on_with_no_bit_changed(monkeypatch, name, model):
+    culled, tested = render_both(monkeypatch, parse_scene(own_primitive_scenes()[name]), model=model, spp=8,
+                                 threads=2)
+    assert np.isfinite(culled).all() and culled.mean() > 0.0
+    assert np.array_equal(culled, tested)
+
+
+def test_a_light_outside_a_box_room_lights_nothing_inside(monkeypatch):
+    """The room's faces are met from inside, and the light outside is behind the planes of those faces'
+    lanes it could reach (in front of the far wall only): those lanes skip their own face, never the far wall,
+    so the light adds nothing."""
+    monkeypatch.setenv("LENSCOMPARE_PACKET_CULL", "1")
+    room = own_primitive_scenes()["room_lit_from_outside"]
+    inside_only = room.replace(light((0.0, 2.0, 8.0)), "")
+    both = render(parse_scene(room), model="thin", spp=8, threads=2, progress=False).pixels
+    alone = render(parse_scene(inside_only), model="thin", spp=8, threads=2, progress=False).pixels
+    assert alone.mean() > 0.01
+    assert np.array_equal(both, alone)
+
+
+@pytest.mark.parametrize("model", ["pinhole", "thin"])
+def test_peers_lit_is_the_same_with_and_without_the_culls(monkeypatch, model):
+    """bench_peers.py's lit scene: boxes on a slab before a wall, three lights, spheres; its packets mostly
+    lie on one quad or sphere."""
+    scene = load_scene(REFERENCE_SCENES.parent / "bench" / "scenes" / "peers_lit.toml").with_camera(
+        resolution=(96, 64))
+    culled, tested = render_both(monkeypatch, scene, model=model, spp=16, threads=2)
+    assert culled.mean() > 0.01
+    assert np.array_equal(culled, tested)

@@ -307,8 +307,38 @@ Scene::Scene(const SceneArrays& a)
         const float light_m[3] = {light.position_m.x, light.position_m.y, light.position_m.z};
         const uint64_t blocking = own_solids_.blocking_toward(light_m);
         LightOccluders o;
+        // Where each own quad k is in this light's list (bit j of quads), or 0.
+        std::vector<uint64_t> list_bit(own_quads_.size(), 0);
         for (size_t k = 0; k < own_quads_.size(); ++k)
-            if (is_candidate(blocking, int(k))) o.quads.push_back(own_quads_[k]);
+            if (is_candidate(blocking, int(k))) {
+                if (o.quads.size() < 64) list_bit[k] = uint64_t(1) << o.quads.size();
+                o.quads.push_back(own_quads_[k]);
+            }
+        for (size_t k = 0; k < own_quads_.size(); ++k) {
+            // The light's signed distance from quad k's plane (along its normal, or
+            // its outward normal when it is a solid's face), against a margin ten
+            // times the shadow rays' lift off the surface (1e-4 of the coordinates'
+            // size, surface_lanes): beyond it every lit lane is on the light's side.
+            const OwnQuad& q = own_quads_[k];
+            const double* outward = own_solids_.outward_of(int(k));
+            double n[3] = {q.n[0], q.n[1], q.n[2]};
+            const double n_length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int a = 0; a < 3; ++a) n[a] = outward ? outward[a] : n[a] / n_length;
+            double side_m = 0.0, size_m = 1.0;
+            for (int a = 0; a < 3; ++a) {
+                side_m += (double(light_m[a]) - q.v0[a]) * n[a];
+                size_m = std::max({size_m, std::fabs(double(light_m[a])), std::fabs(q.v0[a]) + double(q.bound[3])});
+            }
+            const double margin_m = 1e-3 * size_m;
+            const bool clear = std::fabs(side_m) > margin_m;
+            uint64_t drop = clear ? list_bit[k] : 0;
+            if (outward && side_m > margin_m) {
+                const uint64_t mates = own_solids_.solid_mates(int(k));
+                for (size_t j = 0; j < own_quads_.size() && j < 64; ++j)
+                    if ((mates >> j) & 1u) drop |= list_bit[j];
+            }
+            o.own_plane_drop.push_back(drop);
+        }
         o.columns = CullColumns::of_own(own_spheres_, o.quads);
         o.packet_cull = culls_ && o.columns.count() > 0 && o.columns.count() <= 64;
         for (size_t k = 0; k + 3 < own_spheres_.size(); k += 4) {

@@ -99,6 +99,12 @@ struct SceneArrays {
     Vec3f background;
 };
 
+// The one own primitive a camera packet's diffuse lanes are all on, if one
+// (Scene::single_own_primitive): its shadow rays need not test it.
+struct SinglePrimitive {
+    int sphere = -1, quad = -1;  // its index, or -1
+};
+
 class Scene {
   public:
     explicit Scene(const SceneArrays& arrays);
@@ -173,6 +179,10 @@ class Scene {
         int start_sphere[kPacketSize];
         int inner_side[kPacketSize];
         bool any_inner_start = false;  // some lane's start sphere and inner side both set
+        // The own primitive every diffuse lane's hit is on, if one; found
+        // when the first light's shadow packet asks (single_own_primitive).
+        bool single_found = false;
+        SinglePrimitive single;
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
@@ -195,6 +205,8 @@ class Scene {
     bool trace_shadow_rays(size_t light, CameraHits& hits, ShadowRays& shadow) const;
     // hits' start_sphere and inner_side, once per camera packet (the same for every light).
     void sphere_starts(CameraHits& hits) const;
+    // hits.single, once per camera packet.
+    void single_own_primitive(CameraHits& hits) const;
     // Whether lane i of hits shows a monochromatic emitter (spectral renders: its line alone).
     bool shows_line(const CameraHits& hits, const int* material, int i) const {
         return !hits.missed(i) && materials_[size_t(material[i])].kind == MaterialKind::Emissive &&
@@ -229,6 +241,13 @@ class Scene {
         // also as bits, which lanes read without a gather.
         std::vector<int> outside_sphere;
         uint32_t outside_bits = 0;
+        // Per own quad k, the bits of quads that cannot block the shadow rays
+        // of lanes on k, when the light is clear of k's plane by a margin
+        // (else 0): a lit lane is then on the light's side of the plane and so
+        // is its segment, which cannot cross k; when k is a face of a solid and
+        // the light in front of it, the segment stays outside the solid, and
+        // none of the solid's faces can block it.
+        std::vector<uint64_t> own_plane_drop;
     };
     std::vector<LightOccluders> light_occluders_;
     SphereKernel sphere_kernel_ = SphereKernel::Default;

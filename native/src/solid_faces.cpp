@@ -59,8 +59,19 @@ SolidFaces::SolidFaces(const float* corners, const int32_t* solid, int n) {
         f.offset_m = f.outward[0] * c[0] + f.outward[1] * c[1] + f.outward[2] * c[2];
         faces_.push_back(f);
     }
+    face_of_quad_.assign(size_t(std::max(n, 0)), -1);
+    for (size_t f = 0; f < faces_.size(); ++f) face_of_quad_[size_t(faces_[f].quad)] = int(f);
     static std::atomic<uint64_t> constructed{0};
     if (!faces_.empty()) id_ = ++constructed;
+}
+
+uint64_t SolidFaces::solid_mates(int quad) const {
+    const int f = quad < int(face_of_quad_.size()) ? face_of_quad_[size_t(quad)] : -1;
+    if (f < 0) return 0;
+    uint64_t mates = 0;
+    for (const Face& g : faces_)
+        if (g.solid == faces_[size_t(f)].solid && g.quad < 64) mates |= uint64_t(1) << g.quad;
+    return mates;
 }
 
 int SolidFaces::faces_met(const int32_t* solid, int n) {

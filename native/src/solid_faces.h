@@ -15,6 +15,7 @@
 // (within that slack) outside a solid's edge grazes it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -54,6 +55,17 @@ class SolidFaces {
     // Bit k set: quad k may block a segment that ends at light_m.
     uint64_t blocking_toward(const float light_m[3]) const;
 
+    // Quad k's outward unit normal (k a face of a solid), or nullptr (a lone
+    // quad, or one with no plane).
+    const double* outward_of(int quad) const {
+        const int f = quad < int(face_of_quad_.size()) ? face_of_quad_[size_t(quad)] : -1;
+        return f < 0 ? nullptr : faces_[size_t(f)].outward;
+    }
+
+    // Bit j set for each quad j that is a face of the same solid as quad k
+    // (k itself too); 0 for a lone quad.
+    uint64_t solid_mates(int quad) const;
+
     // Faces of solids a ray may meet: each lone quad, and at most three of a
     // box's six from any point outside it (the count the own quads' limit
     // takes, quad_lanes.h's max_own_quads).
@@ -75,6 +87,7 @@ class SolidFaces {
     uint64_t facing(const double* lo, const double* hi) const;
 
     std::vector<Face> faces_;
+    std::vector<int> face_of_quad_;  // per quad, its index in faces_, or -1
     std::vector<Bounds> solids_;
     uint64_t id_ = 0;  // unique per construction with faces, for OriginRegion
 };
