@@ -26,14 +26,18 @@ bool packet_cull_enabled() {
 }
 
 SegmentCapsule capsule_toward(const SurfaceLanes& s, const float light_m[3]) {
+    return capsule_toward(s.from_centre_m, s.from_radius_m, light_m);
+}
+
+SegmentCapsule capsule_toward(const float centre_m[3], float ball_radius_m, const float light_m[3]) {
     SegmentCapsule out;
-    const float cx = s.from_centre_m[0], cy = s.from_centre_m[1], cz = s.from_centre_m[2];
+    const float cx = centre_m[0], cy = centre_m[1], cz = centre_m[2];
     const float lx = light_m[0], ly = light_m[1], lz = light_m[2];
     const float ax = lx - cx, ay = ly - cy, az = lz - cz;
     // Every origin lies within r of the centre, so within |axis| + r of the
     // light, and its segment ends (1 - kShadowEnd) of that short of it.
-    const float reach_m = std::sqrt(ax * ax + ay * ay + az * az) + s.from_radius_m;
-    const float radius_m = s.from_radius_m + 2.0f * (1.0f - kShadowEnd) * reach_m;
+    const float reach_m = std::sqrt(ax * ax + ay * ay + az * az) + ball_radius_m;
+    const float radius_m = ball_radius_m + 2.0f * (1.0f - kShadowEnd) * reach_m;
     out.a[0] = cx, out.a[1] = cy, out.a[2] = cz;
     out.b[0] = lx, out.b[1] = ly, out.b[2] = lz;
     out.radius_m = radius_m <= std::numeric_limits<float>::max() ? radius_m : kInf;  // NaN too
@@ -44,6 +48,34 @@ SegmentCapsule capsule_toward(const SurfaceLanes& s, const float light_m[3]) {
     }
     out.size_m = size;
     return out;
+}
+
+void ShadowCullCache::take(uint64_t scene, const SurfaceLanes& s) {
+    const double dx = double(s.from_centre_m[0]) - centre_m_[0], dy = double(s.from_centre_m[1]) - centre_m_[1],
+                 dz = double(s.from_centre_m[2]) - centre_m_[2];
+    // Inside, with room for the rounding of this test (a relative 1e-6), and
+    // not much smaller: a wide ball's candidates would serve the small ones
+    // after it long after they stopped being worth it.
+    const bool inside = scene == scene_ && radius_m_ <= 6.0f * s.from_radius_m + 1e-6f &&
+                        std::sqrt(dx * dx + dy * dy + dz * dz) + double(s.from_radius_m) <= double(radius_m_) * (1.0 - 1e-6);
+    if (inside) return;
+    // A new ball three times as wide round this packet's origins (none to keep
+    // when its radius is not finite: near then culls by the packet's own).
+    const float wide_m = 3.0f * s.from_radius_m + 1e-6f;
+    scene_ = wide_m <= std::numeric_limits<float>::max() ? scene : 0;
+    known_ = 0, radius_m_ = wide_m;
+    for (int a = 0; a < 3; ++a) centre_m_[a] = s.from_centre_m[a];
+}
+
+uint64_t ShadowCullCache::near(const SurfaceLanes& s, int light, const float light_m[3], ShadingKernel kernel,
+                               const CullColumns& primitives) {
+    if (scene_ == 0) return near_capsule(kernel, capsule_toward(s, light_m), primitives);
+    if (!((known_ >> light) & 1u)) {
+        const float centre[3] = {float(centre_m_[0]), float(centre_m_[1]), float(centre_m_[2])};
+        masks_[light] = near_capsule(kernel, capsule_toward(centre, radius_m_, light_m), primitives);
+        known_ |= 1u << light;
+    }
+    return masks_[light];
 }
 
 CullColumns CullColumns::of_own(const std::vector<float>& spheres, const std::vector<OwnQuad>& quads) {

@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -97,6 +98,8 @@ Split split_by_velocity(const float* velocities, size_t n, bool split) {
 
 Scene::Scene(const SceneArrays& a)
     : motion_(a.motion), materials_(a.materials), lights_(a.lights), background_(a.background) {
+    static std::atomic<uint64_t> built{0};
+    id_ = ++built;
     device_ = rtcNewDevice(embree_device_config());
     if (!device_) throw std::runtime_error("could not create an Embree device");
     scene_ = rtcNewScene(device_);

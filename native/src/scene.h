@@ -183,6 +183,7 @@ class Scene {
         // when the first light's shadow packet asks (single_own_primitive).
         bool single_found = false;
         SinglePrimitive single;
+        bool cull_ball_taken = false;  // the thread's ShadowCullCache has this packet's ball
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced
@@ -250,6 +251,7 @@ class Scene {
         std::vector<uint64_t> own_plane_drop;
     };
     std::vector<LightOccluders> light_occluders_;
+    uint64_t id_ = 0;  // unique in the process (ShadowCullCache: whose candidates a thread keeps)
     SphereKernel sphere_kernel_ = SphereKernel::Default;
     ShadingKernel shading_kernel_ = ShadingKernel::Default;  // shading_lanes.h
     bool embree_still_ = false;  // scene_ holds geometry

@@ -214,7 +214,12 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     if (occluders.packet_cull) {
-        const uint64_t near = near_capsule(shading_kernel_, capsule_toward(hits.surface, light_m), occluders.columns);
+        thread_local ShadowCullCache cache;
+        if (!hits.cull_ball_taken) cache.take(id_, hits.surface), hits.cull_ball_taken = true;
+        const uint64_t near =
+            light_index < size_t(ShadowCullCache::kLights)
+                ? cache.near(hits.surface, int(light_index), light_m, shading_kernel_, occluders.columns)
+                : near_capsule(shading_kernel_, capsule_toward(hits.surface, light_m), occluders.columns);
         near_spheres = n_spheres == 64 ? near : near & ((uint64_t(1) << n_spheres) - 1);
         near_quads = n_spheres == 64 ? 0 : near >> n_spheres;
     }
