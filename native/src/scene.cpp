@@ -324,12 +324,9 @@ Scene::Scene(const SceneArrays& a)
             // size, surface_lanes): beyond it every lit lane is on the light's side.
             const OwnQuad& q = own_quads_[k];
             const double* outward = own_solids_.outward_of(int(k));
-            double n[3] = {q.n[0], q.n[1], q.n[2]};
-            const double n_length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            for (int a = 0; a < 3; ++a) n[a] = outward ? outward[a] : n[a] / n_length;
             double side_m = 0.0, size_m = 1.0;
             for (int a = 0; a < 3; ++a) {
-                side_m += (double(light_m[a]) - q.v0[a]) * n[a];
+                side_m += (double(light_m[a]) - q.v0[a]) * (outward ? outward[a] : double(q.unit_normal[a]));
                 size_m = std::max({size_m, std::fabs(double(light_m[a])), std::fabs(q.v0[a]) + double(q.bound[3])});
             }
             const double margin_m = 1e-3 * size_m;
