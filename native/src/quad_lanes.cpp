@@ -76,12 +76,9 @@ template <class Set>
     ray.load_once(origin, direction);  // the plane culls take the lanes in double
     for (int i = 0; i < N; ++i) index[i] = -1;
     const int first = first_quad && *first_quad >= 0 && *first_quad < n ? *first_quad : 0;
-    for (int step = 0; step < n; ++step) {
-        // first, then the others in order
-        const int k = step == 0 ? first : (step <= first ? step - 1 : step);
-        if (!is_candidate(candidates, k)) continue;
+    auto test = [&](int k) __attribute__((always_inline)) {
         const OwnQuad& q = quads[k];
-        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) continue;
+        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active, kTieStretch)) return;
         double t[N];
         int inside[N];
         plane_hits(q, ray, t, inside);
@@ -94,8 +91,25 @@ template <class Set>
             t_far[i] = take ? hit_f : t_far[i];
             index[i] = take ? k : index[i];
         }
+    };
+    if (n == 0) return;  // no quad to test or take a normal from
+    // first, then the other candidates in order: a packet has about three
+    // of a scene's quads as candidates, so the walk takes the set bits only.
+    if (is_candidate(candidates, first)) test(first);
+    for_each_candidate(candidates, n, first, test);
+    const int index0 = index[0];
+    int differ = 0;  // an OR of ints (GCC vectorises it; a chain of bools it did not)
+    for (int i = 1; i < N; ++i) differ |= index[i] ^ index0;
+    if (differ == 0) {  // the usual packet: one quad or none for every lane
+        const OwnQuad& q = quads[index0 < 0 ? 0 : index0];
+        for (int a = 0; a < 3; ++a) {
+            const float value = q.unit_normal[a];  // once: the rows could alias it
+            float* const row = normal[a];
+            for (int i = 0; i < N; ++i) row[i] = value;
+        }
+        if (first_quad && index0 >= 0) *first_quad = index0;
+        return;
     }
-    if (n == 0) return;  // no quad to take a normal from
     int winner = -1;
     for (int i = 0; i < N; ++i) {
         const OwnQuad& q = quads[index[i] < 0 ? 0 : index[i]];
@@ -114,15 +128,14 @@ template <class Set>
     DoubleLanes<N> ray;
     ray.load_once(origin, direction);  // the plane culls take the lanes in double
     int met[N] = {};
-    for (int k = 0; k < n; ++k) {
-        if (!is_candidate(candidates, k)) continue;
+    for_each_candidate(candidates, n, -1, [&](int k) __attribute__((always_inline)) {
         const OwnQuad& q = quads[k];
-        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active)) continue;
+        if (!may_meet(set, q, ray, origin, direction, t_far, inv_dd, origin_size, active)) return;
         double t[N];
         int inside[N];
         plane_hits(q, ray, t, inside);
         for (int i = 0; i < N; ++i) met[i] |= (inside[i] != 0) & (t[i] <= double(t_far[i]));
-    }
+    });
     for (int i = 0; i < N; ++i) blocked[i] = (active[i] != 0) & (met[i] != 0) ? -1 : 0;
     return lanes::any_set<N>(set, blocked);
 }

@@ -34,6 +34,17 @@ SphereKernel fastest_sphere_kernel();
 constexpr uint64_t kAllCandidates = ~uint64_t(0);
 inline bool is_candidate(uint64_t candidates, int k) { return k >= 64 || ((candidates >> k) & 1u) != 0; }
 
+// f(k) for each candidate k < n but skip, in increasing order: the set bits
+// of the first 64, then every k from 64.
+template <class F>
+[[gnu::always_inline]] inline void for_each_candidate(uint64_t candidates, int n, int skip, F&& f) {
+    uint64_t bits = n >= 64 ? candidates : candidates & ((uint64_t(1) << n) - 1);
+    if (skip >= 0 && skip < 64) bits &= ~(uint64_t(1) << skip);
+    for (; bits != 0; bits &= bits - 1) f(__builtin_ctzll(bits));
+    for (int k = 64; k < n; ++k)
+        if (k != skip) f(k);
+}
+
 // How many rays one call takes: the render's packet width (embree_packet.h).
 constexpr int kSphereLanes = 16;
 
