@@ -24,6 +24,7 @@
 #include "render_settings.h"
 #include "samplers.h"
 #include "scene.h"
+#include "tile_sums.h"
 
 namespace lc {
 
@@ -128,25 +129,9 @@ class TileAccumulator {
     void add(size_t slot, const Vec3f& radiance, float weight) { add(1, &slot, &radiance, &weight); }
 
     // Samples [0, n) of a packet, each weighted radiance into its pixel's sums
-    // (and squares, for the variance), in order. A run of samples of one pixel
-    // sums in registers, loaded and stored once: the same additions in the same
-    // order as one at a time, without a store and reload between each.
+    // (and squares, for the variance), in order (tile_sums.h).
     void add(int n, const size_t* slot, const Vec3f* radiance, const float* weight) {
-        for (int j = 0; j < n;) {
-            const size_t at = 3 * slot[j];
-            double sum[3] = {sums_[at], sums_[at + 1], sums_[at + 2]};
-            double square[3] = {};
-            if (!squares_.empty()) square[0] = squares_[at], square[1] = squares_[at + 1], square[2] = squares_[at + 2];
-            const size_t pixel = slot[j];
-            for (; j < n && slot[j] == pixel; ++j) {
-                const double r = double(radiance[j].x) * weight[j], g = double(radiance[j].y) * weight[j],
-                             b = double(radiance[j].z) * weight[j];
-                sum[0] += r, sum[1] += g, sum[2] += b;
-                square[0] += r * r, square[1] += g * g, square[2] += b * b;
-            }
-            sums_[at] = sum[0], sums_[at + 1] = sum[1], sums_[at + 2] = sum[2];
-            if (!squares_.empty()) squares_[at] = square[0], squares_[at + 1] = square[1], squares_[at + 2] = square[2];
-        }
+        add_tile_samples(n, slot, radiance, weight, sums_.data(), squares_.empty() ? nullptr : squares_.data());
     }
 
     // Each pixel's mean into rgb, and the variance of that mean when asked for.
