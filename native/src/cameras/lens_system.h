@@ -203,10 +203,15 @@ struct LensSystemCamera {
     // The elements with their indices at the nm nearest to nm.
     const std::vector<LensElement>& glass_at(float nm) const { return elements_by_nm[size_t(glass_row(nm))]; }
 
-    // The row of elements_by_nm (and of dispersion) nearest to nm.
+    // The row of elements_by_nm (and of dispersion) nearest to nm, halves
+    // rounded up. A float's nm - 380 and its sum with 0.5 are exact in
+    // double, and truncating a non-negative value is its floor, so this is
+    // std::lround's row (which rounds halves away from zero: only below row
+    // 0, clamped alike) without a libm call per lane.
     int32_t glass_row(float nm) const {
-        const long i = std::lround(double(nm) - 380.0);
-        return int32_t(std::clamp(i, 0L, long(elements_by_nm.size()) - 1));
+        const double shifted = double(nm) - 380.0 + 0.5;
+        if (!(shifted >= 1.0)) return 0;  // below row 1, or NaN
+        return int32_t(std::min(shifted, double(elements_by_nm.size() - 1)));
     }
 
     // generate_rays_at for up to kLensBatch samples at once: sample i at

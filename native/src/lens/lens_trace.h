@@ -229,28 +229,35 @@ struct LensDispersion {
     // some (two glasses whose indices cross): only then is it asked per lane.
     enum class Bends : unsigned char { Never, Always, Some };
     size_t rows = 0;                   // nm in the table
+    size_t row_stride = 0;             // the surfaces rounded up to a multiple of 4
     std::vector<Bends> bends;          // per surface
-    std::vector<double> eta;           // [surface * rows + row]
-    std::vector<double> bends_at;      // [surface * rows + row]: 1 where it refracts, 0 where not
+    bool any_some = false;             // a surface that refracts at some rows only
+    // Row by row ([row * row_stride + surface], padding after the last
+    // surface): a lane's surfaces side by side, so that laying a batch out
+    // (lay_out_glass_lanes) reads whole vectors of them and transposes them.
+    std::vector<double> eta;
+    std::vector<double> bends_at;      // 1 where it refracts, 0 where not
 
     // From the elements at each nm (rows of elements_by_nm).
     static LensDispersion of(const std::vector<std::vector<LensElement>>& elements_by_nm) {
         LensDispersion d;
         d.rows = elements_by_nm.size();
         const size_t surfaces = d.rows ? elements_by_nm[0].size() : 0;
+        d.row_stride = (surfaces + 3) / 4 * 4;
         d.bends.assign(surfaces, Bends::Never);
-        d.eta.assign(surfaces * d.rows, 1.0);
-        d.bends_at.assign(surfaces * d.rows, 0.0);
+        d.eta.assign(d.row_stride * d.rows, 1.0);
+        d.bends_at.assign(d.row_stride * d.rows, 0.0);
         for (size_t s = 0; s < surfaces; ++s) {
             size_t bending = 0;
             for (size_t w = 0; w < d.rows; ++w) {
                 const LensElement& e = elements_by_nm[w][s];
                 if (e.is_stop || e.n_scene_side == e.n_film_side) continue;
-                d.eta[s * d.rows + w] = e.n_film_side / e.n_scene_side;  // refract()'s n1 / n2, the same bits
-                d.bends_at[s * d.rows + w] = 1.0;
+                d.eta[w * d.row_stride + s] = e.n_film_side / e.n_scene_side;  // refract()'s n1 / n2, the same bits
+                d.bends_at[w * d.row_stride + s] = 1.0;
                 ++bending;
             }
             d.bends[s] = bending == 0 ? Bends::Never : bending == d.rows ? Bends::Always : Bends::Some;
+            d.any_some |= d.bends[s] == Bends::Some;
         }
         return d;
     }
@@ -267,24 +274,20 @@ struct LaneGlass {
     const double* bends_at_lanes = nullptr;
 };
 
+// eta_lanes[s * kLensBatch + i] = d.eta[row[i] * d.row_stride + s] for
+// every surface s < d.row_stride, and bends_at_lanes likewise when d.any_some
+// (lens_glass_lanes.cpp, built per instruction set).
+void lay_out_glass_lanes(const LensDispersion& d, const int32_t* row, double* eta_lanes, double* bends_at_lanes);
+
 // glass with its lanes' indices laid out, surface by surface, in buffers
 // of this thread's: the SIMD kernels gathered them from the tables per
 // surface instead, and a gather (microcoded on Zen 4) was a fifth of the
 // dispersed single-precision trace's time (perf, session 13).
-inline LaneGlass laid_out(LaneGlass glass, size_t surfaces) {
+inline LaneGlass laid_out(LaneGlass glass) {
     thread_local std::vector<double> eta, bends_at;
     const LensDispersion& d = *glass.dispersion;
-    eta.resize(surfaces * kLensBatch), bends_at.resize(surfaces * kLensBatch);
-    for (size_t s = 0; s < surfaces; ++s) {
-        if (d.bends[s] == LensDispersion::Bends::Never) continue;
-        const double* eta_row = d.eta.data() + s * d.rows;
-        double* eta_lane = eta.data() + s * kLensBatch;
-        for (int i = 0; i < kLensBatch; ++i) eta_lane[i] = eta_row[glass.row[i]];
-        if (d.bends[s] != LensDispersion::Bends::Some) continue;
-        const double* bends_row = d.bends_at.data() + s * d.rows;
-        double* bends_lane = bends_at.data() + s * kLensBatch;
-        for (int i = 0; i < kLensBatch; ++i) bends_lane[i] = bends_row[glass.row[i]];
-    }
+    eta.resize(d.row_stride * kLensBatch), bends_at.resize(d.row_stride * kLensBatch);
+    lay_out_glass_lanes(d, glass.row, eta.data(), bends_at.data());
     glass.eta_lanes = eta.data(), glass.bends_at_lanes = bends_at.data();
     return glass;
 }
@@ -348,10 +351,10 @@ inline void cross_toward_scene_batch(const LensElement& e, size_t surface, LaneG
         for (int i = 0; i < kLensBatch; ++i) eta[i] = e.n_film_side / e.n_scene_side, bends[i] = uniform;
         any_bends = uniform;
     } else if (glass.dispersion->bends[surface] != LensDispersion::Bends::Never) {
-        const size_t first = surface * glass.dispersion->rows;
+        const size_t stride = glass.dispersion->row_stride;
         for (int i = 0; i < kLensBatch; ++i) {
-            eta[i] = glass.dispersion->eta[first + size_t(glass.row[i])];
-            bends[i] = glass.dispersion->bends_at[first + size_t(glass.row[i])] != 0.0;
+            eta[i] = glass.dispersion->eta[size_t(glass.row[i]) * stride + surface];
+            bends[i] = glass.dispersion->bends_at[size_t(glass.row[i]) * stride + surface] != 0.0;
         }
         any_bends = true;
     }
@@ -459,7 +462,7 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
 // that row's elements, bit for bit).
 inline void trace_from_film_batch(const std::vector<LensElement>& elements, LaneGlass glass, LensRayBatch* b,
                                   LensTraceKernel kernel, LensTracePrecision precision = LensTracePrecision::Double) {
-    glass = laid_out(glass, elements.size());
+    glass = laid_out(glass);
     if (precision == LensTracePrecision::Single) {
         switch (kernel) {
             case LensTraceKernel::Avx512: trace_from_film_batch_single_avx512(elements, glass, b); return;
