@@ -88,3 +88,27 @@ def test_moving_lit_scene_matches_povray_subframes(tmp_path):
         write_exr(tmp_path / "povray.exr", pov)
     assert ok, message
     print(message)
+
+
+def test_sub_frames_rendered_as_one_animation_are_the_separate_renders_bit_for_bit():
+    """render_povray renders a moving scene's sub-frames as one POV-Ray
+    animation (frame k includes sub-frame k's file): each frame must be the
+    image a POV-Ray process of its own gives that sub-frame's text, bit for
+    bit, and the render their mean; the trace time is the frames' sum."""
+    from lenscompare.motion import subframe_times_s
+    from lenscompare.povray.runner import run_povray, run_povray_frames
+
+    scene = moving_showcase().with_camera(resolution=(48, 32))
+    times = subframe_times_s(SHUTTER_S, 3).tolist()
+    texts = [scene_to_pov(scene, model="thin", spp=2, time_s=t) for t in times]
+    options = ["+FE", "-D", "-V", "+Q9", "-UA", "+W48", "+H32", "-A", "+WT2"]
+    frames, result, _, command = run_povray_frames(texts, options)
+    assert "+KFF3" in command
+    assert result.stderr.count("Trace Time") == 3
+    for text, frame in zip(texts, frames):
+        alone, *_ = run_povray(text, options)
+        assert frame is not None and np.array_equal(frame, alone)
+    image = render_povray(scene, model="thin", spp=6, threads=2, time_samples=3)
+    mean = (frames[0].astype(np.float64) + frames[1] + frames[2]) / 3
+    assert np.array_equal(image.pixels, mean.astype(np.float32))
+    assert image.metadata["time_samples"] == 3 and 0 < image.metadata["seconds"] <= image.metadata["wall_seconds"]
