@@ -11,6 +11,7 @@
 #include <tbb/blocked_range2d.h>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -159,6 +160,35 @@ class TileAccumulator {
     Tile tile_;
     size_t width_;
     std::vector<double> sums_, squares_;
+};
+
+// The camera samples a spectral packet finishes while it shades (each
+// sample's value summed over its rays, weight 1), added to the tile's sums in
+// one call once the packet is done: the same additions in the same order as
+// one call per sample, so the same bits, without a call per sample.
+class FinishedSamples {
+  public:
+    void add(size_t slot, const Vec3f& value) { slot_[count_] = slot, value_[count_] = value, ++count_; }
+
+    // Into sums, in the order added; how many there were.
+    int add_to(TileAccumulator& sums) {
+        static constexpr std::array<float, kPacketSize> kUnitWeights = [] {
+            std::array<float, kPacketSize> w{};
+            for (float& x : w) x = 1.0f;
+            return w;
+        }();
+        const int n = count_;
+        sums.add(n, slot_, value_, kUnitWeights.data());
+        count_ = 0;
+        return n;
+    }
+
+  private:
+    // At most one sample finishes per ray of a packet. Members, not locals:
+    // a local array of Vec3f would be zeroed at every packet.
+    size_t slot_[kPacketSize];
+    Vec3f value_[kPacketSize];
+    int count_ = 0;
 };
 
 // Whether the n = kPacketSize flags are all set.

@@ -75,11 +75,11 @@ class BandRayPacket {
         for (int j = 0; j < batch_.count; ++j) {
             pending += radiance_[j];
             if (last_[j]) {
-                sums_.add(slot_[j], pending, 1.0f);
+                finished_.add(slot_[j], pending);
                 pending = Vec3f{};
-                ++samples_shaded_;
             }
         }
+        samples_shaded_ += uint64_t(finished_.add_to(sums_));
         pending_ = pending;
         batch_.count = 0;
     }
@@ -94,6 +94,7 @@ class BandRayPacket {
     size_t slot_[kPacketSize];
     Vec3f radiance_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
+    FinishedSamples finished_;  // flush_bands' finished samples
     uint64_t samples_shaded_ = 0;
 };
 

@@ -53,7 +53,6 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cstdint>
 #include <type_traits>
 #include <utility>
@@ -255,10 +254,6 @@ class SpectralRayPacket {
         // The sample's value in a local: the member, stored in two parts at
         // every ray and reloaded whole at the next, stalled store forwarding.
         Vec3f pending = pending_;
-        // The samples finished here (done_slot_, done_value_), added to the
-        // tile's sums in one call after the loop, in the same order (so the
-        // same bits) as one by one.
-        int done = 0;
         for (int j = 0; j < batch_.count; ++j) {
             // CIE 1931 response over the density times the ray's scale (0
             // for lanes it does not carry), wavelength by wavelength, in lane order
@@ -273,12 +268,11 @@ class SpectralRayPacket {
                              (sum[1][0] + sum[1][1]) + (sum[1][2] + sum[1][3]),
                              (sum[2][0] + sum[2][1]) + (sum[2][2] + sum[2][3])};
             if (last_[j]) {
-                done_slot_[done] = slot_[j], done_value_[done] = pending, ++done;
+                finished_.add(slot_[j], pending);
                 pending = Vec3f{};
             }
         }
-        sums_.add(done, done_slot_, done_value_, kUnitWeights.data());
-        samples_shaded_ += uint64_t(done);
+        samples_shaded_ += uint64_t(finished_.add_to(sums_));
         pending_ = pending;
         batch_.count = 0;
     }
@@ -287,13 +281,6 @@ class SpectralRayPacket {
     uint64_t samples_shaded() const { return samples_shaded_; }
 
   private:
-    // Each finished sample's weight in the tile's sums: its rays' weights are in its value.
-    static constexpr std::array<float, kPacketSize> kUnitWeights = [] {
-        std::array<float, kPacketSize> w{};
-        for (float& x : w) x = 1.0f;
-        return w;
-    }();
-
     // The rest of queueing ray batch_.count (its geometry and time written);
     // a full packet is shaded at once.
     void queue(const HeroWavelengths* w, float s, unsigned lanes, bool last, size_t slot) {
@@ -315,9 +302,7 @@ class SpectralRayPacket {
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
     Vec3f pending_;  // the current camera sample's value so far
-    // flush's finished samples: members, as a local array of Vec3f was zeroed at every flush.
-    size_t done_slot_[kPacketSize];
-    Vec3f done_value_[kPacketSize];
+    FinishedSamples finished_;  // flush's finished samples
     CameraRayRows rounded_[kHeroWavelengths];  // add_batch's rays in float, per traced wavelength
     uint64_t samples_shaded_ = 0;
 };
