@@ -22,8 +22,9 @@ import pytest
 from lenscompare.cameras import camera_for
 from lenscompare.image import write_exr
 from lenscompare.metrics import measure_streak, ssim
-from lenscompare.motion import geometry_at_s
+from lenscompare.motion import geometry_at_s, subframe_times_s
 from lenscompare.povray import render_povray, scene_to_pov
+from lenscompare.povray.runner import run_povray, run_povray_frames
 from lenscompare.render import render
 from lenscompare.scene import EmissiveMaterial, Sphere, load_scene
 
@@ -94,10 +95,7 @@ def test_sub_frames_rendered_as_one_animation_are_the_separate_renders_bit_for_b
     """render_povray renders a moving scene's sub-frames as one POV-Ray
     animation (frame k includes sub-frame k's file): each frame must be the
     image a POV-Ray process of its own gives that sub-frame's text, bit for
-    bit, and the render their mean; the trace time is the frames' sum."""
-    from lenscompare.motion import subframe_times_s
-    from lenscompare.povray.runner import run_povray, run_povray_frames
-
+    bit, and the render their mean, its trace time within its wall time."""
     scene = moving_showcase().with_camera(resolution=(48, 32))
     times = subframe_times_s(SHUTTER_S, 3).tolist()
     texts = [scene_to_pov(scene, model="thin", spp=2, time_s=t) for t in times]
