@@ -298,3 +298,51 @@ def test_field_angles_outside_0_to_90_degrees_are_refused():
     for bad in (-1.0, 90.0, math.nan):
         with pytest.raises(InputError, match="field angle"):
             chief_ray_distortion_percent(lens, bad)
+
+
+# --- rays side by side --------------------------------------------------------
+
+
+def test_a_batch_traces_each_ray_bit_for_bit_as_it_would_alone():
+    # The trace drops blocked rays between surfaces; a survivor's arithmetic is its own.
+    lens = _lens("dgauss.50mm")
+    rng = np.random.default_rng(7)
+    origins = np.column_stack([rng.uniform(-20, 20, 300), rng.uniform(-20, 20, 300), np.full(300, -5.0)])
+    directions = np.column_stack([rng.uniform(-0.3, 0.3, 300), rng.uniform(-0.3, 0.3, 300), np.ones(300)])
+    batch = trace_from_scene(lens, origins, directions)
+    assert 0 < batch.passed.sum() < 300  # some pass, some are blocked
+    for i in range(300):
+        alone = trace_from_scene(lens, origins[i], directions[i])
+        assert bool(alone.passed) == batch.passed[i]
+        assert np.array_equal(alone.origins_mm, batch.origins_mm[i])
+        assert np.array_equal(alone.directions, batch.directions[i])
+    assert not batch.origins_mm[~batch.passed].any() and not batch.directions[~batch.passed].any()
+
+
+@pytest.mark.parametrize("name, focus_distance_m", [("fisheye.10mm", math.inf), ("dgauss.50mm", 3.0),
+                                                    ("wide.22mm", math.inf)])
+def test_chief_rays_found_together_are_the_ones_found_alone(name, focus_distance_m):
+    lens = _lens(name)
+    thetas = [math.radians(a) for a in np.linspace(0.5, 89.0, 25)]
+    origins, directions, found = analysis._chief_rays(lens, thetas, focus_distance_m)
+    assert found[0] and (found.all() if name == "fisheye.10mm" else not found[-1])  # past 45 deg the others have none
+    for k, theta in enumerate(thetas):
+        if found[k]:
+            origin, direction = analysis._chief_ray(lens, theta, focus_distance_m)
+            assert np.array_equal(origin, origins[k]) and np.array_equal(direction, directions[k])
+        else:
+            with pytest.raises(InputError, match="no chief ray"):
+                analysis._chief_ray(lens, theta, focus_distance_m)
+
+
+def test_bracketed_roots_converge_row_by_row_and_stop_where_a_function_fails():
+    targets = np.array([2.0, 3.0, 5.0, 7.0])
+
+    def cube_minus_target(x, rows):  # row 3 is not finite inside (1, 2): no root can be found there
+        return np.where(rows == 3, np.nan, x ** 3 - targets[rows])
+
+    a, b = np.array([1.0, 1.0, 1.0, 1.0]), np.array([2.0, 2.0, 2.0, 2.0])
+    active = np.array([True, True, True, True])
+    roots = analysis._bracketed_roots(cube_minus_target, a, b, a ** 3 - targets, b ** 3 - targets, active)
+    assert roots[:3] == pytest.approx(targets[:3] ** (1.0 / 3.0), abs=1e-12)
+    assert roots[3] == 2.0  # left at its bracket's end, as a single root finder would

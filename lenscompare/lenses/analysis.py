@@ -120,7 +120,10 @@ def field_at_film_height_deg(prescription: Prescription, film_height_mm: float, 
         if fb is None or b == a:
             return None
         if (fa < 0) != (fb < 0):
-            return _bracketed_root(excess, a, b, fa, fb, tolerance_mm=1e-9)
+            def excesses(angles_deg, _rows):  # None (no chief ray) is NaN: the root finder bisects there
+                return np.array([math.nan if (e := excess(float(x))) is None else e for x in angles_deg])
+
+            return float(_bracketed_roots(excesses, [a], [b], [fa], [fb], [True], tolerance_mm=1e-9)[0])
         a, fa = b, fb
 
 
@@ -304,9 +307,25 @@ def illumination_from_beam_areas(prescription: Prescription, theta: float, *, ar
     InputError
         When the chief ray near theta does not get through the lens.
     """
-    step = 1e-5
-    heights = [abs(_chief_ray_film_height_mm(prescription, t, math.inf)) for t in (theta - step, theta, theta + step)]
-    film_area_per_solid_angle = heights[1] * (heights[2] - heights[0]) / (2.0 * step) / math.sin(theta)
+    heights = [abs(_chief_ray_film_height_mm(prescription, t, math.inf)) for t in central_difference_angles(theta)]
+    return illumination_from_heights(prescription, theta, heights, area_mm2=area_mm2, on_axis_mm2=on_axis_mm2)
+
+
+def central_difference_angles(theta: float) -> tuple[float, float, float]:
+    """The field angles (radians) whose chief-ray film heights
+    :func:`illumination_from_heights` takes: theta and a step either side."""
+    return theta - _RI_STEP_RAD, theta, theta + _RI_STEP_RAD
+
+
+_RI_STEP_RAD = 1e-5
+
+
+def illumination_from_heights(prescription: Prescription, theta: float, heights_mm, *, area_mm2: float,
+                              on_axis_mm2: float) -> float:
+    """:func:`illumination_from_beam_areas` with the chief rays' |film heights|
+    (mm, object at infinity) at :func:`central_difference_angles` given."""
+    low, middle, high = (float(h) for h in heights_mm)
+    film_area_per_solid_angle = middle * (high - low) / (2.0 * _RI_STEP_RAD) / math.sin(theta)
     if not (film_area_per_solid_angle > 0.0 and on_axis_mm2 > 0.0):
         return 0.0
     focal_length = paraxial_data(prescription).effective_focal_length_mm
@@ -409,14 +428,51 @@ def _chief_ray_height_on_mm(prescription: Prescription, origin, direction, film_
     return float(o[1] + d[1] * (film_z_mm - o[2]) / d[2])
 
 
-def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float):
-    """Object-space origin and direction of the real chief ray at field angle theta.
+def _chief_ray_heights_on_mm(prescription: Prescription, origins, directions, found, film_z_mm: float) -> np.ndarray:
+    """:func:`_chief_ray_height_on_mm` for the rays of :func:`_chief_rays`
+    side by side: NaN where there is no chief ray or it does not get through."""
+    rays = trace_from_scene(prescription, origins, directions, clip=False)
+    o, d = rays.origins_mm, rays.directions
+    with np.errstate(all="ignore"):
+        heights = o[:, 1] + d[:, 1] * (film_z_mm - o[:, 2]) / d[:, 2]
+    return np.where(np.asarray(found) & rays.passed, heights, np.nan)
 
-    The rays from the object point are labelled by the height y0 at which
-    they cross the first vertex plane (z = 0).  A vectorised scan over every
-    y0 that could reach the first surface brackets the zero of the height at
-    the stop; the bracket nearest the paraxial chief ray is then refined.
+
+def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float):
+    """Object-space origin and direction of the real chief ray at field angle
+    theta (radians): :func:`_chief_rays` for one angle.
+
+    Raises
+    ------
+    InputError
+        When no ray from the object point crosses the stop centre.
     """
+    origins, directions, found = _chief_rays(prescription, [theta], focus_distance_m)
+    if not found[0]:
+        raise InputError(prescription.name, f"no chief ray through the stop centre at "
+                         f"{math.degrees(theta):g} deg", key="field_angle")
+    return origins[0], directions[0]
+
+
+def _chief_rays(prescription: Prescription, thetas, focus_distance_m: float):
+    """Object-space origins and directions of the real chief rays at field
+    angles ``thetas`` (radians, shape (k,)), all found side by side.
+
+    The rays from an object point are labelled by the height y0 at which they
+    cross the first vertex plane (z = 0).  A scan over every y0 that could
+    reach the first surface brackets the zero of the height at the stop; the
+    bracket nearest the paraxial chief ray is then refined (Illinois method).
+    Each angle's arithmetic is its own, in the same order whatever the other
+    angles: the same ray as when it is found alone.
+
+    Returns
+    -------
+    origins, directions : numpy.ndarray, shape (k, 3)
+        Zero rows where no chief ray was found.
+    found : numpy.ndarray of bool, shape (k,)
+        False where no ray from the object point crosses the stop centre.
+    """
+    thetas = [float(t) for t in thetas]
     data = paraxial_data(prescription)
     start_z = front_most_z_mm(prescription) - 1.0
     stop = aperture_stop_index(prescription)
@@ -426,36 +482,43 @@ def _chief_ray(prescription: Prescription, theta: float, focus_distance_m: float
     distance_mm = focus_distance_m * MM_PER_M
     lever_mm = distance_mm - data.entrance_pupil_position_mm  # object to first vertex
     along = 1.0 if math.isinf(distance_mm) else distance_mm / lever_mm
+    tangents = np.array([math.tan(t) for t in thetas])
 
-    def rays_through(y0):
-        y0 = np.atleast_1d(np.asarray(y0, dtype=np.float64))
-        slope = y0 / lever_mm - math.tan(theta) * along
+    def rays_through(y0, which):
+        """Rays through heights y0 (flat) of the object points of angles ``which`` (indices, same shape)."""
+        slope = y0 / lever_mm - tangents[which] * along
         directions = np.stack([np.zeros_like(slope), slope, np.ones_like(slope)], axis=1)
         directions /= np.linalg.norm(directions, axis=1)[:, None]
         origins = np.stack([np.zeros_like(y0), y0, np.zeros_like(y0)], axis=1)
         return origins + directions * (start_z / directions[:, 2])[:, None], directions
 
-    def stop_height(y0):
-        rays = trace_from_scene(prescription, *rays_through(y0), clip=False, last=stop)
+    def stop_height(y0, which):
+        rays = trace_from_scene(prescription, *rays_through(y0, which), clip=False, last=stop)
         return np.where(rays.passed, rays.origins_mm[:, 1], np.nan)
 
     # Between the plane z = 0 and the first surface a ray drifts sideways by
     # at most |sag| tan(theta).
-    reach = (first.semi_aperture_mm
-             + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(math.tan(theta)))
-    y0 = np.linspace(-1.5 * reach, 1.5 * reach, 601)
-    heights = stop_height(y0)
-    with np.errstate(invalid="ignore"):
-        brackets = np.flatnonzero(heights[:-1] * heights[1:] <= 0)  # NaN pairs drop out
-    if brackets.size == 0:
-        raise InputError(prescription.name, f"no chief ray through the stop centre at "
-                         f"{math.degrees(theta):g} deg", key="field_angle")
-    paraxial_y0 = math.tan(theta) * data.entrance_pupil_position_mm
-    i = brackets[np.argmin(np.abs(y0[brackets] - paraxial_y0))]
-    y = _bracketed_root(lambda x: float(stop_height(x)[0]), y0[i], y0[i + 1],
-                        heights[i], heights[i + 1])
-    origins, directions = rays_through(y)
-    return origins[0], directions[0]
+    scans = []
+    for theta in thetas:
+        reach = (first.semi_aperture_mm
+                 + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(math.tan(theta)))
+        scans.append(np.linspace(-1.5 * reach, 1.5 * reach, 601))
+    k = len(thetas)
+    scans = np.array(scans).reshape(k, 601)
+    heights = stop_height(scans.ravel(), np.repeat(np.arange(k), 601)).reshape(k, 601)
+    a, b, fa, fb = (np.zeros(k) for _ in range(4))
+    found = np.zeros(k, dtype=bool)
+    for j, theta in enumerate(thetas):
+        with np.errstate(invalid="ignore"):
+            brackets = np.flatnonzero(heights[j, :-1] * heights[j, 1:] <= 0)  # NaN pairs drop out
+        if brackets.size:
+            paraxial_y0 = math.tan(theta) * data.entrance_pupil_position_mm
+            i = brackets[np.argmin(np.abs(scans[j, brackets] - paraxial_y0))]
+            a[j], b[j], fa[j], fb[j], found[j] = scans[j, i], scans[j, i + 1], heights[j, i], heights[j, i + 1], True
+    y = _bracketed_roots(stop_height, a, b, fa, fb, found)
+    origins, directions = rays_through(y, np.arange(k))
+    origins[~found], directions[~found] = 0.0, 0.0
+    return origins, directions, found
 
 
 def _paraxial_chief_ray_film_height_mm(prescription: Prescription, theta: float,
@@ -467,31 +530,46 @@ def _paraxial_chief_ray_film_height_mm(prescription: Prescription, theta: float,
     return float(y_out + film_distance_mm(prescription, focus_distance_m) * w_out)
 
 
-def _bracketed_root(function, a: float, b: float, fa: float, fb: float, *,
-                    tolerance_mm: float = 1e-12) -> float:
-    """Root of a continuous function in [a, b], f(a) f(b) <= 0 (Illinois method).
+def _bracketed_roots(function, a, b, fa, fb, active, *, tolerance_mm: float = 1e-12) -> np.ndarray:
+    """Roots of continuous functions, one in each [a, b] with f(a) f(b) <= 0
+    (Illinois method), side by side: ``function(x, which)`` evaluates the
+    functions ``which`` (indices) at x.  Rows not ``active`` are left at b.
 
     Regula falsi that halves the weight of a stale end, so it keeps the
-    bracket and converges fast on the nearly linear functions met here.
+    bracket and converges fast on the nearly linear functions met here.  Each
+    row takes the steps it would alone; a row whose function is not finite
+    inside its bracket is bisected once, and stops if that fails too.
     """
-    if fa == 0.0:
-        return a
+    a, b, fa, fb = (np.array(v, dtype=np.float64) for v in (a, b, fa, fb))
+    root = b.copy()
+    at_a = np.asarray(active) & (fa == 0.0)
+    root[at_a] = a[at_a]
+    running = np.asarray(active) & ~at_a
     for _ in range(200):
-        if fb == 0.0 or abs(b - a) <= tolerance_mm:
-            return b
-        c = b - fb * (b - a) / (fb - fa)
-        fc = function(c)
-        if not math.isfinite(fc):  # a blocked ray inside the bracket: bisect instead
-            c = 0.5 * (a + b)
-            fc = function(c)
-            if not math.isfinite(fc):
-                break
-        if fc * fb < 0:
-            a, fa = b, fb
-        else:
-            fa *= 0.5  # the same end stays: weigh it less
-        b, fb = c, fc
-    return b
+        ended = running & ((fb == 0.0) | (np.abs(b - a) <= tolerance_mm))
+        root[ended] = b[ended]
+        running &= ~ended
+        rows = np.flatnonzero(running)
+        if rows.size == 0:
+            break
+        ar, br, far, fbr = a[rows], b[rows], fa[rows], fb[rows]
+        c = br - fbr * (br - ar) / (fbr - far)
+        fc = function(c, rows)
+        blocked = ~np.isfinite(fc)  # a blocked ray inside the bracket: bisect instead
+        if blocked.any():
+            c[blocked] = 0.5 * (ar[blocked] + br[blocked])
+            fc[blocked] = function(c[blocked], rows[blocked])
+            failed = ~np.isfinite(fc)
+            root[rows[failed]] = br[failed]
+            running[rows[failed]] = False
+            keep = ~failed
+            rows, ar, br, far, fbr, c, fc = (v[keep] for v in (rows, ar, br, far, fbr, c, fc))
+        swap = fc * fbr < 0
+        a[rows] = np.where(swap, br, ar)
+        fa[rows] = np.where(swap, fbr, far * 0.5)  # the same end stays: weigh it less
+        b[rows], fb[rows] = c, fc
+    root[running] = b[running]
+    return root
 
 
 def _passing_beam_area_mm2(prescription: Prescription, theta: float, samples_across: int) -> float:

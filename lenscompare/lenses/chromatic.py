@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import MM_PER_M
-from .analysis import _chief_ray, _chief_ray_height_on_mm
+from .analysis import _chief_ray, _chief_ray_height_on_mm, _chief_ray_heights_on_mm, _chief_rays
 from .glass import C_NM, F_NM
 from .paraxial import paraxial_data, ray_transfer_matrix
 from .prescription import Prescription
@@ -85,6 +85,19 @@ def chief_ray_height_at_mm(prescription: Prescription, field_angle_deg: float, *
     return _chief_ray_height_on_mm(at, origin, direction, film_z_mm,
                                    blocked=f"the chief ray at {field_angle_deg:g} deg does not get through "
                                            f"the lens at {wavelength_nm:g} nm")
+
+
+def _chief_ray_heights_at_mm(prescription: Prescription, field_angles_deg, *, wavelength_nm: float,
+                             film_z_mm: float, focus_distance_m: float = math.inf) -> np.ndarray:
+    """:func:`chief_ray_height_at_mm` at each of ``field_angles_deg`` (all
+    nonzero), the chief rays found side by side: NaN where it would raise."""
+    seen = [_seen_from_own_pupil(prescription, float(wavelength_nm), float(a), focus_distance_m)
+            for a in field_angles_deg]
+    if not seen:
+        return np.zeros(0)
+    at, distance_m = seen[0][0], seen[0][2]  # the same for every angle: the pupil shift is along the axis
+    rays = _chief_rays(at, [theta for _, theta, _ in seen], distance_m)
+    return _chief_ray_heights_on_mm(at, *rays, film_z_mm)
 
 
 def chief_ray_heights_at_mm(prescription: Prescription, field_angle_deg: float, *, wavelengths_nm,

@@ -33,8 +33,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .analysis import _chief_ray, chief_ray_film_height_mm, illumination_from_beam_areas, image_circle_radius_mm
-from .chromatic import chief_ray_height_at_mm
+from .analysis import (
+    _chief_ray,
+    _chief_ray_heights_on_mm,
+    _chief_rays,
+    central_difference_angles,
+    illumination_from_heights,
+    image_circle_radius_mm,
+)
+from .focus import film_distance_mm
+from .chromatic import _chief_ray_heights_at_mm
 from .focus import front_most_z_mm
 from .glass import C_NM, D_NM, F_NM
 from .paraxial import paraxial_data
@@ -170,35 +178,29 @@ def pupil_relative_illumination(prescription: Prescription, field_angle_deg: flo
     float
         1 on the axis; 0 where the chief ray does not get through.
     """
-    return _relative_illumination(prescription, float(field_angle_deg), _passing_area_mm2(prescription, 0.0))
+    return float(_relative_illuminations(prescription, [float(field_angle_deg)])[0])
 
 
 def _chief_ray_heights_mm(prescription: Prescription, angles_deg: np.ndarray, focus_distance_m: float) -> np.ndarray:
     """|film height| of the real chief ray at each angle; the list ends at the
     first angle whose chief ray fails or whose height stops growing."""
+    film_z_mm = prescription.total_track_mm + film_distance_mm(prescription, focus_distance_m)
+    rays = _chief_rays(prescription, [math.radians(float(a)) for a in angles_deg[1:]], focus_distance_m)
     heights = [0.0]
-    for angle in angles_deg[1:]:
-        try:
-            h = abs(chief_ray_film_height_mm(prescription, float(angle), focus_distance_m=focus_distance_m))
-        except InputError:  # no chief ray at this angle (it misses a surface, or total reflection)
+    for h in np.abs(_chief_ray_heights_on_mm(prescription, *rays, film_z_mm)):
+        if not (math.isfinite(h) and h > heights[-1]):  # NaN: no chief ray at this angle
             break
-        if not (math.isfinite(h) and h > heights[-1]):
-            break
-        heights.append(h)
+        heights.append(float(h))
     return np.array(heights)
 
 
-def _passing_area_mm2(prescription: Prescription, theta: float) -> float:
+def _passing_area_mm2(prescription: Prescription, theta: float, centre_mm: float) -> float:
     """Area (mm^2, perpendicular to the axis) of the parallel beam at theta that
-    passes every aperture, counted on a square grid round the real chief ray's
-    crossing of the first vertex plane (a wide-angle lens's pupil moves far
-    from the paraxial one); the window grows until no passing ray touches its
-    border."""
+    passes every aperture, counted on a square grid round ``centre_mm``, the
+    real chief ray's crossing of the first vertex plane (a wide-angle lens's
+    pupil moves far from the paraxial one); the window grows until no passing
+    ray touches its border."""
     data = paraxial_data(prescription)
-    centre_mm = 0.0
-    if theta > 0.0:
-        origin, chief = _chief_ray(prescription, theta, math.inf)  # InputError when there is none
-        centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
     half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
     limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
     direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
@@ -215,17 +217,31 @@ def _passing_area_mm2(prescription: Prescription, theta: float) -> float:
         half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
 
 
-def _relative_illumination(prescription: Prescription, angle_deg: float, on_axis_mm2: float) -> float:
-    """RI at angle_deg (:func:`.analysis.relative_illumination`'s quantity) with the
-    beam counted round the real chief ray's pupil; 0 where the chief ray fails."""
-    if angle_deg == 0.0:
-        return 1.0
-    theta = math.radians(angle_deg)
-    try:
-        return illumination_from_beam_areas(prescription, theta, area_mm2=_passing_area_mm2(prescription, theta),
-                                            on_axis_mm2=on_axis_mm2)
-    except InputError:
-        return 0.0
+def _relative_illuminations(prescription: Prescription, angles_deg) -> np.ndarray:
+    """RI at each of ``angles_deg`` (:func:`.analysis.relative_illumination`'s
+    quantity) with the beam counted round the real chief ray's pupil; 1 on
+    the axis, 0 where a chief ray the formula needs fails.  Every angle's
+    chief rays (its own and one a step either side, for the film area per
+    solid angle) are found together."""
+    angles = [float(a) for a in angles_deg]
+    tilted = [i for i, a in enumerate(angles) if a != 0.0]
+    thetas = [math.radians(angles[i]) for i in tilted]
+    probes = [t for theta in thetas for t in central_difference_angles(theta)]
+    origins, directions, found = _chief_rays(prescription, probes, math.inf)
+    film_z_mm = prescription.total_track_mm + film_distance_mm(prescription, math.inf)
+    heights = np.abs(_chief_ray_heights_on_mm(prescription, origins, directions, found, film_z_mm)).reshape(-1, 3)
+    on_axis_mm2 = _passing_area_mm2(prescription, 0.0, 0.0)
+    ri = np.ones(len(angles))
+    for n, (i, theta) in enumerate(zip(tilted, thetas)):
+        if not np.isfinite(heights[n]).all():  # a chief ray it needs fails
+            ri[i] = 0.0
+            continue
+        origin, chief = origins[3 * n + 1], directions[3 * n + 1]
+        centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
+        ri[i] = illumination_from_heights(prescription, theta, heights[n],
+                                          area_mm2=_passing_area_mm2(prescription, theta, centre_mm),
+                                          on_axis_mm2=on_axis_mm2)
+    return ri
 
 
 def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_mm: float, focus_distance_m: float,
@@ -256,8 +272,7 @@ def _trace_maps(prescription: Prescription, *, film_z_mm: float, paraxial_scale_
     # Illumination: traced at fewer angles, over the reach of the chief rays.
     ri_angles = np.linspace(0.0, angles[-1], _ILLUMINATION_ANGLES)
     ri_heights = np.interp(ri_angles, angles, heights)
-    on_axis = _passing_area_mm2(prescription, 0.0)
-    ri = np.array([_relative_illumination(prescription, float(a), on_axis) for a in ri_angles])
+    ri = _relative_illuminations(prescription, ri_angles)
     illumination = np.interp(radius, ri_heights, ri)
     max_radius = min(circle_mm, reached_mm)
     illumination[radius > max_radius] = 0.0
@@ -352,16 +367,15 @@ def lateral_color_map(prescription: Prescription, *, film_z_mm: float, paraxial_
         angles = np.linspace(0.0, min(MAX_FIELD_DEG, 1.5 * paraxial_corner_deg + 2.0), _DISTORTION_ANGLES)
         rows = []
         for wavelength in wavelengths:
+            if rows and not prescription.disperses:  # every wavelength sees the same glass: the same row
+                rows.append(rows[0])
+                continue
             heights = [0.0]
-            for angle in angles[1:]:
-                try:
-                    h = abs(chief_ray_height_at_mm(prescription, float(angle), wavelength_nm=wavelength,
-                                                   film_z_mm=film_z_mm, focus_distance_m=focus_distance_m))
-                except InputError:  # no chief ray at this angle
+            for h in np.abs(_chief_ray_heights_at_mm(prescription, angles[1:], wavelength_nm=wavelength,
+                                                     film_z_mm=film_z_mm, focus_distance_m=focus_distance_m)):
+                if not (math.isfinite(h) and h > heights[-1]):  # NaN: no chief ray at this angle
                     break
-                if not (math.isfinite(h) and h > heights[-1]):
-                    break
-                heights.append(h)
+                heights.append(float(h))
             rows.append(np.interp(radius, heights, np.tan(np.radians(angles[: len(heights)]))))
         _COLOR_CACHE[key] = LateralColorMap(np.array(wavelengths), step, np.array(rows), paraxial_scale_mm)
     return _COLOR_CACHE[key]

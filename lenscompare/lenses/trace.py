@@ -128,30 +128,37 @@ def _trace(prescription: Prescription, origins_mm, directions, order, travel: fl
     o = np.broadcast_to(origins, shape).reshape(-1, 3).copy()
     d = np.broadcast_to(directions, shape).reshape(-1, 3).copy()
 
-    # IEEE arithmetic as in C++: a blocked ray may pass through inf or NaN on
-    # its way (every test below is False for NaN), and is masked out; nothing
-    # of it is returned, so no warning is raised either.
+    # IEEE arithmetic as in C++: a ray blocked at a surface may reach inf or
+    # NaN there (every test below is False for NaN) and is dropped before the
+    # next; nothing of it is returned, so no warning is raised either.
     with np.errstate(all="ignore"):
         # Normalise; unusable input (zero, inf, NaN, heading the wrong way) is blocked.
         length = np.sqrt(np.einsum("ij,ij->i", d, d))
         alive = np.isfinite(o).all(axis=1) & np.isfinite(length) & (length > 0)
         d = np.where(alive[:, None], d / np.where(alive, length, 1.0)[:, None], 0.0)
         alive &= travel * d[:, 2] > 0
-        o, d = _park(o, d, alive, travel)
+        # Only the rays still alive go on to the next surface (each ray's
+        # arithmetic is its own, so dropping the others changes no bit).
+        rows = np.flatnonzero(alive)
+        o, d, still = o[rows], d[rows], np.ones(rows.size, dtype=bool)
 
         vertex_z = prescription.vertex_z_mm
         for index in order:
             surface = prescription.surfaces[index]
             n_front, n_back = prescription.n_before(index), surface.n_after
             n_from, n_to = (n_front, n_back) if travel > 0 else (n_back, n_front)
-            o, d, alive = _cross_surface(o, d, alive, surface.curvature_per_mm,
+            o, d, still = _cross_surface(o, d, still, surface.curvature_per_mm,
                                          surface.semi_aperture_mm if clip else np.inf,
                                          vertex_z[index], n_from, n_to, travel)
+            if not still.all():
+                rows, o, d, still = rows[still], o[still], d[still], still[still]
 
-    o = np.where(alive[:, None], o, 0.0)
-    d = np.where(alive[:, None], d, 0.0)
+    origins_out, directions_out = np.zeros((alive.size, 3)), np.zeros((alive.size, 3))
+    origins_out[rows], directions_out[rows] = o, d
+    passed = np.zeros(alive.size, dtype=bool)
+    passed[rows] = True
     lead = shape[:-1]
-    return TracedRays(o.reshape(shape), d.reshape(shape), alive.reshape(lead))
+    return TracedRays(origins_out.reshape(shape), directions_out.reshape(shape), passed.reshape(lead))
 
 
 def _cross_surface(o, d, alive, curvature, semi_aperture, vertex_z, n_from, n_to, travel):
@@ -198,7 +205,7 @@ def _cross_surface(o, d, alive, curvature, semi_aperture, vertex_z, n_from, n_to
 
     alive &= travel * d[:, 2] > 0  # not turned back
     hit[:, 2] += vertex_z
-    return (*_park(hit, d, alive, travel), alive)
+    return hit, d, alive  # the caller drops the rays no longer alive
 
 
 def _first_cap_root(p, d, c, t_near, t_far):
@@ -214,10 +221,3 @@ def _first_cap_root(p, d, c, t_near, t_far):
         ok = np.isfinite(t) & (t >= -_BEHIND_TOLERANCE_MM) & (1.0 - c * z > 0)
         best = np.where(ok & (t < best), t, best)
     return best
-
-
-def _park(o, d, alive, travel):
-    """Give blocked rays harmless values so no NaN or warning can arise later."""
-    o = np.where(alive[:, None], o, 0.0)
-    d = np.where(alive[:, None], d, np.array([0.0, 0.0, travel]))
-    return o, d
