@@ -107,3 +107,25 @@ def test_adaptive_flag_and_scene_key(write_scene, minimal_scene_text, tmp_path):
     assert result.returncode == 2
     assert "render.adaptive" in result.stderr and "true or false" in result.stderr
     assert not (tmp_path / "c.exr").exists()
+
+
+def test_every_scene_command_takes_a_shipped_scene_by_its_short_name(tmp_path):
+    # In a folder without such a file, "flat_field" is the shipped scene.
+    out = tmp_path / "flat.exr"
+    rendered = run_cli("render", "flat_field", "-o", out, "--spp", "1", "--threads", "1", "--json", cwd=tmp_path)
+    assert rendered.returncode == 0, rendered.stderr
+    assert read_exr(out).metadata["scene"] == "flat_field"
+    planned = run_cli("plan", "flat_field", "--no-costs", "--json", cwd=tmp_path)
+    assert planned.returncode == 0, planned.stderr
+    assert json.loads(planned.stdout)["model"] in ("pinhole", "thin", "thick", "lens", "composite", "postfilter")
+    exported = run_cli("export", "flat_field", "--to", "povray", "-o", tmp_path / "flat.pov", cwd=tmp_path)
+    assert exported.returncode == 0, exported.stderr
+    measured = run_cli("measure", out, "--scene", "flat_field", "--json", cwd=tmp_path)
+    assert measured.returncode in (0, 1), measured.stderr  # judged (pass or fail), not refused
+
+
+@pytest.mark.parametrize("command", ["render", "povray", "mitsuba", "plan", "cost"])
+def test_a_bare_name_that_is_no_file_nor_shipped_scene_lists_the_shipped_ones(command, tmp_path):
+    args = [command, "no_such_scene", "-o", tmp_path / ("out" if command == "cost" else "out.exr")]
+    result = run_cli(*(args[:2] if command == "plan" else args), cwd=tmp_path)
+    _assert_clean_input_error(result, "no_such_scene", "no such scene file", "showcase")

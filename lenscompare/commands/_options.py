@@ -6,15 +6,17 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 from ..atomic import check_output_file
 from ..errors import InputError
 from ..lenses import resolve_lens
 from ..limits import MAX_SEED, MAX_SPP, MAX_THREADS
-from ..scene import EFFECT_NAMES
+from ..reference_scenes import find_scene, shipped_scene_names
+from ..scene import EFFECT_NAMES, Scene, load_scene
 
 __all__ = ["integer_option", "number_option", "effect_list", "SPP", "SEED", "THREADS", "POSITIVE", "NON_NEGATIVE",
-           "with_lens_option", "check_output_suffix"]
+           "with_lens_option", "check_output_suffix", "scene_path", "load_scene_argument", "SCENE_HELP"]
 
 
 def _shown(text: str) -> str:
@@ -90,3 +92,30 @@ def check_output_suffix(path: str, suffix: str, *, option: str = "-o"):
     if not str(path).lower().endswith(suffix):
         raise InputError(option, f"expected a {suffix} file name, got {_shown(str(path))}")
     return check_output_file(path, option=option)
+
+
+SCENE_HELP = "a scene file, or the short name of a shipped scene (showcase, blur_disks, ...) when no such file exists"
+"""The help of every command-line argument that names a scene (:func:`scene_path`)."""
+
+
+def scene_path(given: str) -> Path:
+    """The scene file a command-line argument means: a path, or the short name
+    of a shipped scene (``showcase``) when no file of that name exists
+    (:func:`lenscompare.reference_scenes.find_scene`).
+
+    Raises
+    ------
+    InputError
+        A bare name that is neither a file nor a shipped scene, listing the shipped ones.
+    """
+    path = find_scene(given)
+    if not path.exists() and Path(given).name == given and not given.endswith(".toml"):
+        raise InputError(given, "no such scene file, nor a shipped scene of that name (shipped: "
+                                + ", ".join(shipped_scene_names()) + ")")
+    return path
+
+
+def load_scene_argument(given: str) -> Scene:
+    """The scene a command-line argument names (:func:`scene_path`), loaded."""
+    return load_scene(scene_path(given))
+

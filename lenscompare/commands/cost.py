@@ -8,8 +8,7 @@ from pathlib import Path
 from ..cost import CostSettings, run_cost_study
 from ..cluster import open_cluster
 from ..lenses import resolve_lens
-from ..scene import load_scene
-from ._options import THREADS, integer_option
+from ._options import SCENE_HELP, THREADS, integer_option, load_scene_argument
 
 __all__ = ["add_parser", "run"]
 
@@ -22,7 +21,7 @@ def add_parser(subparsers) -> None:
         "cost", help="what accuracy costs in time: every model, sampler and sample count",
         description="For each model, sampler and sample count: wall time and error against a converged reference "
                     "(cached), model error against the full lens system, POV-Ray focal blur as a row.")
-    p.add_argument("scenes", nargs="+", metavar="SCENE.toml")
+    p.add_argument("scenes", nargs="+", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("-o", "--output", required=True, metavar="DIR")
     p.add_argument("--quick", action="store_true", help="quarter resolution, up to 64 spp (CI)")
     p.add_argument("--lens", default="dgauss.50mm")
@@ -42,7 +41,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
-    scenes = [load_scene(p) for p in args.scenes]
+    scenes = [load_scene_argument(p) for p in args.scenes]
     settings = CostSettings(quick=args.quick, lens=args.lens, threads=args.threads, povray=not args.no_povray,
                             cache_dir=Path(args.cache) if args.cache else None, timing_repeats=args.timing_repeats)
     with open_cluster(args.scheduler) if args.scheduler else contextlib.nullcontext() as cluster:

@@ -19,8 +19,8 @@ from ..atomic import atomic_output, check_output_file
 from ..mitsuba import scene_to_mitsuba, write_mitsuba
 from ..pbrt import scene_to_pbrt
 from ..povray import scene_to_pov
-from ..scene import MODELS, load_scene
-from ._options import SEED, SPP, with_lens_option
+from ..scene import MODELS
+from ._options import SCENE_HELP, SEED, SPP, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run", "FORMATS"]
 
@@ -32,7 +32,7 @@ def add_parser(subparsers) -> None:
         "export", help="write the scene in POV-Ray, Mitsuba 3 or pbrt-v4 format",
         description="Write SCENE in another renderer's own format, so that it can be rendered there: POV-Ray SDL, "
                     "Mitsuba 3 XML (meshes in FILE_meshes/ beside it) or pbrt-v4 scene text.")
-    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("--to", required=True, choices=FORMATS, help="the format")
     p.add_argument("-o", "--output", required=True, metavar="FILE")
     p.add_argument("--model", choices=MODELS, help="camera model (default: the scene's)")
@@ -46,7 +46,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     output = check_output_file(args.output, option="-o")  # before the export, not after
-    scene = with_lens_option(load_scene(args.scene), args.lens)
+    scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     if args.to == "povray":
         text = scene_to_pov(scene, model=args.model, spp=args.spp)
         written = [_write_text(output, text)]

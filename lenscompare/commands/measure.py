@@ -14,9 +14,9 @@ import argparse
 import json
 
 from ..image import read_exr
-from ..scene import MODELS, load_scene
+from ..scene import MODELS
 from ..verdict import Tolerances, judge_image
-from ._options import POSITIVE, THREADS, number_option, with_lens_option
+from ._options import POSITIVE, SCENE_HELP, THREADS, load_scene_argument, number_option, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -28,7 +28,7 @@ def add_parser(subparsers) -> None:
                     "linear RGB) against the expectations of the camera model it shows; exit 0 when all hold, "
                     "1 when any fails, 2 for bad input.")
     p.add_argument("image", metavar="IMAGE.exr")
-    p.add_argument("--scene", required=True, metavar="SCENE.toml")
+    p.add_argument("--scene", required=True, metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("--model", choices=MODELS, help="the camera model the image shows (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (for model lens, or the focal length)")
     defaults = Tolerances()
@@ -46,7 +46,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    scene = with_lens_option(load_scene(args.scene), args.lens)
+    scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     image = read_exr(args.image)
     tolerances = Tolerances(**{k: getattr(args, k) for k in Tolerances.__dataclass_fields__})
     verdicts = judge_image(scene, image, model=args.model, tolerances=tolerances, source=str(args.image),

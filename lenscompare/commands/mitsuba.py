@@ -12,8 +12,8 @@ from __future__ import annotations
 import json
 from ..image import write_exr
 from ..mitsuba import MAX_MITSUBA_SEED, MITSUBA_SAMPLERS, MITSUBA_VARIANTS, render_mitsuba
-from ..scene import MODELS, load_scene
-from ._options import SPP, check_output_suffix, integer_option, with_lens_option
+from ..scene import MODELS
+from ._options import SCENE_HELP, SPP, check_output_suffix, integer_option, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -24,7 +24,7 @@ def add_parser(subparsers) -> None:
         description="Render SCENE with Mitsuba 3 (the mitsuba package) through the thin lens or the pinhole into a "
                     "linear float EXR, from the same XML that 'lenscompare export --to mitsuba' writes. Lit scenes "
                     "need falloff = \"inverse_square\" on their lights.")
-    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
@@ -42,7 +42,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # say so before a long render, not after
-    scene = with_lens_option(load_scene(args.scene), args.lens)
+    scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     image = render_mitsuba(scene, model=args.model, spp=args.spp, seed=args.seed, variant=args.variant,
                            sampler=args.sampler)
     write_exr(output, image, final=True)

@@ -5,8 +5,7 @@ from __future__ import annotations
 import json
 
 from ..plan import plan_scene
-from ..scene import load_scene
-from ._options import NON_NEGATIVE, with_lens_option
+from ._options import NON_NEGATIVE, SCENE_HELP, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
@@ -15,7 +14,7 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser("plan", help="which lens effects a scene needs, and the cheapest model",
                               description="Predict each lens effect's size from the scene and camera (no "
                                           "rendering) and pick the cheapest model within tolerance.")
-    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("--tolerance-px", type=NON_NEGATIVE, default=0.5, help="largest blur/distortion left out (px)")
     p.add_argument("--tolerance-percent", type=NON_NEGATIVE, default=2.0, help="largest corner falloff left out (%%)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription (shipped name or file)")
@@ -25,7 +24,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    plan = plan_scene(with_lens_option(load_scene(args.scene), args.lens), tolerance_px=args.tolerance_px,
+    plan = plan_scene(with_lens_option(load_scene_argument(args.scene), args.lens), tolerance_px=args.tolerance_px,
                       tolerance_percent=args.tolerance_percent, measure_costs=not args.no_costs)
     data = plan.to_json()
     if args.json:

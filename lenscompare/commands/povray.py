@@ -16,8 +16,17 @@ import json
 from ..image import write_exr
 from ..povray import render_povray
 from ..povray.runner import DEFAULT_TIME_SAMPLES, MAX_TIME_SAMPLES
-from ..scene import MODELS, load_scene
-from ._options import POSITIVE, SPP, THREADS, check_output_suffix, integer_option, with_lens_option
+from ..scene import MODELS
+from ._options import (
+    POSITIVE,
+    SCENE_HELP,
+    SPP,
+    THREADS,
+    check_output_suffix,
+    integer_option,
+    load_scene_argument,
+    with_lens_option,
+)
 
 __all__ = ["add_parser", "run"]
 
@@ -28,7 +37,7 @@ def add_parser(subparsers) -> None:
         description="Render SCENE with POV-Ray 3.7 through the thin lens or the pinhole into a linear float EXR. "
                     "--spp is camera rays per pixel: the thin lens's blur_samples; for the pinhole rounded up "
                     "to n*n+1 (POV-Ray's anti-aliasing grid plus the centre ray, at most 82).")
-    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=MODELS, help="camera model: thin or pinhole (default: the scene's)")
     p.add_argument("--lens", metavar="NAME|PATH", help="lens prescription whose focal length to use")
@@ -45,7 +54,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # say so before a long render, not after
-    scene = with_lens_option(load_scene(args.scene), args.lens)
+    scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     image = render_povray(scene, model=args.model, spp=args.spp, threads=args.threads, povray=args.povray,
                           timeout_s=args.timeout, time_samples=args.time_samples)
     write_exr(output, image, final=True)

@@ -8,8 +8,18 @@ from ..errors import InputError
 from ..image import write_exr
 from ..plan import render_planned
 from ..render import render
-from ..scene import RENDER_MODELS, SAMPLERS, load_scene
-from ._options import NON_NEGATIVE, SEED, SPP, THREADS, check_output_suffix, effect_list, with_lens_option
+from ..scene import RENDER_MODELS, SAMPLERS
+from ._options import (
+    SCENE_HELP,
+    NON_NEGATIVE,
+    SEED,
+    SPP,
+    THREADS,
+    check_output_suffix,
+    effect_list,
+    load_scene_argument,
+    with_lens_option,
+)
 
 __all__ = ["add_parser", "run"]
 
@@ -17,7 +27,7 @@ __all__ = ["add_parser", "run"]
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("render", help="render a scene with the native tracer",
                               description="Render SCENE with the native tracer into a linear float EXR.")
-    p.add_argument("scene", metavar="SCENE.toml")
+    p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")
     p.add_argument("--model", choices=RENDER_MODELS + ("auto",),
                    help="camera model (default: the scene's); postfilter: a pinhole render spread by its depth "
@@ -44,7 +54,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # before the work: a read-only folder fails now
-    scene = with_lens_option(load_scene(args.scene), args.lens)
+    scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive,
                    diffraction=args.diffraction)
     if args.effects is not None and args.model is not None:

@@ -9,10 +9,10 @@ from ..cluster import open_cluster
 from ..errors import InputError
 from ..experiment import ExperimentSettings
 from ..lenses import resolve_lens
-from ..reference_scenes import find_scene, scenes_dir, shipped_scene_names
+from ..reference_scenes import scenes_dir
 from ..report import build_report
 from ..scene import load_scene
-from ._options import THREADS
+from ._options import THREADS, scene_path
 
 __all__ = ["add_parser", "run", "DEFAULT_SCENES"]
 
@@ -43,11 +43,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    paths = [find_scene(s) for s in args.scenes] or sorted(DEFAULT_SCENES.glob("*.toml"))
-    for given, path in zip(args.scenes, paths):
-        if not path.exists() and Path(given).name == given and not given.endswith(".toml"):
-            raise InputError(given, "no such scene file, nor a shipped scene of that name (shipped: "
-                                    + ", ".join(shipped_scene_names()) + ")")
+    paths = [scene_path(s) for s in args.scenes] or sorted(DEFAULT_SCENES.glob("*.toml"))
     if not paths:
         raise InputError("SCENE", f"no scene files given and none in {DEFAULT_SCENES}")
     resolve_lens(args.lens, source="--lens", key=None)  # a bad --lens fails now, not after the first scene
