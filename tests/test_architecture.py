@@ -24,7 +24,7 @@ LAYERS = [
     {"scene", "adaptive"},
     {"motion"},
     {"cameras", "native_scene"},
-    {"image", "flat_geometry", "diffraction", "postfilter", "render_spectral"},
+    {"image", "flat_geometry", "diffraction", "postfilter", "render_spectral", "motion_path"},
     {"render", "povray", "mitsuba", "pbrt"},
     {"plan", "measure", "figures"},
     {"experiment"},

@@ -17,7 +17,7 @@ import pytest
 from lenscompare.metrics import measure_streak
 from lenscompare.plan import plan_scene, render_planned
 from lenscompare.plan.effects import ideal_camera
-from lenscompare.plan.motion_path import longest_motion_path
+from lenscompare.motion_path import longest_motion_path
 from lenscompare.render import render
 from lenscompare.scene import parse_scene
 

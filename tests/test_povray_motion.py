@@ -13,6 +13,7 @@ same shutter continuously (time a sample dimension). Kept small for CI.
 
 from __future__ import annotations
 
+import math
 import shutil
 from dataclasses import replace
 
@@ -23,8 +24,15 @@ from lenscompare.cameras import camera_for
 from lenscompare.image import write_exr
 from lenscompare.metrics import measure_streak, ssim
 from lenscompare.motion import geometry_at_s, subframe_times_s
+from lenscompare.motion_path import longest_motion_path
 from lenscompare.povray import render_povray, scene_to_pov
-from lenscompare.povray.runner import run_povray, run_povray_frames
+from lenscompare.povray.runner import (
+    MAX_AUTO_TIME_SAMPLES,
+    MAX_SUBFRAME_SPACING_PX,
+    run_povray,
+    run_povray_frames,
+    subframes_for,
+)
 from lenscompare.render import render
 from lenscompare.scene import EmissiveMaterial, Sphere, load_scene
 
@@ -69,11 +77,15 @@ def test_subframes_move_objects_with_their_texture_and_the_camera():
 
 
 def test_moving_lit_scene_matches_povray_subframes(tmp_path):
-    """SSIM >= 0.97 and the lamp's streak within 2 % in both renders and of v T projected."""
+    """SSIM >= 0.97 and the lamp's streak within 2 % in both renders and of v
+    T projected, with as many sub-frames as the default takes: copies of the
+    longest streak at most 1 px apart."""
     scene = moving_showcase()
     native = render(scene, spp=256, sampler="sobol", seed=3, threads=2, progress=False)
-    pov = render_povray(scene, spp=256, threads=2, time_samples=32)
-    assert pov.metadata["time_samples"] == 32 and pov.metadata["spp"] == 256
+    pov = render_povray(scene, spp=256, threads=2)
+    streak_px = longest_motion_path(scene, camera_for(scene, "thin")).length_px
+    assert pov.metadata["streak_px"] == streak_px and pov.metadata["time_samples"] == math.ceil(streak_px)
+    assert pov.metadata["subframe_spacing_px"] <= MAX_SUBFRAME_SPACING_PX == 1.0
     similarity = ssim(native.pixels, pov.pixels, data_range=1.0)
     start, end = lamp_path_px(scene)
     expected_px = float(np.linalg.norm(end - start))
@@ -110,3 +122,16 @@ def test_sub_frames_rendered_as_one_animation_are_the_separate_renders_bit_for_b
     mean = (frames[0].astype(np.float64) + frames[1] + frames[2]) / 3
     assert np.array_equal(image.pixels, mean.astype(np.float32))
     assert image.metadata["time_samples"] == 3 and 0 < image.metadata["seconds"] <= image.metadata["wall_seconds"]
+
+
+def test_default_subframes_keep_a_streaks_copies_within_a_pixel_and_within_bounds():
+    assert subframes_for(0.0) == 1 and subframes_for(0.4) == 1  # a streak under a pixel: one frame
+    assert subframes_for(6.63) == 7 and subframes_for(7.0) == 7 and subframes_for(30.2) == 31
+    assert subframes_for(1e6) == subframes_for(math.inf) == MAX_AUTO_TIME_SAMPLES  # then copies lie further apart
+
+
+def test_a_still_scene_is_one_frame_and_says_nothing_of_sub_frames():
+    scene = moving_showcase().with_camera(resolution=(48, 32)).with_render(shutter_s=(0.0, 0.0))
+    image = render_povray(scene, model="thin", spp=4, threads=2)
+    assert "time_samples" not in image.metadata and "+KFF" not in image.metadata["command"]
+

@@ -15,7 +15,7 @@ import json
 
 from ..image import write_exr
 from ..povray import render_povray
-from ..povray.runner import DEFAULT_TIME_SAMPLES, MAX_TIME_SAMPLES
+from ..povray.runner import MAX_AUTO_TIME_SAMPLES, MAX_SUBFRAME_SPACING_PX, MAX_TIME_SAMPLES
 from ..scene import MODELS
 from ._options import (
     POSITIVE,
@@ -45,7 +45,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--threads", type=THREADS, help="POV-Ray worker threads (default: all cores)")
     p.add_argument("--time-samples", type=integer_option(minimum=1, maximum=MAX_TIME_SAMPLES), metavar="K",
                    help="a moving scene (render.shutter, velocity): average K sub-frames at evenly spaced times, "
-                        f"each with spp/K rays per pixel (POV-Ray has no motion blur; default {DEFAULT_TIME_SAMPLES})")
+                        "each with spp/K rays per pixel (POV-Ray has no motion blur; default: enough that the "
+                        f"longest streak's copies lie at most {MAX_SUBFRAME_SPACING_PX:g} px apart, at most "
+                        f"{MAX_AUTO_TIME_SAMPLES})")
     p.add_argument("--povray", default="povray", metavar="BINARY", help="the POV-Ray binary (default: povray)")
     p.add_argument("--timeout", type=POSITIVE, metavar="SECONDS", help="stop POV-Ray after this long")
     p.add_argument("--json", action="store_true", help="print one JSON object describing the render")

@@ -18,7 +18,7 @@ from ..plan import MODEL_ORDER, plan_scene, renders_color
 from ..plan.effects import COLOR_EFFECTS
 from ..povray import render_povray
 from ..motion import samples_time
-from ..povray.runner import DEFAULT_TIME_SAMPLES
+from ..povray.runner import scene_streak_px, subframes_for
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
 from .composites import composite_study
@@ -152,8 +152,9 @@ def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, 
                    cluster: Cluster | None) -> dict | None:
     # A moving scene: at most one sub-frame per ray per pixel, so each point costs its spp (32
     # sub-frames of at least 1 ray each would make 4 spp cost 32).
+    subframes = subframes_for(scene_streak_px(scene, "thin"))
     images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp,
-                                                            "time_samples": min(spp, DEFAULT_TIME_SAMPLES)})
+                                                            "time_samples": min(spp, subframes)})
                                                 for spp in settings.povray_spp_values],
                        threads=settings.threads, catch=(ExternalError,), progress=progress)
     failed = next((image for image in images if isinstance(image, ExternalError)), None)

@@ -21,11 +21,11 @@ from ..lenses import (
     stopped_down,
     spot_diameter_mm,
 )
+from ..motion_path import longest_motion_path
 from ..optics import circle_of_confusion_mm
 from ..optics.diffraction import REFERENCE_WAVELENGTH_NM, airy_diameter_mm
 from ..scene import Scene
 from ..units import mm_from_m
-from .motion_path import longest_motion_path
 from .spot_window import settled_window_px
 from .visible_depth import visible_depth_range_m
 

@@ -27,17 +27,21 @@ POV-Ray has no random seed: the same input gives the same image.
 Motion blur: POV-Ray 3.7 has none, so a moving scene (``[render] shutter``
 open over an interval, something with a velocity) is rendered as the average
 of K sub-frames at the centres of K equal parts of the shutter
-(``time_samples``, default :data:`DEFAULT_TIME_SAMPLES`), each with
-ceil(spp / K) rays per pixel, so that the whole image still traces about spp
-rays per pixel. The K sub-frames are one POV-Ray animation (frame k includes
-sub-frame k's file), not K processes: each POV-Ray process spends about 0.65 s
-waiting in its own start-up and shut-down whatever it renders (0.03 s of
-tracing in a 0.7 s run of a small frame), so 32 sub-frames took 22.7 s as
-processes and 7.8 s as one animation, the same pixels bit for bit (session 40).
-A streak of L px is then K copies L / K px apart; with
-L / K at most about 1 px they merge into the continuous streak the native
-tracer integrates (the agreement tests' scenes: see
-tests/test_povray_motion.py).
+(``time_samples``), each with ceil(spp / K) rays per pixel, so that the whole
+image still traces about spp rays per pixel. The K sub-frames are one POV-Ray
+animation (frame k includes sub-frame k's file), not K processes: each POV-Ray
+process spends about 0.65 s waiting in its own start-up and shut-down whatever
+it renders (0.03 s of tracing in a 0.7 s run of a small frame), so 32
+sub-frames took 22.7 s as processes and 7.8 s as one animation, the same
+pixels bit for bit (session 40); each further frame still waits about 0.2 s.
+A streak of L px is then K copies L / K px apart; with L / K at most about
+1 px they merge into the continuous streak the native tracer integrates (the
+agreement tests' scenes: see tests/test_povray_motion.py). So K is sized from
+the scene (:func:`subframes_for`, since session 41): the longest streak any
+object draws over the shutter (:func:`lenscompare.motion_path.longest_motion_path`,
+the planner's ``motion_blur``) over :data:`MAX_SUBFRAME_SPACING_PX`, at most
+:data:`MAX_AUTO_TIME_SAMPLES`; before, K was 32 whatever the streak, which
+left copies 3 px apart on a 100 px streak and spent 32 frames on a 7 px one.
 
 Environment: POV-Ray runs in a fresh private temporary folder (its cwd, which
 its I/O restrictions allow it to write), with ``HOME`` pointing there and
@@ -75,16 +79,22 @@ from ..errors import ExternalError, InputError
 from ..image import Image, read_exr
 from ..limits import check_render_budget
 from ..motion import geometry_at_s, samples_time, subframe_times_s
+from ..motion_path import longest_motion_path
 from ..scene import Scene
 from .export import pov_camera, radiance_bound, scene_to_pov
 from .sandbox import confined_writes
 
 __all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "run_povray_frames",
-           "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE", "DEFAULT_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
+           "subframes_for", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE",
+           "MAX_SUBFRAME_SPACING_PX", "MAX_AUTO_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
 
-DEFAULT_TIME_SAMPLES = 32
-"""Sub-frames of a moving scene: enough that the agreement tests' streaks
-(up to about 30 px) have copies at most 1 px apart."""
+MAX_SUBFRAME_SPACING_PX = 1.0
+"""Largest gap between a streak's copies that :func:`subframes_for` leaves."""
+
+MAX_AUTO_TIME_SAMPLES = 256
+"""Most sub-frames :func:`subframes_for` chooses (each is a POV-Ray frame that
+waits about 0.2 s); a longer streak keeps copies further apart, and the
+image's metadata says how far (``subframe_spacing_px``)."""
 
 MAX_TIME_SAMPLES = 4096
 """Sub-frames at most: each is a frame of one POV-Ray animation, with its own
@@ -164,8 +174,8 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
         ``spp`` is then that maximum, not the rays traced.
     time_samples : int, optional
         Sub-frames averaged for a moving scene (module notes; default
-        :data:`DEFAULT_TIME_SAMPLES`); a still scene is one frame whatever
-        this says.
+        :func:`subframes_for`'s, from the scene's longest streak); a still
+        scene is one frame whatever this says.
 
     Returns
     -------
@@ -203,8 +213,13 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     if time_samples is not None and not 1 <= int(time_samples) <= MAX_TIME_SAMPLES:
         raise InputError("--time-samples", f"expected an integer from 1 to {MAX_TIME_SAMPLES:,}, got {time_samples}")
     # A moving scene: K sub-frames at evenly spaced times, each with its share of the rays.
-    times = ([scene.render.shutter_s[0]] if not samples_time(scene) else
-             subframe_times_s(scene.render.shutter_s, int(time_samples or DEFAULT_TIME_SAMPLES)).tolist())
+    streak_px = None
+    if not samples_time(scene):
+        times = [scene.render.shutter_s[0]]
+    else:
+        streak_px = scene_streak_px(scene, model)
+        count = int(time_samples) if time_samples is not None else subframes_for(streak_px)
+        times = subframe_times_s(scene.render.shutter_s, count).tolist()
     frame_spp = max(1, math.ceil(spp / len(times)))
     if model == "thin":
         sampling = ["-A"]  # focal blur samples the pixel area itself
@@ -269,12 +284,32 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
                                 "jittered sub-pixel rays"),
         "lenscompare_version": __version__,
     }
-    if len(times) > 1:
+    if streak_px is not None:
         metadata["time_samples"] = len(times)  # sub-frames averaged, each with spp / time_samples rays
         metadata["shutter_s"] = list(scene.render.shutter_s)
+        metadata["streak_px"] = streak_px  # the longest streak (px), motion_path.longest_motion_path
+        metadata["subframe_spacing_px"] = streak_px / len(times)  # between its copies
     if radiance_scale != 1.0:
         metadata["radiance_scale"] = radiance_scale  # what the exported scene was multiplied by
     return Image(pixels.astype("float32", copy=False), metadata, camera=camera.camera)
+
+
+def scene_streak_px(scene: Scene, model: str) -> float:
+    """The longest streak (px) any object of ``scene`` draws on the film of its
+    ``model`` camera over the shutter (:func:`lenscompare.motion_path.longest_motion_path`);
+    0 for a still scene."""
+    path = longest_motion_path(scene, pov_camera(scene, model).camera)
+    return 0.0 if path is None else path.length_px
+
+
+def subframes_for(streak_px: float) -> int:
+    """Sub-frames a moving scene's POV-Ray reference takes by default: enough
+    that a streak of ``streak_px`` (the scene's longest,
+    :func:`lenscompare.motion_path.longest_motion_path`) has its copies at most
+    :data:`MAX_SUBFRAME_SPACING_PX` apart, at least 1 and at most
+    :data:`MAX_AUTO_TIME_SAMPLES`."""
+    wanted = math.ceil(streak_px / MAX_SUBFRAME_SPACING_PX) if math.isfinite(streak_px) else MAX_AUTO_TIME_SAMPLES
+    return int(min(MAX_AUTO_TIME_SAMPLES, max(1, wanted)))
 
 
 def run_povray(text: str, options: list[str], *, povray: str = "povray", timeout_s: float | None = None,

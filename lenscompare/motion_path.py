@@ -1,5 +1,6 @@
 """How far things travel across the film during the shutter, from the scene
-alone (no rendering): the size of the ``motion_blur`` effect.
+alone (no rendering): the size of the planner's ``motion_blur`` effect, and
+how many sub-frames POV-Ray's reference of a moving scene takes.
 
 Each object's points (a sphere's centre, the corners of a box, rectangle or a
 mesh's bounding box) move at the object's velocity relative to the camera's,
@@ -17,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..cameras import CameraFrame, CameraModel
-from ..native_scene import rectangle_quad
-from ..scene import Box, Mesh, Rectangle, Scene, Sphere
+from .cameras import CameraFrame, CameraModel
+from .native_scene import rectangle_quad
+from .scene import Box, Mesh, Rectangle, Scene, Sphere
 
 __all__ = ["MotionPath", "longest_motion_path"]
 
