@@ -29,6 +29,7 @@ from lenscompare.povray import render_povray, scene_to_pov
 from lenscompare.povray.runner import (
     MAX_AUTO_TIME_SAMPLES,
     MAX_SUBFRAME_SPACING_PX,
+    pinhole_subframes,
     run_povray,
     run_povray_frames,
     subframes_for,
@@ -128,6 +129,20 @@ def test_default_subframes_keep_a_streaks_copies_within_a_pixel_and_within_bound
     assert subframes_for(0.0) == 1 and subframes_for(0.4) == 1  # a streak under a pixel: one frame
     assert subframes_for(6.63) == 7 and subframes_for(7.0) == 7 and subframes_for(30.2) == 31
     assert subframes_for(1e6) == subframes_for(math.inf) == MAX_AUTO_TIME_SAMPLES  # then copies lie further apart
+
+
+def test_the_pinholes_sub_frames_waste_few_rays():
+    # 256 spp over 14 frames would take 26 rays each (5 x 5 + 1; 364 in all); 16 frames take 17 (272).
+    assert pinhole_subframes(14, 256) == 16 and pinhole_subframes(7, 256) == 7  # 7 x 37 = 259
+    for least in (1, 3, 14, 40):
+        for spp in (4, 64, 256, 1000):
+            k = pinhole_subframes(least, spp)
+            assert least <= k <= 2 * least  # copies never further apart than asked
+    scene = moving_showcase().with_camera(resolution=(48, 32))
+    image = render_povray(scene, model="pinhole", spp=64, threads=2)
+    least = subframes_for(image.metadata["streak_px"])
+    assert image.metadata["time_samples"] == pinhole_subframes(least, 64)
+    assert 64 <= image.metadata["spp"] <= 72  # rays traced: within an eighth of those asked
 
 
 def test_a_still_scene_is_one_frame_and_says_nothing_of_sub_frames():

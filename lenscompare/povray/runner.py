@@ -85,7 +85,7 @@ from .export import pov_camera, radiance_bound, scene_to_pov
 from .sandbox import confined_writes
 
 __all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "run_povray_frames",
-           "subframes_for", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE",
+           "subframes_for", "pinhole_subframes", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE",
            "MAX_SUBFRAME_SPACING_PX", "MAX_AUTO_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
 
 MAX_SUBFRAME_SPACING_PX = 1.0
@@ -219,6 +219,8 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     else:
         streak_px = scene_streak_px(scene, model)
         count = int(time_samples) if time_samples is not None else subframes_for(streak_px)
+        if time_samples is None and model != "thin":
+            count = pinhole_subframes(count, spp)
         times = subframe_times_s(scene.render.shutter_s, count).tolist()
     frame_spp = max(1, math.ceil(spp / len(times)))
     if model == "thin":
@@ -310,6 +312,28 @@ def subframes_for(streak_px: float) -> int:
     :data:`MAX_AUTO_TIME_SAMPLES`."""
     wanted = math.ceil(streak_px / MAX_SUBFRAME_SPACING_PX) if math.isfinite(streak_px) else MAX_AUTO_TIME_SAMPLES
     return int(min(MAX_AUTO_TIME_SAMPLES, max(1, wanted)))
+
+
+def pinhole_subframes(least: int, spp: int) -> int:
+    """The pinhole's sub-frames for ``spp`` rays a pixel: the smallest count
+    from ``least`` to twice it (at most :data:`MAX_AUTO_TIME_SAMPLES`) whose
+    frames trace at most an eighth more rays than spp in all, else the count
+    there that traces the fewest. Each frame traces n² + 1 rays a pixel
+    (:func:`pinhole_antialias_depth` of its share), so the count decides how
+    many are wasted: 14 frames for 256 spp take 26 rays each (364 in all), 16
+    take 17 (272); and each frame more costs POV-Ray about 0.2 s of waiting.
+
+    Examples
+    --------
+    >>> pinhole_subframes(14, 256), pinhole_subframes(7, 256), pinhole_subframes(1, 4)
+    (16, 7, 2)
+    """
+
+    def rays(k):
+        return k * (pinhole_antialias_depth(math.ceil(spp / k)) ** 2 + 1)
+
+    counts = range(least, max(least, min(2 * least, MAX_AUTO_TIME_SAMPLES)) + 1)
+    return next((k for k in counts if 8 * rays(k) <= 9 * spp), min(counts, key=lambda k: (rays(k), k)))
 
 
 def run_povray(text: str, options: list[str], *, povray: str = "povray", timeout_s: float | None = None,
