@@ -60,6 +60,16 @@ def _empty_round_trips(client, n: int = 200) -> dict:
         int(0.9 * n)], "queued_ms_per_task": 1e3 * batch}
 
 
+def _medians_by_scene_and_model(tasks, results) -> dict:
+    """Median task seconds per "scene model" (tasks that ended in an error left out)."""
+    groups = {}
+    for task, r in zip(tasks, results):
+        if r["error"] is None:
+            parameters = task.parameters()
+            groups.setdefault(f"{parameters['scene']} {parameters['model']}", []).append(r["task_seconds"])
+    return {key: statistics.median(seconds) for key, seconds in sorted(groups.items())}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sweep", default=str(EXAMPLE))
@@ -85,6 +95,7 @@ def main():
         "speedup_2_over_1": best[1]["seconds"] / best[2]["seconds"],
         "cluster_startup_seconds": [r["startup_seconds"] for r in runs[1] + runs[2]],
         "median_task_seconds": median_task, "mean_task_seconds": statistics.fmean(task_seconds),
+        "median_task_seconds_by_scene_and_model": _medians_by_scene_and_model(tasks, best[1]["results"]),
         "empty_task": overhead,
         "overhead_percent_of_median_task": 100.0 * overhead["round_trip_ms_median"] / 1e3 / median_task,
     }, indent=2))
