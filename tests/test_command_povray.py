@@ -6,9 +6,7 @@ import shutil
 import numpy as np
 import pytest
 
-import lenscompare.commands
 from lenscompare.cli import main
-from lenscompare.commands import povray as povray_command
 from lenscompare.image import read_exr
 
 needs_povray = pytest.mark.skipif(shutil.which("povray") is None, reason="POV-Ray (povray) is not installed")
@@ -39,13 +37,6 @@ center = [0.0, 0.3, 1.0]
 radius = 0.2
 material = "glow"
 """
-
-
-@pytest.fixture(autouse=True)
-def povray_registered(monkeypatch):
-    """Register the command (commands/__init__.py lists it once it is merged)."""
-    if povray_command not in lenscompare.commands.COMMANDS:
-        monkeypatch.setattr(lenscompare.commands, "COMMANDS", [*lenscompare.commands.COMMANDS, povray_command])
 
 
 @pytest.fixture

@@ -1,10 +1,13 @@
 """``lenscompare render``: the command-line contract of DESIGN.md."""
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
+from lenscompare.commands import COMMAND_HELP
 from lenscompare.image import read_exr
 
 from helpers import run_cli
@@ -129,3 +132,16 @@ def test_a_bare_name_that_is_no_file_nor_shipped_scene_lists_the_shipped_ones(co
     args = [command, "no_such_scene", "-o", tmp_path / ("out" if command == "cost" else "out.exr")]
     result = run_cli(*(args[:2] if command == "plan" else args), cwd=tmp_path)
     _assert_clean_input_error(result, "no_such_scene", "no such scene file", "showcase")
+
+
+def test_help_and_a_light_command_do_not_import_the_others():
+    # Only the command being run has its module imported (lenscompare.cli).
+    code = ("import sys; from lenscompare import cli; status = cli.main(['lens', 'info', 'dgauss.50mm']); "
+            "heavy = [m for m in ('matplotlib', 'pandas', 'dask', 'mitsuba', 'lenscompare.commands.report') "
+            "if m in sys.modules]; print(status, heavy)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip().splitlines()[-1] == "0 []"
+    listed = run_cli("--help")
+    assert listed.returncode == 0 and all(name in listed.stdout for name in COMMAND_HELP)
+    assert COMMAND_HELP["render"] in listed.stdout  # a stub's line of help, as its module's parser has it

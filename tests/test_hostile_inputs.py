@@ -99,7 +99,7 @@ def test_every_numeric_option_takes_a_value_inside_its_limit_or_exits_2_naming_i
         received.update(vars(args))
         return 0
 
-    module = {c.__name__.rsplit(".", 1)[1]: c for c in commands.COMMANDS}[command]
+    module = commands.load(command)
     monkeypatch.setattr(module, "run", record)
     status = cli.main([command, *POSITIONAL[command], f"{option}={text}"])
     err = capsys.readouterr().err

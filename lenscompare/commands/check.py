@@ -4,13 +4,14 @@ from __future__ import annotations
 
 from ..atomic import check_output_file
 from ..checks import DEFAULT_CONFIG, load_checks, run_check, write_junit
+from . import COMMAND_HELP
 from ._options import THREADS
 
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser("check", help="run declarative accuracy checks (exit 0 when all hold)",
+    p = subparsers.add_parser("check", help=COMMAND_HELP["check"],
                               description="Run the checks of CONFIG (default: the shipped config); exit 0 when all "
                                           "hold, 1 when any fails, 2 for a bad config.")
     p.add_argument("config", nargs="?", metavar="CONFIG.toml")

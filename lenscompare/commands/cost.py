@@ -8,6 +8,7 @@ from pathlib import Path
 from ..cost import CostSettings, run_cost_study
 from ..cluster import open_cluster
 from ..lenses import resolve_lens
+from . import COMMAND_HELP
 from ._options import SCENE_HELP, THREADS, integer_option, load_scene_argument
 
 __all__ = ["add_parser", "run"]
@@ -18,7 +19,7 @@ MAX_TIMING_REPEATS = 20
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "cost", help="what accuracy costs in time: every model, sampler and sample count",
+        "cost", help=COMMAND_HELP["cost"],
         description="For each model, sampler and sample count: wall time and error against a converged reference "
                     "(cached), model error against the full lens system, POV-Ray focal blur as a row.")
     p.add_argument("scenes", nargs="+", metavar="SCENE.toml", help=SCENE_HELP)

@@ -20,6 +20,7 @@ from ..mitsuba import scene_to_mitsuba, write_mitsuba
 from ..pbrt import scene_to_pbrt
 from ..povray import scene_to_pov
 from ..scene import MODELS
+from . import COMMAND_HELP
 from ._options import SCENE_HELP, SEED, SPP, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run", "FORMATS"]
@@ -29,7 +30,7 @@ FORMATS = ("povray", "mitsuba", "pbrt")
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "export", help="write the scene in POV-Ray, Mitsuba 3 or pbrt-v4 format",
+        "export", help=COMMAND_HELP["export"],
         description="Write SCENE in another renderer's own format, so that it can be rendered there: POV-Ray SDL, "
                     "Mitsuba 3 XML (meshes in FILE_meshes/ beside it) or pbrt-v4 scene text.")
     p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)

@@ -10,6 +10,7 @@ import json
 
 from ..figures import write_teaching_figures
 from ..limits import MAX_FOCAL_LENGTH_MM, MAX_LENGTH_M, MIN_F_NUMBER, MIN_FOCAL_LENGTH_MM
+from . import COMMAND_HELP
 from ._options import number_option
 
 __all__ = ["add_parser", "run"]
@@ -24,7 +25,7 @@ _DISTANCE = number_option(maximum=MAX_LENGTH_M)
 def add_parser(subparsers) -> None:
     """Register ``figures``."""
     p = subparsers.add_parser(
-        "figures", help="draw the teaching figures (thin lens, thick lens, lens system, aperture, chromatic, motion)",
+        "figures", help=COMMAND_HELP["figures"],
         description="Draw the teaching figures of the paper (Figs. 1-4) from lenscompare's own "
         "optics code: the thin lens with real numbers (eqs. 1-10), the thick-lens model of LENS "
         "(H, H', F, F' against traced rays), and LENS in cross-section with traced bundles, its "

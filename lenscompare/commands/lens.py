@@ -15,6 +15,7 @@ from ..atomic import atomic_output, check_output_file
 from ..lenses import load_prescription, shipped_lens_names
 from ..lenses.info import LENS_INFO_FIELDS, lens_info
 from ..lenses.zemax import zemax_to_lens_text
+from . import COMMAND_HELP
 
 __all__ = ["add_parser", "run"]
 
@@ -22,7 +23,7 @@ __all__ = ["add_parser", "run"]
 def add_parser(subparsers) -> None:
     """Register ``lens`` and its ``info`` sub-command."""
     parser = subparsers.add_parser(
-        "lens", help="inspect lens prescriptions",
+        "lens", help=COMMAND_HELP["lens"],
         description="Inspect lens prescriptions (pbrt format).")
     commands = parser.add_subparsers(dest="lens_command", metavar="{info,import}", required=True)
     info = commands.add_parser(

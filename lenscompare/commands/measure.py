@@ -16,6 +16,7 @@ import json
 from ..image import read_exr
 from ..scene import MODELS
 from ..verdict import Tolerances, judge_image
+from . import COMMAND_HELP
 from ._options import POSITIVE, SCENE_HELP, THREADS, load_scene_argument, number_option, with_lens_option
 
 __all__ = ["add_parser", "run"]
@@ -23,7 +24,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "measure", help="measure any renderer's image of a scene, with pass/fail (exit 0 / 1)",
+        "measure", help=COMMAND_HELP["measure"],
         description="Run SCENE's measurements on IMAGE.exr (made by any renderer, at the scene's resolution, "
                     "linear RGB) against the expectations of the camera model it shows; exit 0 when all hold, "
                     "1 when any fails, 2 for bad input.")

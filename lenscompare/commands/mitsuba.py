@@ -13,6 +13,7 @@ import json
 from ..image import write_exr
 from ..mitsuba import MAX_MITSUBA_SEED, MITSUBA_SAMPLERS, MITSUBA_VARIANTS, render_mitsuba
 from ..scene import MODELS
+from . import COMMAND_HELP
 from ._options import SCENE_HELP, SPP, check_output_suffix, integer_option, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run"]
@@ -20,7 +21,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "mitsuba", help="render a scene with Mitsuba 3 (a second independent reference)",
+        "mitsuba", help=COMMAND_HELP["mitsuba"],
         description="Render SCENE with Mitsuba 3 (the mitsuba package) through the thin lens or the pinhole into a "
                     "linear float EXR, from the same XML that 'lenscompare export --to mitsuba' writes. Lit scenes "
                     "need falloff = \"inverse_square\" on their lights.")

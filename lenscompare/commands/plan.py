@@ -5,13 +5,14 @@ from __future__ import annotations
 import json
 
 from ..plan import plan_scene
+from . import COMMAND_HELP
 from ._options import NON_NEGATIVE, SCENE_HELP, load_scene_argument, with_lens_option
 
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser("plan", help="which lens effects a scene needs, and the cheapest model",
+    p = subparsers.add_parser("plan", help=COMMAND_HELP["plan"],
                               description="Predict each lens effect's size from the scene and camera (no "
                                           "rendering) and pick the cheapest model within tolerance.")
     p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)

@@ -17,6 +17,7 @@ from ..image import write_exr
 from ..povray import render_povray
 from ..povray.runner import MAX_AUTO_TIME_SAMPLES, MAX_SUBFRAME_SPACING_PX, MAX_TIME_SAMPLES
 from ..scene import MODELS
+from . import COMMAND_HELP
 from ._options import (
     POSITIVE,
     SCENE_HELP,
@@ -33,7 +34,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "povray", help="render a scene with POV-Ray (the independent reference)",
+        "povray", help=COMMAND_HELP["povray"],
         description="Render SCENE with POV-Ray 3.7 through the thin lens or the pinhole into a linear float EXR. "
                     "--spp is camera rays per pixel: the thin lens's blur_samples; for the pinhole rounded up "
                     "to n*n+1 (POV-Ray's anti-aliasing grid plus the centre ray, at most 82).")

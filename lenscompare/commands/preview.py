@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from ..image import read_exr, write_png_preview
+from . import COMMAND_HELP
 from ._options import POSITIVE, check_output_suffix
 
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser("preview", help="write an sRGB PNG preview of a linear EXR",
+    p = subparsers.add_parser("preview", help=COMMAND_HELP["preview"],
                               description="Encode a linear EXR as an 8-bit sRGB PNG (values above 1 clip).")
     p.add_argument("image", metavar="IN.exr")
     p.add_argument("-o", "--output", required=True, metavar="OUT.png")

@@ -9,6 +9,7 @@ from ..image import write_exr
 from ..plan import render_planned
 from ..render import render
 from ..scene import RENDER_MODELS, SAMPLERS
+from . import COMMAND_HELP
 from ._options import (
     SCENE_HELP,
     NON_NEGATIVE,
@@ -25,7 +26,7 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser("render", help="render a scene with the native tracer",
+    p = subparsers.add_parser("render", help=COMMAND_HELP["render"],
                               description="Render SCENE with the native tracer into a linear float EXR.")
     p.add_argument("scene", metavar="SCENE.toml", help=SCENE_HELP)
     p.add_argument("-o", "--output", required=True, metavar="OUT.exr")

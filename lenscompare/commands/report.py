@@ -12,6 +12,7 @@ from ..lenses import resolve_lens
 from ..reference_scenes import scenes_dir
 from ..report import build_report
 from ..scene import load_scene
+from . import COMMAND_HELP
 from ._options import THREADS, scene_path
 
 __all__ = ["add_parser", "run", "DEFAULT_SCENES"]
@@ -23,7 +24,7 @@ DEFAULT_SCENES = scenes_dir()
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "report", help="render every model and POV-Ray, measure, write an HTML report",
+        "report", help=COMMAND_HELP["report"],
         description="Render the scenes through pinhole, thin, thick and full-lens cameras and POV-Ray, measure "
                     "blur, distortion, vignetting and similarity, and write DIR/index.html and DIR/results.json.")
     p.add_argument("scenes", nargs="*", metavar="SCENE.toml",

@@ -8,6 +8,7 @@ from pathlib import Path
 from ..errors import ExternalError
 from ..limits import MAX_THREADS
 from ..sweep import load_sweep, run_sweep
+from . import COMMAND_HELP
 from ._options import THREADS, integer_option
 
 __all__ = ["add_parser", "run"]
@@ -15,7 +16,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "sweep", help="a grid of renders and measurements as Dask tasks, into DIR/results.parquet",
+        "sweep", help=COMMAND_HELP["sweep"],
         description="Render and measure every combination of the sweep file's scenes and axes (lens, f-number, "
                     "focus distance, model, sampler, spp, seed), one Dask task each, on a local cluster or the "
                     "one at --scheduler. Finished rows are journalled in DIR/rows.jsonl as they arrive; a re-run "
