@@ -85,8 +85,8 @@ from .export import pov_camera, radiance_bound, scene_to_pov
 from .sandbox import confined_writes
 
 __all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "run_povray_frames",
-           "subframes_for", "pinhole_subframes", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP", "HALF_FLOAT_SAFE",
-           "MAX_SUBFRAME_SPACING_PX", "MAX_AUTO_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
+           "subframes_for", "pinhole_subframes", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP",
+           "HALF_FLOAT_SAFE", "MAX_SUBFRAME_SPACING_PX", "MAX_AUTO_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
 
 MAX_SUBFRAME_SPACING_PX = 1.0
 """Largest gap between a streak's copies that :func:`subframes_for` leaves."""
