@@ -16,9 +16,9 @@ from ..experiment import ExperimentSettings, prepare_scene
 from ..metrics import relative_rmse, rmse, ssim
 from ..plan import MODEL_ORDER, plan_scene, renders_color
 from ..plan.effects import COLOR_EFFECTS
-from ..povray import render_povray
+from ..povray import pov_camera, render_povray
 from ..motion import samples_time
-from ..povray.runner import scene_streak_px, subframes_for
+from ..povray.runner import longest_streak_px, subframes_for
 from ..render import render
 from ..scene import MODELS, SAMPLERS, Scene
 from .composites import composite_study
@@ -150,9 +150,9 @@ def _omitted_effects(scene: Scene) -> dict[str, dict]:
 
 def _povray_series(scene: Scene, reference: np.ndarray, settings: CostSettings, progress,
                    cluster: Cluster | None) -> dict | None:
-    # A moving scene: at most one sub-frame per ray per pixel, so each point costs its spp (32
-    # sub-frames of at least 1 ray each would make 4 spp cost 32).
-    subframes = subframes_for(scene_streak_px(scene, "thin"))
+    # A moving scene: at most one sub-frame per ray per pixel, so each point costs its spp (K
+    # sub-frames of at least 1 ray each would make 4 spp cost K).
+    subframes = subframes_for(longest_streak_px(scene, pov_camera(scene, "thin").camera))
     images = run_calls(cluster, render_povray, [((scene,), {"model": "thin", "spp": spp,
                                                             "time_samples": min(spp, subframes)})
                                                 for spp in settings.povray_spp_values],

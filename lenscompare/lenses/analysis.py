@@ -421,11 +421,10 @@ def _chief_ray_height_on_mm(prescription: Prescription, origin, direction, film_
                             blocked: str) -> float:
     """y where a chief ray traced through the lens (apertures ignored) meets the
     plane z = film_z_mm; ``blocked``: the error's message when it does not get through."""
-    rays = trace_from_scene(prescription, origin, direction, clip=False)
-    if not rays.passed:
+    height = _chief_ray_heights_on_mm(prescription, [origin], [direction], [True], film_z_mm)[0]
+    if math.isnan(height):
         raise InputError(prescription.name, blocked, key="field_angle")
-    o, d = rays.origins_mm, rays.directions
-    return float(o[1] + d[1] * (film_z_mm - o[2]) / d[2])
+    return float(height)
 
 
 def _chief_ray_heights_on_mm(prescription: Prescription, origins, directions, found, film_z_mm: float) -> np.ndarray:
@@ -499,20 +498,19 @@ def _chief_rays(prescription: Prescription, thetas, focus_distance_m: float):
     # Between the plane z = 0 and the first surface a ray drifts sideways by
     # at most |sag| tan(theta).
     scans = []
-    for theta in thetas:
-        reach = (first.semi_aperture_mm
-                 + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(math.tan(theta)))
+    for tangent in tangents:
+        reach = first.semi_aperture_mm + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(tangent)
         scans.append(np.linspace(-1.5 * reach, 1.5 * reach, 601))
     k = len(thetas)
     scans = np.array(scans).reshape(k, 601)
     heights = stop_height(scans.ravel(), np.repeat(np.arange(k), 601)).reshape(k, 601)
     a, b, fa, fb = (np.zeros(k) for _ in range(4))
     found = np.zeros(k, dtype=bool)
-    for j, theta in enumerate(thetas):
+    for j in range(k):
         with np.errstate(invalid="ignore"):
             brackets = np.flatnonzero(heights[j, :-1] * heights[j, 1:] <= 0)  # NaN pairs drop out
         if brackets.size:
-            paraxial_y0 = math.tan(theta) * data.entrance_pupil_position_mm
+            paraxial_y0 = tangents[j] * data.entrance_pupil_position_mm
             i = brackets[np.argmin(np.abs(scans[j, brackets] - paraxial_y0))]
             a[j], b[j], fa[j], fb[j], found[j] = scans[j, i], scans[j, i + 1], heights[j, i], heights[j, i + 1], True
     y = _bracketed_roots(stop_height, a, b, fa, fb, found)

@@ -34,16 +34,14 @@ import numpy as np
 
 from ..errors import InputError
 from .analysis import (
-    _chief_ray,
     _chief_ray_heights_on_mm,
     _chief_rays,
     central_difference_angles,
     illumination_from_heights,
     image_circle_radius_mm,
 )
-from .focus import film_distance_mm
 from .chromatic import _chief_ray_heights_at_mm
-from .focus import front_most_z_mm
+from .focus import film_distance_mm, front_most_z_mm
 from .glass import C_NM, D_NM, F_NM
 from .paraxial import paraxial_data
 from .prescription import Prescription
@@ -186,12 +184,18 @@ def _chief_ray_heights_mm(prescription: Prescription, angles_deg: np.ndarray, fo
     first angle whose chief ray fails or whose height stops growing."""
     film_z_mm = prescription.total_track_mm + film_distance_mm(prescription, focus_distance_m)
     rays = _chief_rays(prescription, [math.radians(float(a)) for a in angles_deg[1:]], focus_distance_m)
-    heights = [0.0]
-    for h in np.abs(_chief_ray_heights_on_mm(prescription, *rays, film_z_mm)):
-        if not (math.isfinite(h) and h > heights[-1]):  # NaN: no chief ray at this angle
+    return _growing_heights(_chief_ray_heights_on_mm(prescription, *rays, film_z_mm))
+
+
+def _growing_heights(heights_mm) -> np.ndarray:
+    """0 and then the |heights| (mm) of the chief rays at increasing angles
+    after the axis, up to the first that fails (NaN) or stops growing."""
+    kept = [0.0]
+    for h in np.abs(heights_mm):
+        if not (math.isfinite(h) and h > kept[-1]):
             break
-        heights.append(float(h))
-    return np.array(heights)
+        kept.append(float(h))
+    return np.array(kept)
 
 
 def _passing_area_mm2(prescription: Prescription, theta: float, centre_mm: float) -> float:
@@ -370,12 +374,9 @@ def lateral_color_map(prescription: Prescription, *, film_z_mm: float, paraxial_
             if rows and not prescription.disperses:  # every wavelength sees the same glass: the same row
                 rows.append(rows[0])
                 continue
-            heights = [0.0]
-            for h in np.abs(_chief_ray_heights_at_mm(prescription, angles[1:], wavelength_nm=wavelength,
-                                                     film_z_mm=film_z_mm, focus_distance_m=focus_distance_m)):
-                if not (math.isfinite(h) and h > heights[-1]):  # NaN: no chief ray at this angle
-                    break
-                heights.append(float(h))
+            heights = _growing_heights(_chief_ray_heights_at_mm(
+                prescription, angles[1:], wavelength_nm=wavelength, film_z_mm=film_z_mm,
+                focus_distance_m=focus_distance_m))
             rows.append(np.interp(radius, heights, np.tan(np.radians(angles[: len(heights)]))))
         _COLOR_CACHE[key] = LateralColorMap(np.array(wavelengths), step, np.array(rows), paraxial_scale_mm)
     return _COLOR_CACHE[key]

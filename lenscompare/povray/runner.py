@@ -75,6 +75,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from ..cameras import CameraModel
 from ..errors import ExternalError, InputError
 from ..image import Image, read_exr
 from ..limits import check_render_budget
@@ -85,7 +86,7 @@ from .export import pov_camera, radiance_bound, scene_to_pov
 from .sandbox import confined_writes
 
 __all__ = ["render_povray", "povray_version", "pinhole_antialias_depth", "run_povray", "run_povray_frames",
-           "subframes_for", "pinhole_subframes", "scene_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP",
+           "subframes_for", "pinhole_subframes", "longest_streak_px", "MAX_ANTIALIAS_DEPTH", "MAX_POVRAY_SPP",
            "HALF_FLOAT_SAFE", "MAX_SUBFRAME_SPACING_PX", "MAX_AUTO_TIME_SAMPLES", "MAX_TIME_SAMPLES"]
 
 MAX_SUBFRAME_SPACING_PX = 1.0
@@ -217,7 +218,7 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     if not samples_time(scene):
         times = [scene.render.shutter_s[0]]
     else:
-        streak_px = scene_streak_px(scene, model)
+        streak_px = longest_streak_px(scene, camera.camera)
         count = int(time_samples) if time_samples is not None else subframes_for(streak_px)
         if time_samples is None and model != "thin":
             count = pinhole_subframes(count, spp)
@@ -296,11 +297,11 @@ def render_povray(scene: Scene, *, model: str | None = None, spp: int | None = N
     return Image(pixels.astype("float32", copy=False), metadata, camera=camera.camera)
 
 
-def scene_streak_px(scene: Scene, model: str) -> float:
-    """The longest streak (px) any object of ``scene`` draws on the film of its
-    ``model`` camera over the shutter (:func:`lenscompare.motion_path.longest_motion_path`);
+def longest_streak_px(scene: Scene, camera: CameraModel) -> float:
+    """The longest streak (px) any object of ``scene`` draws on ``camera``'s
+    film over the shutter (:func:`lenscompare.motion_path.longest_motion_path`);
     0 for a still scene."""
-    path = longest_motion_path(scene, pov_camera(scene, model).camera)
+    path = longest_motion_path(scene, camera)
     return 0.0 if path is None else path.length_px
 
 
