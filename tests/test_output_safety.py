@@ -61,17 +61,18 @@ def _command_cases(scene: Path, exr: Path, folder: Path):
     from lenscompare.sweep import runner
 
     return {
-        "mitsuba": (["mitsuba", str(scene), "-o", str(folder / "x.exr")], commands.mitsuba, "render_mitsuba"),
-        "export": (["export", str(scene), "--to", "pbrt", "-o", str(folder / "x.pbrt")], commands.export,
+        "mitsuba": (["mitsuba", str(scene), "-o", str(folder / "x.exr")], commands.load("mitsuba"),
+                    "render_mitsuba"),
+        "export": (["export", str(scene), "--to", "pbrt", "-o", str(folder / "x.pbrt")], commands.load("export"),
                    "scene_to_pbrt"),
         "sweep": (["sweep", "example", "-o", str(folder / "sweep")], runner, "task_grid"),
-        "render": (["render", str(scene), "-o", str(folder / "x.exr")], commands.render, "render"),
-        "povray": (["povray", str(scene), "-o", str(folder / "x.exr")], commands.povray, "render_povray"),
-        "preview": (["preview", str(exr), "-o", str(folder / "x.png")], commands.preview, "read_exr"),
+        "render": (["render", str(scene), "-o", str(folder / "x.exr")], commands.load("render"), "render"),
+        "povray": (["povray", str(scene), "-o", str(folder / "x.exr")], commands.load("povray"), "render_povray"),
+        "preview": (["preview", str(exr), "-o", str(folder / "x.png")], commands.load("preview"), "read_exr"),
         "report": (["report", str(scene), "-o", str(folder / "report"), "--quick"], report, "render_scenes"),
         "cost": (["cost", str(scene), "-o", str(folder / "cost"), "--quick"], cost, "study_scene"),
         "check --junit": (["check", str(REPO / "lenscompare" / "checks" / "default.toml"), "--junit",
-                           str(folder / "junit.xml")], commands.check, "run_check"),
+                           str(folder / "junit.xml")], commands.load("check"), "run_check"),
     }
 
 
