@@ -21,6 +21,16 @@ from helpers import REFERENCE_SCENES
 from lenscompare._native import diagnostics
 
 RNG = np.random.default_rng(11)
+_RNG_START = RNG.bit_generator.state
+
+
+@pytest.fixture(autouse=True)
+def _draws_of_its_own():
+    """Every test starts the module's RNG afresh: what it draws does not hang on which tests
+    ran before it in the same pytest-xdist worker."""
+    RNG.bit_generator.state = _RNG_START
+
+
 KERNELS = diagnostics.sphere_kernels()
 
 

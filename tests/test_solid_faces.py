@@ -20,6 +20,16 @@ from lenscompare.render import render
 from lenscompare.scene import load_scene
 
 RNG = np.random.default_rng(31)
+_RNG_START = RNG.bit_generator.state
+
+
+@pytest.fixture(autouse=True)
+def _draws_of_its_own():
+    """Every test starts the module's RNG afresh: what it draws does not hang on which tests
+    ran before it in the same pytest-xdist worker."""
+    RNG.bit_generator.state = _RNG_START
+
+
 LANES = 16
 
 
