@@ -626,6 +626,7 @@ std::vector<OwnQuad> own_quads_from(CArray<const float, -1, 4, 3> corners) {
     for (size_t k = 0; k < quads.size(); ++k)
         if (!make_own_quad(corners.data() + 12 * k, &quads[k]))
             throw std::invalid_argument("quads: quad " + std::to_string(k) + " is not a parallelogram with area");
+    widen_shared_sides(corners.data(), int(quads.size()), quads.data());
     return quads;
 }
 

@@ -11,6 +11,27 @@ namespace {
 constexpr int N = kSphereLanes;
 using lanes::DoubleLanes;
 
+// Whether a hit's coordinate w along one edge lies on the quad: within the
+// margin m of [0, 1], or, past a side the quad shares with another quad and
+// for a ray at a grazing slope, within m (1 + k / sin), where sin = |d . n| /
+// (|n| |d|) is the sine of the ray's angle to the plane. Two quads sharing an
+// edge are not in one plane once their corners round to float: a ray crossing
+// the edge meets their planes up to k slack / sin apart along them, and a
+// fixed margin let 1 to 3 % of rays within 1 degree of a split rectangle's
+// plane through (tests/test_own_quads.py). The widened hit lies over the
+// neighbour, where the ray meets it anyway; a side of its own (a lone quad's
+// rim) keeps the fixed margin. cap_lo and cap_hi (past w = 0 and w = 1) stop
+// the widening at sin 1/256, so that a ray almost in the plane does not report
+// a hit far out along it. Both sides of the comparison squared: no root here.
+[[gnu::always_inline]] inline int on_edge_span(double w, double m, double cap_lo, double cap_hi, double graze2,
+                                              double dn2, double dd) {
+    // Past the nearer end, in edge lengths; NaN stays NaN (a select, not fmax: GCC vectorises it)
+    const double excess = -w > w - 1.0 ? -w : w - 1.0;
+    const double over = excess - m;
+    const double cap = w < 0.5 ? cap_lo : cap_hi;
+    return (over <= 0.0) | ((excess <= cap) & (over * over * dn2 <= graze2 * dd));
+}
+
 // Lane i's distance to quad q's plane and whether the hit lies on the quad
 // (within its margins), in double; t is NaN or infinite for a ray in the plane.
 [[gnu::always_inline]] inline void plane_hits(const OwnQuad& q, const DoubleLanes<N>& ray, double* t_out,
@@ -18,14 +39,16 @@ using lanes::DoubleLanes;
     for (int i = 0; i < N; ++i) {
         const double dx = ray.d[0][i], dy = ray.d[1][i], dz = ray.d[2][i];
         const double fx = q.v0[0] - ray.o[0][i], fy = q.v0[1] - ray.o[1][i], fz = q.v0[2] - ray.o[2][i];
-        const double t = (fx * q.n[0] + fy * q.n[1] + fz * q.n[2]) / (dx * q.n[0] + dy * q.n[1] + dz * q.n[2]);
+        const double dn = dx * q.n[0] + dy * q.n[1] + dz * q.n[2];
+        const double t = (fx * q.n[0] + fy * q.n[1] + fz * q.n[2]) / dn;
         // The hit relative to v0: o + t d - v0
         const double rx = t * dx - fx, ry = t * dy - fy, rz = t * dz - fz;
         const double u = rx * q.a1[0] + ry * q.a1[1] + rz * q.a1[2];
         const double v = rx * q.a2[0] + ry * q.a2[1] + rz * q.a2[2];
+        const double dn2 = dn * dn, dd = dx * dx + dy * dy + dz * dz;
         // NaN fails every comparison, so a ray in the plane is outside.
-        inside[i] = (u >= -q.margin_u) & (u <= 1.0 + q.margin_u) & (v >= -q.margin_v) & (v <= 1.0 + q.margin_v) &
-                    (t >= 0.0);
+        inside[i] = on_edge_span(u, q.margin_u, q.cap_u[0], q.cap_u[1], q.graze2_u, dn2, dd) &
+                    on_edge_span(v, q.margin_v, q.cap_v[0], q.cap_v[1], q.graze2_v, dn2, dd) & (t >= 0.0);
         t_out[i] = t;
     }
 }
@@ -179,6 +202,12 @@ double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] 
 
 }  // namespace
 
+// How many slacks two quads sharing an edge may stand apart across it: each
+// one's corners may have rounded by a slack (make_own_quad).
+constexpr double kGrazeSlack = 2.0;
+// The shallowest slope (sine) down to which a shared side's margin widens.
+constexpr double kShallowestGraze = 1.0 / 256.0;
+
 bool make_own_quad(const float* corners, OwnQuad* out) {
     const float* c0 = corners;
     const float* c1 = corners + 3;
@@ -204,6 +233,14 @@ bool make_own_quad(const float* corners, OwnQuad* out) {
         out->unit_normal[a] = float(n[a] / std::sqrt(nn));
     }
     out->margin_u = slack_m / e1_length, out->margin_v = slack_m / e2_length;
+    // The grazing widening (on_edge_span): m k / sin with k = kGrazeSlack, as
+    // (m k)^2 |n|^2 against (excess - m)^2 (d . n)^2 / |d|^2; none until
+    // widen_shared_sides finds a neighbour.
+    out->graze2_u = out->margin_u * out->margin_u * kGrazeSlack * kGrazeSlack * nn;
+    out->graze2_v = out->margin_v * out->margin_v * kGrazeSlack * kGrazeSlack * nn;
+    out->cap_u[0] = out->cap_u[1] = out->margin_u;
+    out->cap_v[0] = out->cap_v[1] = out->margin_v;
+    out->slack_m = slack_m;
     // Bounding sphere: the centre, and half the longer diagonal
     double diagonal_sum = 0.0, diagonal_difference = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -211,8 +248,42 @@ bool make_own_quad(const float* corners, OwnQuad* out) {
         diagonal_sum += (e1[a] + e2[a]) * (e1[a] + e2[a]);
         diagonal_difference += (e1[a] - e2[a]) * (e1[a] - e2[a]);
     }
-    out->bound[3] = float(0.5 * std::sqrt(std::fmax(diagonal_sum, diagonal_difference)) + 2.0 * slack_m);
+    // A ray taken in a grazing margin passes within (1 + kGrazeSlack) slack of a side
+    out->bound[3] = float(0.5 * std::sqrt(std::fmax(diagonal_sum, diagonal_difference)) +
+                          (2.0 + kGrazeSlack) * slack_m);
     return true;
+}
+
+void widen_shared_sides(const float* corners, int n, OwnQuad* quads) {
+    // Side s of a quad runs from corner s to corner s + 1: v = 0, u = 1, v = 1, u = 0.
+    auto same_corner = [](const float* p, const float* q, double slack_m) {
+        return std::fabs(double(p[0]) - q[0]) <= slack_m && std::fabs(double(p[1]) - q[1]) <= slack_m &&
+               std::fabs(double(p[2]) - q[2]) <= slack_m;
+    };
+    for (int k = 0; k < n; ++k) {
+        OwnQuad& q = quads[k];
+        for (int side = 0; side < 4; ++side) {
+            const float* a = corners + 12 * k + 3 * side;
+            const float* b = corners + 12 * k + 3 * ((side + 1) % 4);
+            bool shared = false;
+            for (int j = 0; j < n && !shared; ++j) {
+                if (j == k) continue;
+                const double slack_m = std::fmax(q.slack_m, quads[j].slack_m);
+                for (int other = 0; other < 4 && !shared; ++other) {
+                    const float* c = corners + 12 * j + 3 * other;
+                    const float* d = corners + 12 * j + 3 * ((other + 1) % 4);
+                    shared = (same_corner(a, d, slack_m) && same_corner(b, c, slack_m)) ||
+                             (same_corner(a, c, slack_m) && same_corner(b, d, slack_m));
+                }
+            }
+            if (!shared) continue;
+            const bool along_u = side == 1 || side == 3;  // the side bounds u
+            const double m = along_u ? q.margin_u : q.margin_v;
+            const double cap = m + std::fmin(m * kGrazeSlack / kShallowestGraze, 0.5);
+            double* caps = along_u ? q.cap_u : q.cap_v;
+            caps[side == 1 || side == 2 ? 1 : 0] = cap;  // sides 1 and 2 lie at u = 1 and v = 1
+        }
+    }
 }
 
 int max_own_quads() {

@@ -9,10 +9,12 @@
 // The test runs in double: the plane's distance t = (v0 - o) . n / (d . n),
 // then the hit's coordinates (u, v) along the two edges from dual vectors,
 // accepted on [-margin, 1 + margin]. The margin is a few float steps of the
-// quad's largest coordinate (in edge lengths), so where two quads share an
-// edge whose float corners round apart, their tests overlap by a hair
-// instead of leaving a gap: watertight by construction. A ray in the
-// quad's plane (d . n = 0) misses it (t is infinite or NaN).
+// quad's largest coordinate (in edge lengths), and past a side two quads
+// share it widens as 1 / sin of a grazing ray's angle to the plane (down to
+// 1/256), so that where their float corners round them apart (or out of one
+// plane) their tests overlap by a hair instead of leaving a gap: watertight
+// by construction down to that angle.
+// A ray in the quad's plane (d . n = 0) misses it (t is infinite or NaN).
 #pragma once
 
 #include <vector>
@@ -27,6 +29,9 @@ namespace lc {
 // xyz, radius, float) and the unit normal (float) the hit reports.
 struct OwnQuad {
     double v0[3], n[3], a1[3], a2[3], margin_u, margin_v;
+    // The margins' widening for grazing rays past a side shared with another
+    // quad (on_edge_span, quad_lanes.cpp): cap_u[0] past u = 0, cap_u[1] past u = 1.
+    double graze2_u, graze2_v, cap_u[2], cap_v[2], slack_m;
     float bound[4], unit_normal[3];
 };
 
@@ -34,6 +39,12 @@ struct OwnQuad {
 // or false when it is not a parallelogram (v2 != v1 + v3 - v0 beyond float
 // rounding) or is degenerate: Embree takes such quads.
 bool make_own_quad(const float* corners, OwnQuad* out);
+
+// Lets grazing rays be taken a little past each side of quads[k] that
+// another of the n quads shares (the same two corners, to the quads' float
+// rounding), so that they cannot slip between the two (quad_lanes.cpp,
+// on_edge_span). corners holds the quads' 4 x 3 floats each, as made.
+void widen_shared_sides(const float* corners, int n, OwnQuad* quads);
 
 // The most faces a ray may have to test (SolidFaces::faces_met: each lone
 // quad, three of each box's six) for the render to intersect the still quads

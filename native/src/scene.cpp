@@ -202,6 +202,7 @@ Scene::Scene(const SceneArrays& a)
                 all_parallelograms = make_own_quad(&corners[12 * k], &own[k]);
             }
             if (all_parallelograms) {
+                widen_shared_sides(corners.data(), int(own.size()), own.data());
                 own_quads_ = std::move(own);
                 own_solids_ = SolidFaces(corners.data(), solid.data(), int(ids.size()));
                 for (size_t i : ids) {
