@@ -86,11 +86,12 @@ def test_tracing_back_returns_to_the_film_point(name):
     film_z = lens.total_track_mm + film_distance_mm(lens, math.inf)
     rng = np.random.default_rng(1)
     rear = lens.surfaces[-1].semi_aperture_mm
-    targets = np.concatenate([rng.uniform(-rear, rear, (200, 2)) * 0.7,
-                              np.full((200, 1), lens.total_track_mm)], axis=1)
-    origins = np.concatenate([rng.uniform(-3, 3, (200, 2)), np.full((200, 1), film_z)], axis=1)
+    # 2000 rays: through the wide-angle lens only some 7 % pass (15 of 200 for some seeds)
+    targets = np.concatenate([rng.uniform(-rear, rear, (2000, 2)) * 0.7,
+                              np.full((2000, 1), lens.total_track_mm)], axis=1)
+    origins = np.concatenate([rng.uniform(-3, 3, (2000, 2)), np.full((2000, 1), film_z)], axis=1)
     out = trace_from_film(lens, origins, targets - origins)
-    assert out.passed.sum() > 20
+    assert out.passed.sum() > 100
     back = trace_from_scene(lens, out.origins_mm[out.passed] + 5.0 * out.directions[out.passed],
                             -out.directions[out.passed])
     assert back.passed.all()
