@@ -134,7 +134,11 @@ def aimed_at_box(lo, hi, origin, n):
     return (d / np.linalg.norm(d, axis=1, keepdims=True)).astype(np.float32)
 
 
-def test_no_skipped_face_is_nearer_than_the_first_hit_of_the_faces_kept():
+# 1048 and 2048: seeds under which a first widening of the own quads' margins for grazing
+# rays (past a box's edges too) let a hidden face report a hit a hair nearer
+@pytest.mark.parametrize("seed", [31, 1048, 2048])
+def test_no_skipped_face_is_nearer_than_the_first_hit_of_the_faces_kept(seed):
+    RNG.bit_generator.state = np.random.default_rng(seed).bit_generator.state
     tested = hits = 0
     for _ in range(150):
         lo, hi, quads, solid, centre = box_seen_from_outside()

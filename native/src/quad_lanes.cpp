@@ -254,6 +254,16 @@ bool make_own_quad(const float* corners, OwnQuad* out) {
     return true;
 }
 
+// Whether two quads' planes are within 30 degrees of each other (either
+// facing). Across a sharper fold (a box's edge) a ray grazing one quad meets
+// the other steeply, within its fixed margin: the widening is not needed
+// there, and would let a face the ray passes outside of report a hit.
+static bool nearly_one_plane(const OwnQuad& a, const OwnQuad& b) {
+    const double cosine = double(a.unit_normal[0]) * b.unit_normal[0] + double(a.unit_normal[1]) * b.unit_normal[1] +
+                          double(a.unit_normal[2]) * b.unit_normal[2];
+    return std::fabs(cosine) >= 0.866;
+}
+
 void widen_shared_sides(const float* corners, int n, OwnQuad* quads) {
     // Side s of a quad runs from corner s to corner s + 1: v = 0, u = 1, v = 1, u = 0.
     auto same_corner = [](const float* p, const float* q, double slack_m) {
@@ -267,7 +277,7 @@ void widen_shared_sides(const float* corners, int n, OwnQuad* quads) {
             const float* b = corners + 12 * k + 3 * ((side + 1) % 4);
             bool shared = false;
             for (int j = 0; j < n && !shared; ++j) {
-                if (j == k) continue;
+                if (j == k || !nearly_one_plane(q, quads[j])) continue;
                 const double slack_m = std::fmax(q.slack_m, quads[j].slack_m);
                 for (int other = 0; other < 4 && !shared; ++other) {
                     const float* c = corners + 12 * j + 3 * other;

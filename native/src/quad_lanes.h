@@ -42,8 +42,9 @@ bool make_own_quad(const float* corners, OwnQuad* out);
 
 // Lets grazing rays be taken a little past each side of quads[k] that
 // another of the n quads shares (the same two corners, to the quads' float
-// rounding), so that they cannot slip between the two (quad_lanes.cpp,
-// on_edge_span). corners holds the quads' 4 x 3 floats each, as made.
+// rounding) at a fold under 30 degrees, so that they cannot slip between the
+// two (quad_lanes.cpp, on_edge_span). corners holds the quads' 4 x 3 floats
+// each, as made.
 void widen_shared_sides(const float* corners, int n, OwnQuad* quads);
 
 // The most faces a ray may have to test (SolidFaces::faces_met: each lone
