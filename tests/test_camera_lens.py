@@ -133,6 +133,29 @@ def test_double_gauss_relative_illumination_from_a_rendered_flat_field():
         assert measured == pytest.approx(expected, abs=0.03)
 
 
+@pytest.mark.parametrize("f_number", [500.0, 2000.0])
+def test_a_pinpoint_stop_renders_the_flat_field_of_a_stopped_down_lens(f_number):
+    """Behind a stop this small the exit pupil (0.05 mm wide at f/1000) is smaller than its move
+    across one of the sampler's film rings; with a fixed polygon centre per ring f/500 rendered
+    three times too bright and f/1000 black. The centre reads 1 and the relative illumination at
+    10 and 20 deg is the traced one at f/16, where the rims no longer vignette."""
+    scene = lens_scene("dgauss.50mm", f_number=f_number, focus_distance=1e6, film_mm=(44.0, 44.0),
+                       resolution=(88, 88), spp=256, background=1.0)
+    image = render(scene, threads=2)
+    y, x = np.mgrid[0:88, 0:88] + 0.5
+    within_18_mm = np.hypot(x - 44.0, y - 44.0) <= 36.0  # inside the image circle (about 21 mm)
+    assert np.all(image.pixels[within_18_mm] > 0.0)
+    assert image.pixels[40:48, 40:48].mean() == pytest.approx(1.0, abs=0.03)
+    prescription = load_prescription("dgauss.50mm")
+    pitch_mm = 44.0 / 88
+    for angle_deg in (10.0, 20.0):
+        radius_px = abs(chief_ray_film_height_mm(prescription, angle_deg)) / pitch_mm
+        measured = relative_illumination_at(image.pixels, radius_px, n_bins=22)
+        traced = relative_illumination(prescription, angle_deg, f_number=16.0)
+        print(f"f/{f_number:g} {angle_deg} deg: rendered {measured:.4f}, traced at f/16 {traced:.4f}")
+        assert measured == pytest.approx(traced, abs=0.03)
+
+
 @pytest.mark.parametrize("f_number", [8.0, 11.0])
 def test_wide_angle_stopped_down_is_lit_beyond_24_degrees(f_number):
     """The sweep's fault: at f/8 and f/11 the wide-angle lens rendered black (or a

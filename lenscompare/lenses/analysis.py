@@ -288,8 +288,12 @@ def relative_illumination(prescription: Prescription, field_angle_deg: float, *,
     theta = _field_angle_rad(prescription, field_angle_deg)
     if theta == 0.0:
         return 1.0
-    on_axis = _passing_beam_area_mm2(prescription, 0.0, samples_across)
-    area = _passing_beam_area_mm2(prescription, theta, samples_across)
+    on_axis = passing_beam_area_mm2(prescription, 0.0, samples_across=samples_across)
+    origins, directions, found = _chief_rays(prescription, [theta], math.inf)
+    # Round the real chief ray's crossing of the first vertex plane (the paraxial pupil's centre
+    # when no chief ray is found: the window then grows till it holds the beam)
+    centre_mm = float(origins[0][1] - directions[0][1] * origins[0][2] / directions[0][2]) if found[0] else 0.0
+    area = passing_beam_area_mm2(prescription, theta, centre_mm=centre_mm, samples_across=samples_across)
     if on_axis == 0 or area == 0:
         return 0.0
     return illumination_from_beam_areas(prescription, theta, area_mm2=area, on_axis_mm2=on_axis)
@@ -570,23 +574,30 @@ def _bracketed_roots(function, a, b, fa, fb, active, *, tolerance_mm: float = 1e
     return root
 
 
-def _passing_beam_area_mm2(prescription: Prescription, theta: float, samples_across: int) -> float:
-    """Area (mm^2, perpendicular to the axis) of a parallel beam at theta that passes."""
-    first = prescription.surfaces[0]
-    # Between the first vertex plane and the first surface a ray drifts
-    # sideways by at most |sag| tan(theta): cover that too.
-    half = (first.semi_aperture_mm
-            + abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * math.tan(theta)) * 1.01
-    centres = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * half - half
-    x, y = np.meshgrid(centres, centres)
+def passing_beam_area_mm2(prescription: Prescription, theta: float, *, centre_mm: float = 0.0,
+                          samples_across: int = 128) -> float:
+    """Area (mm^2, perpendicular to the axis) of the parallel beam at theta (radians) that passes
+    every aperture, counted on a square grid of ``samples_across``^2 rays round ``centre_mm`` (the
+    height where the real chief ray crosses the first vertex plane; a wide-angle lens's pupil moves
+    far from the paraxial one). The window starts at 0.75 entrance-pupil diameters over cos theta
+    and grows until no passing ray touches its border, so a pinpoint stop is counted on as fine a
+    grid as a wide-open one (a grid over the whole first surface had a few cells across the beam
+    at f/64 and none at f/1000)."""
+    data = paraxial_data(prescription)
+    half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
+    limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
     direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
     start_z = front_most_z_mm(prescription) - 1.0
-    # Grid in the first vertex plane, moved back along the ray to start_z.
-    points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
-    origins = points - direction * (0.0 - start_z) / direction[2]
-    rays = trace_from_scene(prescription, origins, direction)
-    cell = (2.0 * half / samples_across) ** 2
-    return float(np.count_nonzero(rays.passed)) * cell
+    while True:
+        cells = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * half_mm - half_mm
+        x, y = np.meshgrid(cells, cells + centre_mm)
+        points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+        passed = trace_from_scene(prescription, points - direction * (-start_z / direction[2]),
+                                  direction).passed.reshape(x.shape)
+        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
+        if not border or half_mm > limit_mm:
+            return float(np.count_nonzero(passed)) * (2.0 * half_mm / samples_across) ** 2
+        half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
 
 
 def _any_ray_passes_from_film(prescription: Prescription, film_z: float, radius_mm: float,

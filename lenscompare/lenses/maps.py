@@ -39,13 +39,13 @@ from .analysis import (
     central_difference_angles,
     illumination_from_heights,
     image_circle_radius_mm,
+    passing_beam_area_mm2,
 )
 from .chromatic import _chief_ray_heights_at_mm
-from .focus import film_distance_mm, front_most_z_mm
+from .focus import film_distance_mm
 from .glass import C_NM, D_NM, F_NM
 from .paraxial import paraxial_data
 from .prescription import Prescription
-from .trace import trace_from_scene
 
 __all__ = ["RadialMaps", "radial_maps", "pupil_relative_illumination", "LateralColorMap", "lateral_color_map",
            "COLOR_MAP_WAVELENGTHS_NM", "COLOR_MAP_MARGIN", "MAX_FIELD_DEG"]
@@ -198,29 +198,6 @@ def _growing_heights(heights_mm) -> np.ndarray:
     return np.array(kept)
 
 
-def _passing_area_mm2(prescription: Prescription, theta: float, centre_mm: float) -> float:
-    """Area (mm^2, perpendicular to the axis) of the parallel beam at theta that
-    passes every aperture, counted on a square grid round ``centre_mm``, the
-    real chief ray's crossing of the first vertex plane (a wide-angle lens's
-    pupil moves far from the paraxial one); the window grows until no passing
-    ray touches its border."""
-    data = paraxial_data(prescription)
-    half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
-    limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
-    direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
-    start_z = front_most_z_mm(prescription) - 1.0
-    while True:
-        cells = (np.arange(_PUPIL_GRID) + 0.5) / _PUPIL_GRID * 2.0 * half_mm - half_mm
-        x, y = np.meshgrid(cells, cells + centre_mm)
-        points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
-        passed = trace_from_scene(prescription, points - direction * (-start_z / direction[2]),
-                                  direction).passed.reshape(x.shape)
-        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
-        if not border or half_mm > limit_mm:
-            return float(np.count_nonzero(passed)) * (2.0 * half_mm / _PUPIL_GRID) ** 2
-        half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
-
-
 def _relative_illuminations(prescription: Prescription, angles_deg) -> np.ndarray:
     """RI at each of ``angles_deg`` (:func:`.analysis.relative_illumination`'s
     quantity) with the beam counted round the real chief ray's pupil; 1 on
@@ -234,7 +211,7 @@ def _relative_illuminations(prescription: Prescription, angles_deg) -> np.ndarra
     origins, directions, found = _chief_rays(prescription, probes, math.inf)
     film_z_mm = prescription.total_track_mm + film_distance_mm(prescription, math.inf)
     heights = np.abs(_chief_ray_heights_on_mm(prescription, origins, directions, found, film_z_mm)).reshape(-1, 3)
-    on_axis_mm2 = _passing_area_mm2(prescription, 0.0, 0.0)
+    on_axis_mm2 = passing_beam_area_mm2(prescription, 0.0, samples_across=_PUPIL_GRID)
     ri = np.ones(len(angles))
     for n, (i, theta) in enumerate(zip(tilted, thetas)):
         if not np.isfinite(heights[n]).all():  # a chief ray it needs fails
@@ -243,7 +220,8 @@ def _relative_illuminations(prescription: Prescription, angles_deg) -> np.ndarra
         origin, chief = origins[3 * n + 1], directions[3 * n + 1]
         centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
         ri[i] = illumination_from_heights(prescription, theta, heights[n],
-                                          area_mm2=_passing_area_mm2(prescription, theta, centre_mm),
+                                          area_mm2=passing_beam_area_mm2(prescription, theta, centre_mm=centre_mm,
+                                                                         samples_across=_PUPIL_GRID),
                                           on_axis_mm2=on_axis_mm2)
     return ri
 

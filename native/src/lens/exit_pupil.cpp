@@ -137,11 +137,12 @@ bool chief_ray_plane_x(const PupilGeometry& g, double film_x, double scale_mm, d
     return chief_ray_by_secant(g, film_x, scale_mm, plane_x) || chief_ray_by_bracket(g, film_x, scale_mm, plane_x);
 }
 
-// For each (film_x[j], psi[j]): the largest distance from (cx, 0) along
+// For each (film_x[j], psi[j]): the largest distance from (cx[j], 0) along
 // angle psi at which light from film_x still passes, or 0 when none does. A
 // march outward, then bisection, every search in lockstep (passes_batch).
 std::vector<double> boundary_distances(const PupilGeometry& g, const std::vector<double>& film_x,
-                                       const std::vector<double>& psi, double cx, double max_distance) {
+                                       const std::vector<double>& psi, const std::vector<double>& cx,
+                                       double max_distance) {
     const size_t searches = film_x.size();
     const double step = max_distance / kMarchSteps;
     std::vector<double> cos_psi(searches), sin_psi(searches);
@@ -153,7 +154,7 @@ std::vector<double> boundary_distances(const PupilGeometry& g, const std::vector
     for (size_t j = 0; j < searches; ++j)
         for (size_t i = 0; i < kPoints; ++i) {
             fx[j * kPoints + i] = film_x[j];
-            px[j * kPoints + i] = cx + double(i) * step * cos_psi[j];
+            px[j * kPoints + i] = cx[j] + double(i) * step * cos_psi[j];
             py[j * kPoints + i] = double(i) * step * sin_psi[j];
         }
     passes_batch(g, fx.size(), fx.data(), px.data(), py.data(), passed.data());
@@ -173,7 +174,7 @@ std::vector<double> boundary_distances(const PupilGeometry& g, const std::vector
         for (size_t o = 0; o < open.size(); ++o) {
             const size_t j = open[o];
             mid[o] = 0.5 * (lo[j] + hi[j]);
-            fx[o] = film_x[j], px[o] = cx + mid[o] * cos_psi[j], py[o] = mid[o] * sin_psi[j];
+            fx[o] = film_x[j], px[o] = cx[j] + mid[o] * cos_psi[j], py[o] = mid[o] * sin_psi[j];
         }
         passes_batch(g, open.size(), fx.data(), px.data(), py.data(), passed.data());
         for (size_t o = 0; o < open.size(); ++o) (passed[o] ? lo[open[o]] : hi[open[o]]) = mid[o];
@@ -223,21 +224,36 @@ PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], d
         if (scan_passed[i]) sum_x += scan_x[i], ++count;
     // Anchor: the chief ray of the middle radius when it gets through (it
     // finds tiny stops the scan misses), else the centre of the scan's hits.
-    double chief_x;
-    if (chief_ray_plane_x(g, film_radii[1], scan_half_mm, &chief_x) && g.passes(film_radii[1], chief_x, 0.0))
-        poly.centre_x_mm = chief_x;
-    else if (count > 0)
+    // When the chief rays of the ring's first and last radii get through too,
+    // the centre follows them (a line through the two), so that a pupil
+    // smaller than its move across the ring stays inside the polygon.
+    double chief_x[3];
+    bool chief_passes[3];
+    for (int r = 0; r < 3; ++r)
+        chief_passes[r] = chief_ray_plane_x(g, film_radii[r], scan_half_mm, &chief_x[r]) &&
+                          g.passes(film_radii[r], chief_x[r], 0.0);
+    poly.centre_r_mm = film_radii[1];
+    if (chief_passes[1]) {
+        poly.centre_x_mm = chief_x[1];
+        if (chief_passes[0] && chief_passes[2] && film_radii[2] > film_radii[0])
+            poly.centre_slope = (chief_x[2] - chief_x[0]) / (film_radii[2] - film_radii[0]);
+    } else if (count > 0) {
         poly.centre_x_mm = sum_x / count;
-    else
+    } else {
         return poly;  // outside the image circle
+    }
     poly.empty = false;
 
-    // Boundary per angle: the farthest passing point over the ring's radii.
-    std::vector<double> search_film, search_psi;
+    // Boundary per angle: the farthest passing point over the ring's radii,
+    // each searched from where the centre lies for it.
+    std::vector<double> search_film, search_psi, search_centre;
     for (int k = 0; k < kPupilAngles; ++k)
-        for (int r = 0; r < 3; ++r) search_film.push_back(film_radii[r]), search_psi.push_back(2.0 * kPi * k / kPupilAngles);
+        for (int r = 0; r < 3; ++r) {
+            search_film.push_back(film_radii[r]), search_psi.push_back(2.0 * kPi * k / kPupilAngles);
+            search_centre.push_back(ExitPupil::centre_at(poly, film_radii[r]));
+        }
     const std::vector<double> distance =
-        boundary_distances(g, search_film, search_psi, poly.centre_x_mm, 2.0 * scan_half_mm);
+        boundary_distances(g, search_film, search_psi, search_centre, 2.0 * scan_half_mm);
     std::array<double, kPupilAngles> raw{};
     for (int k = 0; k < kPupilAngles; ++k)
         for (int r = 0; r < 3; ++r) raw[size_t(k)] = std::max(raw[size_t(k)], distance[size_t(3 * k + r)]);

@@ -37,7 +37,14 @@ struct alignas(64) FanTriangle {
 
 struct PupilPolygon {
     bool empty = true;          // no light from this film ring: outside the image circle
-    double centre_x_mm = 0.0;   // polygon centre (on the x axis by symmetry)
+    // The polygon's centre (on the x axis by symmetry) moves with the film
+    // radius r as the chief ray does: centre_x_mm + centre_slope * (r -
+    // centre_r_mm). Behind a small stop the pupil is smaller than its move
+    // across one ring (f/1000 on the Double Gauss: 0.05 mm wide, moving 0.15
+    // mm), and a fixed centre missed it (images black or wrongly calibrated).
+    double centre_x_mm = 0.0;
+    double centre_slope = 0.0;  // mm on the plane per mm of film radius
+    double centre_r_mm = 0.0;   // the film radius centre_x_mm belongs to
     std::array<double, kPupilAngles> radius_mm{};  // boundary distance from the centre per angle
     std::array<double, kPupilAngles> cdf{};        // triangle-area CDF for sampling
     // Derived from the above once, so that a sample needs no division:
@@ -69,7 +76,8 @@ class ExitPupil {
         if (poly.empty) return false;
         const double u = double(u_y);
         const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u, guide_start(poly, u)))];
-        *out = PupilPick{poly.centre_x_mm, t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across(t, u), poly.area_mm2};
+        *out = PupilPick{centre_at(poly, film_radius_mm), t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across(t, u),
+                         poly.area_mm2};
         return true;
     }
 
@@ -94,7 +102,7 @@ class ExitPupil {
             const PupilPolygon& poly = *polygon[i];
             const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u[i], start[i]))];
             const bool a = alive[i];
-            aim->centre_x_mm[i] = a ? poly.centre_x_mm : 0.0;
+            aim->centre_x_mm[i] = a ? centre_at(poly, film_r_mm[i]) : 0.0;
             aim->a_x_mm[i] = a ? t.a_x_mm : 0.0, aim->a_y_mm[i] = a ? t.a_y_mm : 0.0;
             aim->b_x_mm[i] = a ? t.b_x_mm : 0.0, aim->b_y_mm[i] = a ? t.b_y_mm : 0.0;
             aim->across[i] = a ? across(t, u[i]) : 0.0;
@@ -110,6 +118,11 @@ class ExitPupil {
 
     double plane_z_mm() const { return plane_z_mm_; }
     const PupilPolygon& segment(int i) const { return segments_[size_t(i)]; }
+
+    // Where the polygon's centre lies for a film point at radius r.
+    static double centre_at(const PupilPolygon& poly, double film_radius_mm) {
+        return poly.centre_x_mm + poly.centre_slope * (film_radius_mm - poly.centre_r_mm);
+    }
 
   private:
     // Where the search for the fan triangle u falls in starts: the guide's
