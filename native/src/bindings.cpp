@@ -456,8 +456,20 @@ NB_MODULE(_native, m) {
                          by_nm[w][i].n_film_side = n_film_side(w, i);
                      }
                  self.set_dispersion(std::move(by_nm));
+                 // The pupil polygons hold the pupils at 380 and 780 nm too: behind a
+                 // small stop lateral colour moves them apart (at f/1000 the corner's
+                 // blue pupil lay outside the 587 nm one, and blue read a tenth).
+                 int stop_index = 0;
+                 for (size_t i = 0; i < self.elements.size(); ++i)
+                     if (self.elements[i].is_stop) stop_index = int(i);
+                 const std::vector<std::vector<LensElement>> glasses{without_blades(self.elements),
+                                                                     without_blades(self.elements_by_nm.front()),
+                                                                     without_blades(self.elements_by_nm.back())};
+                 self.pupil = std::make_shared<const ExitPupil>(
+                     glasses, stop_index, self.film_z_mm, film_corner_radius_mm(self.film_width_mm, self.film_height_mm));
              },
-             "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).")
+             "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).",
+             nb::call_guard<nb::gil_scoped_release>())
         .def_rw("mirror_axes", &LensSystemCamera::mirror_axes,
                 "Film mirrors whose rays the render reflects from traced ones: bit 0 x, bit 1 y (0, the default: "
                 "none; LENSCOMPARE_LENS_MIRRORS=1 sets symmetric_mirror_axes for new cameras).")

@@ -15,6 +15,12 @@ constexpr int kMarchSteps = 48;     // outward steps per boundary search
 constexpr int kBisections = 14;     // refinement of each boundary point
 constexpr double kRelativeMargin = 1.01;   // polygon enlargement: covers chords and ring interpolation
 constexpr double kAbsoluteMargin = 0.0002;  // ... as a fraction of the scan half-width (bisection leaves 1e-4)
+// Other glasses' pupils (a dispersive lens's ends of the spectrum) widen a
+// ring's polygon only where they reach past the first's by more than this
+// factor somewhere: wide open they reach 1 % past it, within the margins,
+// and widening there anyway took the dispersive lens system 25 % longer to
+// 1 % noise on showcase (bench/bench_spectral.py) for no change in colour.
+constexpr double kOutgrown = 1.03;
 
 struct Direction2 {
     double x, y;
@@ -203,7 +209,50 @@ void finish_sampling_tables(PupilPolygon* poly) {
     }
 }
 
-PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], double scan_half_mm) {
+// The distance from the origin along (cos psi, sin psi) to the boundary of
+// the convex hull of points (x, y), which holds the origin; 0 if it is not
+// reached (a hull of fewer than three points).
+double hull_reach(const std::vector<Direction2>& hull, double cos_psi, double sin_psi) {
+    double reach = 0.0;
+    const size_t n = hull.size();
+    for (size_t i = 0; n >= 3 && i < n; ++i) {
+        const Direction2 a = hull[i], b = hull[(i + 1) % n];
+        // origin + t (c, s) = a + u (b - a): Cramer's rule
+        const double ex = b.x - a.x, ey = b.y - a.y;
+        const double det = cos_psi * (-ey) - sin_psi * (-ex);
+        if (std::fabs(det) < 1e-300) continue;
+        const double t = (a.x * (-ey) - a.y * (-ex)) / det;
+        const double u = (cos_psi * a.y - sin_psi * a.x) / det;
+        if (t > 0.0 && u >= -1e-12 && u <= 1.0 + 1e-12) reach = std::max(reach, t);
+    }
+    return reach;
+}
+
+// The convex hull of points, counter-clockwise (Andrew's monotone chain).
+std::vector<Direction2> convex_hull(std::vector<Direction2> points) {
+    std::sort(points.begin(), points.end(),
+              [](const Direction2& a, const Direction2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    if (points.size() < 3) return points;
+    auto cross = [](const Direction2& o, const Direction2& a, const Direction2& b) {
+        return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    };
+    std::vector<Direction2> hull(2 * points.size());
+    size_t k = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+        hull[k++] = points[i];
+    }
+    hull.resize(k - 1);
+    return hull;
+}
+
+PupilPolygon build_polygon(const std::vector<PupilGeometry>& glasses, const double film_radii[3],
+                           double scan_half_mm) {
+    const PupilGeometry& g = glasses.front();
     PupilPolygon poly;
     // Where does light pass at all? Centre of the passing scan points.
     constexpr size_t kScanPoints = 3 * kScanCells * kScanCells;
@@ -257,6 +306,46 @@ PupilPolygon build_polygon(const PupilGeometry& g, const double film_radii[3], d
     std::array<double, kPupilAngles> raw{};
     for (int k = 0; k < kPupilAngles; ++k)
         for (int r = 0; r < 3; ++r) raw[size_t(k)] = std::max(raw[size_t(k)], distance[size_t(3 * k + r)]);
+    if (glasses.size() > 1) {
+        // Every glass's boundary, each searched from its own chief ray where
+        // that gets through (else from the first's centre), as points round
+        // the first's centre at the same film radius; the polygon reaches the
+        // hull of them all (pupils through round rims are convex).
+        const auto& unit = unit_directions();
+        std::vector<Direction2> points;
+        for (int k = 0; k < kPupilAngles; ++k)
+            for (int r = 0; r < 3; ++r) {
+                const double d = distance[size_t(3 * k + r)];
+                points.push_back({d * unit[size_t(k)].x, d * unit[size_t(k)].y});
+            }
+        for (size_t gi = 1; gi < glasses.size(); ++gi) {
+            std::vector<double> centre(search_centre.size()), offset(3, 0.0);
+            for (int r = 0; r < 3; ++r) {
+                double x;
+                if (chief_ray_plane_x(glasses[gi], film_radii[r], scan_half_mm, &x) &&
+                    glasses[gi].passes(film_radii[r], x, 0.0))
+                    offset[size_t(r)] = x - ExitPupil::centre_at(poly, film_radii[r]);
+            }
+            for (size_t j = 0; j < search_centre.size(); ++j) centre[j] = search_centre[j] + offset[j % 3];
+            const std::vector<double> reach =
+                boundary_distances(glasses[gi], search_film, search_psi, centre, 2.0 * scan_half_mm);
+            for (int k = 0; k < kPupilAngles; ++k)
+                for (int r = 0; r < 3; ++r) {
+                    const double d = reach[size_t(3 * k + r)];
+                    if (d > 0.0)
+                        points.push_back({offset[size_t(r)] + d * unit[size_t(k)].x, d * unit[size_t(k)].y});
+                }
+        }
+        const std::vector<Direction2> hull = convex_hull(points);
+        std::array<double, kPupilAngles> reach{};
+        bool outgrows = false;
+        for (int k = 0; k < kPupilAngles; ++k) {
+            reach[size_t(k)] = hull_reach(hull, unit[size_t(k)].x, unit[size_t(k)].y);
+            outgrows |= reach[size_t(k)] > kOutgrown * raw[size_t(k)];
+        }
+        if (outgrows)
+            for (int k = 0; k < kPupilAngles; ++k) raw[size_t(k)] = std::max(raw[size_t(k)], reach[size_t(k)]);
+    }
     // Enlarge a little: covers the chords between sampled angles (0.12 % of
     // the radius for a convex region) and the boundary between the ring's radii.
     for (int k = 0; k < kPupilAngles; ++k)
@@ -299,8 +388,15 @@ ExitPupil ExitPupil::brute_force(const std::vector<LensElement>& elements, doubl
 
 ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
                      double max_film_radius_mm)
-    : ExitPupil(elements, max_film_radius_mm) {
-    PupilGeometry g{&elements, stop_index, film_z_mm, plane_z_mm_};
+    : ExitPupil(std::vector<std::vector<LensElement>>{elements}, stop_index, film_z_mm, max_film_radius_mm) {}
+
+ExitPupil::ExitPupil(const std::vector<std::vector<LensElement>>& glasses, int stop_index, double film_z_mm,
+                     double max_film_radius_mm)
+    : ExitPupil(glasses.front(), max_film_radius_mm) {
+    const std::vector<LensElement>& elements = glasses.front();
+    std::vector<PupilGeometry> geometries;
+    for (const std::vector<LensElement>& glass : glasses)
+        geometries.push_back(PupilGeometry{&glass, stop_index, film_z_mm, plane_z_mm_});
     // Light reaching the rear vertex plane lies within about the rear clear
     // aperture; the scan covers twice that to be safe.
     double largest = 0.0;
@@ -311,7 +407,7 @@ ExitPupil::ExitPupil(const std::vector<LensElement>& elements, int stop_index, d
         double r0 = max_film_radius_mm_ * i / kPupilSegments;
         double r1 = max_film_radius_mm_ * (i + 1) / kPupilSegments;
         double radii[3] = {r0, 0.5 * (r0 + r1), r1};
-        segments_[size_t(i)] = build_polygon(g, radii, scan_half_mm);
+        segments_[size_t(i)] = build_polygon(geometries, radii, scan_half_mm);
     });
 }
 

@@ -62,6 +62,12 @@ class ExitPupil {
     // stop_index: the aperture stop (its centre anchors each polygon).
     ExitPupil(const std::vector<LensElement>& elements, int stop_index, double film_z_mm,
               double max_film_radius_mm);
+    // The same through several glasses (a dispersive lens's elements at the
+    // design wavelength first, then at the spectrum's ends): each ring's
+    // polygon holds the pupils of all of them, which behind a small stop lie
+    // apart (lateral colour moves the chief ray), round the first's centre.
+    ExitPupil(const std::vector<std::vector<LensElement>>& glasses, int stop_index, double film_z_mm,
+              double max_film_radius_mm);
     // A disk of 1.5 rear semi-apertures for every ring instead of the traced
     // polygons, the reference the tight sampler is tested against (diagnostics).
     static ExitPupil brute_force(const std::vector<LensElement>& elements, double max_film_radius_mm);
