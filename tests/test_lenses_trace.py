@@ -31,6 +31,7 @@ from lenscompare.lenses import (
     trace_from_scene,
 )
 from lenscompare.lenses import analysis
+from lenscompare.lenses.paraxial import stopped_down
 from lenscompare.lenses.trace import TOWARD_FILM, _cross_surface
 
 DATA = Path(__file__).parent / "data" / "lenses"
@@ -275,6 +276,20 @@ def test_relative_illumination_settles_as_the_stop_closes_to_a_pinpoint(name):
     for f_number in (256.0, 2000.0):
         assert relative_illumination(lens, 10.0, f_number=f_number, samples_across=200) == pytest.approx(settled,
                                                                                                         abs=0.005)
+
+
+def test_a_defocused_spot_shrinks_as_the_aperture_down_to_a_pinpoint_stop():
+    """Equation 5: the blur of a point off the plane of focus is proportional to the aperture.
+    On a grid over the whole first surface a beam at f/1000 fell between the rays (NaN)."""
+    lens = _lens("dgauss.50mm")
+    spots = {}
+    for f_number in (64.0, 256.0, 1000.0):
+        stopped = stopped_down(lens, f_number)
+        film_z = stopped.total_track_mm + film_distance_mm(stopped, 3.0)
+        spots[f_number] = analysis.traced_spot_diameter_mm(stopped, height_mm=0.0, distance_mm=1500.0,
+                                                           film_z_mm=film_z)
+    assert spots[256.0] == pytest.approx(spots[64.0] / 4, rel=0.02)
+    assert spots[1000.0] == pytest.approx(spots[64.0] / 15.625, rel=0.02)
 
 
 def test_stopping_down_reduces_vignetting():

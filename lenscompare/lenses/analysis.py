@@ -158,13 +158,17 @@ def traced_spot_diameter_mm(prescription: Prescription, *, height_mm: float, dis
     spot's centroid, as that measurement keeps only the pixels in its window (a
     faint halo of aberrated rays weighs heavily in a second moment).
 
+    The grid is laid over the part of the first surface the beam uses
+    (``fit_to_beam``): over the whole surface, a beam behind a pinpoint stop
+    fell between its rays (NaN at f/1000 on the Double Gauss).
+
     Returns
     -------
     float
         Diameter in mm; NaN when no ray gets through.
     """
     on_film, w = point_source_spot_mm(prescription, height_mm=height_mm, distance_mm=distance_mm,
-                                      film_z_mm=film_z_mm, samples_across=samples_across)
+                                      film_z_mm=film_z_mm, samples_across=samples_across, fit_to_beam=True)
     return spot_diameter_mm(on_film, w, window_radius_mm=window_radius_mm)
 
 
