@@ -15,7 +15,7 @@ from .errors import InputError
 
 __all__ = [
     "MAX_SPP", "MAX_SEED", "MAX_SIDE_PX", "MAX_PIXELS", "MAX_SAMPLES", "MAX_THREADS", "MAX_COLOR",
-    "MAX_LENGTH_M", "MAX_SPEED_M_PER_S", "MAX_SHUTTER_S", "MIN_CHECKER_M", "MIN_F_NUMBER", "MIN_FOCAL_LENGTH_MM", "MAX_FOCAL_LENGTH_MM",
+    "MAX_LENGTH_M", "MAX_SPEED_M_PER_S", "MAX_SHUTTER_S", "MIN_CHECKER_M", "MIN_F_NUMBER", "MAX_F_NUMBER", "MIN_FOCAL_LENGTH_MM", "MAX_FOCAL_LENGTH_MM",
     "MIN_FILM_MM", "MAX_FILM_MM", "MAX_LIGHTS", "MAX_NAME_CHARS", "MAX_FILE_BYTES", "MAX_TOML_DEPTH",
     "RENDER_BYTES_PER_PIXEL", "ADAPTIVE_BYTES_PER_PIXEL", "read_input_bytes", "available_memory_bytes",
     "check_render_budget", "format_bytes",
@@ -46,6 +46,11 @@ MIN_CHECKER_M = 1e-6
 """Checker cube size, m: p / size stays below 2^63 for every point within MAX_LENGTH_M."""
 MIN_F_NUMBER = 0.5
 """The fastest lens in air (N = 1 / (2 NA), NA <= 1)."""
+MAX_F_NUMBER = 10_000.0
+"""The slowest stop: the lens system's exit-pupil search renders the flat field right up to
+f/20000 (its centre read 1.001) and loses light past it (f/50000: 0.978; f/1e5: a fifth of the
+pixels black; f/1e9: all black), as the pupil nears the search's resolution. Diffraction blurs
+13 mm at f/10000 anyway."""
 MIN_FOCAL_LENGTH_MM, MAX_FOCAL_LENGTH_MM = 0.01, 1e6
 """Focal lengths, mm (a scene's focal_length_mm and a lens's EFL)."""
 MIN_FILM_MM, MAX_FILM_MM = 0.01, 10_000.0

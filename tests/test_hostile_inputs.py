@@ -32,6 +32,7 @@ from lenscompare.limits import (
     MAX_SEED,
     MAX_SPP,
     MAX_THREADS,
+    MAX_F_NUMBER,
     MIN_CHECKER_M,
     MIN_F_NUMBER,
 )
@@ -65,7 +66,7 @@ NUMERIC_OPTIONS = [
     ("check", "--threads", 1, MAX_THREADS, True),
     ("plan", "--tolerance-px", 0.0, math.inf, False), ("plan", "--tolerance-percent", 0.0, math.inf, False),
     ("render", "--tolerance-px", 0.0, math.inf, False), ("render", "--tolerance-percent", 0.0, math.inf, False),
-    ("figures", "--focal-length-mm", 0.01, 1e6, False), ("figures", "--f-number", MIN_F_NUMBER, math.inf, False),
+    ("figures", "--focal-length-mm", 0.01, 1e6, False), ("figures", "--f-number", MIN_F_NUMBER, MAX_F_NUMBER, False),
     ("figures", "--focus-distance", 0.0, MAX_LENGTH_M, False),
     ("mitsuba", "--spp", 1, MAX_SPP, True), ("mitsuba", "--seed", 0, 2**32 - 1, True),
     ("export", "--spp", 1, MAX_SPP, True), ("export", "--seed", 0, MAX_SEED, True),
@@ -170,7 +171,7 @@ colour = st.lists(st.one_of(st.just(0.0), st.just(MAX_COLOR), st.floats(0.0, MAX
 coordinate = st.one_of(st.just(MAX_LENGTH_M), st.just(-MAX_LENGTH_M), st.floats(-MAX_LENGTH_M, MAX_LENGTH_M))
 extreme_scene = st.fixed_dictionaries({
     "focal": st.one_of(st.just(0.01), st.just(1e6), st.floats(0.01, 1e6)),
-    "f_number": st.one_of(st.just(MIN_F_NUMBER), st.just(MAX_LENGTH_M), st.floats(MIN_F_NUMBER, 1e6)),
+    "f_number": st.one_of(st.just(MIN_F_NUMBER), st.just(MAX_F_NUMBER), st.floats(MIN_F_NUMBER, MAX_F_NUMBER)),
     "gap": st.one_of(st.just(0.0), st.just(-1e6), st.just(1e6), st.floats(-1e6, 1e6)),
     "focus": st.one_of(st.just(1.7e308), st.just(1e200), st.floats(1e3, 1e308)),
     "film": st.one_of(st.just(0.01), st.just(6000.0), st.floats(0.01, 6000.0)),
@@ -217,6 +218,7 @@ def test_a_thin_lens_focused_at_1e200_m_renders_as_focused_at_infinity(write_sce
 
 @pytest.mark.parametrize("key, value, words", [
     ("f_number = 2.8", "f_number = 1e-20", "camera.f_number: expected a number >= 0.5"),
+    ("f_number = 2.8", "f_number = 1e9", "camera.f_number: expected a number <= 10000"),
     ("color = [1.0, 1.0, 1.0]\n\n[materials.grey]", "color = [1e39, 1.0, 1.0]\n\n[materials.grey]",
      "materials.glow.color: expected a number <= 1e+06"),
     ("color = [1.0, 1.0, 1.0]\n\n[materials.grey]", "color = [1.7e308, 1.0, 1.0]\n\n[materials.grey]",
@@ -276,6 +278,7 @@ def test_an_inverse_square_light_touching_a_surface_gives_a_finite_image(write_s
 
 @pytest.mark.parametrize("axis, value, words", [
     ("f_number", "[1e-20]", "axes.f_number[0]: expected a number >= 0.5"),
+    ("f_number", "[2.8, 1e9]", "axes.f_number[1]: expected a number <= 10000"),
     ("spp", "[1048577]", "axes.spp[0]: expected an integer <= 1,048,576"),
     ("seed", f"[{2**64}]", "axes.seed[0]: expected an integer <="),
 ])

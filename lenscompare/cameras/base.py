@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..lenses import paraxial_data
-from ..limits import MIN_F_NUMBER
+from ..limits import MAX_F_NUMBER, MIN_F_NUMBER
 from ..units import mm_from_m
 from .frame import CameraFrame, Film
 
@@ -160,6 +160,9 @@ def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
     if camera.f_number is not None and not camera.f_number >= MIN_F_NUMBER:  # values set in code, not by a file
         raise InputError(scene.source, f"f/{camera.f_number:g} is faster than any lens in air (f/{MIN_F_NUMBER:g})",
                          key="camera.f_number")
+    if camera.f_number is not None and not camera.f_number <= MAX_F_NUMBER:
+        raise InputError(scene.source, f"f/{camera.f_number:g} is slower than the slowest stop rendered "
+                         f"(f/{MAX_F_NUMBER:g})", key="camera.f_number")
     half_width, half_height = camera.screen_half_extent
     values = {"focal length (mm)": (camera.focal_length_mm, True),
               "film distance (mm)": (camera.film_distance_mm, True),

@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 
 from ..figures import write_teaching_figures
-from ..limits import MAX_FOCAL_LENGTH_MM, MAX_LENGTH_M, MIN_F_NUMBER, MIN_FOCAL_LENGTH_MM
+from ..limits import MAX_F_NUMBER, MAX_FOCAL_LENGTH_MM, MAX_LENGTH_M, MIN_F_NUMBER, MIN_FOCAL_LENGTH_MM
 from . import COMMAND_HELP
 from ._options import number_option
 
@@ -18,7 +18,7 @@ __all__ = ["add_parser", "run"]
 
 # The limits of a scene's camera (lenscompare.limits) hold for the drawings too.
 _FOCAL_LENGTH = number_option(minimum=MIN_FOCAL_LENGTH_MM, maximum=MAX_FOCAL_LENGTH_MM)
-_F_NUMBER = number_option(minimum=MIN_F_NUMBER)
+_F_NUMBER = number_option(minimum=MIN_F_NUMBER, maximum=MAX_F_NUMBER)
 _DISTANCE = number_option(maximum=MAX_LENGTH_M)
 
 

@@ -30,7 +30,7 @@ from pathlib import Path
 from .._schema import Table, parse_toml, read_toml_text
 from ..errors import InputError
 from ..lenses import Prescription, resolve_lens
-from ..limits import MAX_SEED, MAX_SPP, MIN_F_NUMBER
+from ..limits import MAX_F_NUMBER, MAX_SEED, MAX_SPP, MIN_F_NUMBER
 from ..reference_scenes import find_scene, shipped_scene_names
 from ..scene import MODELS, SAMPLERS, Scene, load_scene
 
@@ -128,7 +128,7 @@ def _read_axes(t: Table, base_dir: Path | None) -> dict:
     if t.has("lens"):
         axes["lens"] = tuple(_lens(t, i, name, base_dir) for i, name in enumerate(_strings(t, "lens")))
     if t.has("f_number"):
-        axes["f_number"] = _numbers(t, "f_number", minimum=MIN_F_NUMBER)
+        axes["f_number"] = _numbers(t, "f_number", minimum=MIN_F_NUMBER, maximum=MAX_F_NUMBER)
     if t.has("focus_distance"):
         axes["focus_distance"] = _numbers(t, "focus_distance")
     if t.has("model"):
@@ -168,10 +168,12 @@ def _strings(t: Table, name: str, *, choices=None, why: str = "") -> tuple[str, 
     return tuple(values)
 
 
-def _numbers(t: Table, name: str, *, minimum: float | None = None) -> tuple[float, ...]:
+def _numbers(t: Table, name: str, *, minimum: float | None = None,
+             maximum: float | None = None) -> tuple[float, ...]:
     values = _array(t, name)
     item = Table({f"{name}[{i}]": v for i, v in enumerate(values)}, source=t.source, key=t.key)
-    return tuple(item.number(f"{name}[{i}]", positive=True, minimum=minimum) for i in range(len(values)))
+    return tuple(item.number(f"{name}[{i}]", positive=True, minimum=minimum, maximum=maximum)
+                 for i in range(len(values)))
 
 
 def _integers(t: Table, name: str, *, minimum: int, maximum: int) -> tuple[int, ...]:
