@@ -22,6 +22,7 @@ from .errors import InputError
 from .lenses import Prescription, resolve_lens
 from .limits import (
     MAX_COLOR,
+    MAX_F_NUMBER,
     MAX_FILM_MM,
     MAX_FOCAL_LENGTH_MM,
     MAX_LENGTH_M,
@@ -34,7 +35,6 @@ from .limits import (
     MAX_SPEED_M_PER_S,
     MAX_SPP,
     MIN_CHECKER_M,
-    MAX_F_NUMBER,
     MIN_F_NUMBER,
     MIN_FILM_MM,
     MIN_FOCAL_LENGTH_MM,

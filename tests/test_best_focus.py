@@ -43,7 +43,7 @@ def test_best_focus_is_the_minimum_of_a_brute_force_scan_of_an_independent_spot_
     span = 3.0 * abs(best_z - paraxial_z) + 0.01
     z = paraxial_z + np.linspace(-span, span, 25)
     diameter = np.array([spot_diameter_mm(*point_source_spot_mm(lens, height_mm=0.0, distance_mm=1000.0 * focus_m,
-                                                                film_z_mm=zi, samples_across=200, fit_to_beam=True))
+                                                                film_z_mm=zi, samples_across=200))
                          for zi in z])
     i = int(np.argmin(diameter))
     a, b, _ = np.polyfit(z[i - 1:i + 2], diameter[i - 1:i + 2] ** 2, 2)
@@ -56,7 +56,7 @@ def test_best_focus_is_the_minimum_of_a_brute_force_scan_of_an_independent_spot_
     # 2 sqrt(2) x RMS radius), and it is smaller than at the paraxial focus.
     fan_best = 2 * math.sqrt(2) * rms_spot_radius_mm(lens, focus_distance_m=focus_m, film_z_mm=best_z)
     grid_best = spot_diameter_mm(*point_source_spot_mm(lens, height_mm=0.0, distance_mm=1000.0 * focus_m,
-                                                       film_z_mm=best_z, samples_across=200, fit_to_beam=True))
+                                                       film_z_mm=best_z, samples_across=200))
     assert grid_best == pytest.approx(fan_best, rel=0.01)
     assert fan_best < 2 * math.sqrt(2) * rms_spot_radius_mm(lens, focus_distance_m=focus_m, film_z_mm=paraxial_z)
 

@@ -27,12 +27,12 @@ from lenscompare.checks import DEFAULT_CONFIG, load_checks
 from lenscompare.errors import InputError
 from lenscompare.limits import (
     MAX_COLOR,
+    MAX_F_NUMBER,
     MAX_FILE_BYTES,
     MAX_LENGTH_M,
     MAX_SEED,
     MAX_SPP,
     MAX_THREADS,
-    MAX_F_NUMBER,
     MIN_CHECKER_M,
     MIN_F_NUMBER,
 )

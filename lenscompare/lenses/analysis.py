@@ -159,8 +159,8 @@ def traced_spot_diameter_mm(prescription: Prescription, *, height_mm: float, dis
     faint halo of aberrated rays weighs heavily in a second moment).
 
     The grid is laid over the part of the first surface the beam uses
-    (``fit_to_beam``): over the whole surface, a beam behind a pinpoint stop
-    fell between its rays (NaN at f/1000 on the Double Gauss).
+    (:func:`point_source_spot_mm`): over the whole surface, a beam behind a
+    pinpoint stop fell between its rays (NaN at f/1000 on the Double Gauss).
 
     Returns
     -------
@@ -168,19 +168,19 @@ def traced_spot_diameter_mm(prescription: Prescription, *, height_mm: float, dis
         Diameter in mm; NaN when no ray gets through.
     """
     on_film, w = point_source_spot_mm(prescription, height_mm=height_mm, distance_mm=distance_mm,
-                                      film_z_mm=film_z_mm, samples_across=samples_across, fit_to_beam=True)
+                                      film_z_mm=film_z_mm, samples_across=samples_across)
     return spot_diameter_mm(on_film, w, window_radius_mm=window_radius_mm)
 
 
 def point_source_spot_mm(prescription: Prescription, *, height_mm: float, distance_mm: float, film_z_mm: float,
-                         samples_across: int = 160, fit_to_beam: bool = False) -> tuple[np.ndarray, np.ndarray]:
+                         samples_across: int = 160) -> tuple[np.ndarray, np.ndarray]:
     """Where the rays from a point source land on the film, and their flux.
 
-    The rays of :func:`traced_spot_diameter_mm` (a square grid over the first
-    surface, solid-angle weights). ``fit_to_beam`` first finds which part of
-    that grid passes (a 48 x 48 grid) and then lays the ``samples_across``
-    grid over that part only, so a stopped-down lens keeps as many rays as a
-    wide-open one.
+    The rays of :func:`traced_spot_diameter_mm`: a square grid of
+    ``samples_across``^2 on the first vertex plane, solid-angle weights, laid
+    over the part of the first surface the beam passes (found first by
+    :func:`_window_round_the_beam`), so a stopped-down lens keeps as many rays
+    as a wide-open one.
 
     Returns
     -------
@@ -195,14 +195,10 @@ def point_source_spot_mm(prescription: Prescription, *, height_mm: float, distan
     # A grid on the first vertex plane covering the first surface (and the
     # sideways drift between that plane and the surface for an oblique beam).
     drift = abs(sag_mm(first.curvature_per_mm, first.semi_aperture_mm)) * abs(height_mm) / max(distance_mm, 1e-9)
-    half = (first.semi_aperture_mm + drift) * 1.02
-    centre = (0.0, 0.0)
-    if fit_to_beam:
-        window = _window_round_the_beam(prescription, source, half, data)
-        if window is None:
-            return np.zeros((0, 2)), np.zeros(0)
-        centre, half = window
-    targets = _grid_on_first_vertex_plane(centre, half, samples_across)
+    window = _window_round_the_beam(prescription, source, (first.semi_aperture_mm + drift) * 1.02, data)
+    if window is None:
+        return np.zeros((0, 2)), np.zeros(0)
+    targets = _grid_on_first_vertex_plane(*window, samples_across)
     rays, weight = _trace_from_point(prescription, source, targets)
     if not rays.passed.any():
         return np.zeros((0, 2)), np.zeros(0)
@@ -226,20 +222,37 @@ def _window_round_the_beam(prescription: Prescription, source: np.ndarray, surfa
         pupil_z = data.entrance_pupil_position_mm
         along = -source[2] / (pupil_z - source[2])  # the source-to-pupil line's crossing of z = 0
         centre = (0.0, float(source[1]) * (1.0 - along))
-        half = 0.75 * data.entrance_pupil_diameter_mm * max(along, 1e-3)
-        while True:
-            targets = _grid_on_first_vertex_plane(centre, half, coarse)
-            passed = _trace_from_point(prescription, source, targets)[0].passed.reshape(coarse, coarse)
-            border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
-            if (passed.any() and not border) or half >= surface_half_mm:
-                break
-            half *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
-        passed, cell = passed.ravel(), 2.0 * half / coarse
+
+        def passes(half_mm: float) -> np.ndarray:
+            points = _grid_on_first_vertex_plane(centre, half_mm, coarse)
+            return _trace_from_point(prescription, source, points)[0].passed
+
+        half, passed = _grown_window(passes, 0.75 * data.entrance_pupil_diameter_mm * max(along, 1e-3),
+                                     limit_mm=surface_half_mm, across=coarse)
+        targets, passed, cell = _grid_on_first_vertex_plane(centre, half, coarse), passed.ravel(), 2.0 * half / coarse
         if not passed.any():
             return None
     hit = targets[passed, :2]
     lo, hi = hit.min(axis=0) - cell, hit.max(axis=0) + cell  # whole cells the beam touches, and one more
     return tuple(0.5 * (lo + hi)), 0.5 * float((hi - lo).max())
+
+
+def _grown_window(passes, half_mm: float, *, limit_mm: float, across: int):
+    """Grow a square window 1.6x at a time (pupil aberration: a beam is wider, or further off, than
+    the paraxial pupil) until some ray passes and none touches its border, or it outgrows limit_mm.
+    ``passes(half_mm)`` traces the window's ``across``^2 grid (:func:`_grid_on_first_vertex_plane`)
+    and says which rays pass. Returns the half-width (mm) and that (across, across) answer."""
+    while True:
+        passed = passes(half_mm).reshape(across, across)
+        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
+        if (passed.any() and not border) or half_mm > limit_mm:
+            return half_mm, passed
+        half_mm *= 1.6
+
+
+def first_vertex_plane_height_mm(origin, direction) -> float:
+    """Height (y, mm) at which a ray given in the lens frame crosses the first vertex plane z = 0."""
+    return float(origin[1] - direction[1] * origin[2] / direction[2])
 
 
 def spot_diameter_mm(on_film: np.ndarray, weight: np.ndarray, *, window_radius_mm: float = math.inf) -> float:
@@ -322,7 +335,7 @@ def relative_illumination(prescription: Prescription, field_angle_deg: float, *,
     origins, directions, found = _chief_rays(prescription, [theta], math.inf)
     # Round the real chief ray's crossing of the first vertex plane (the paraxial pupil's centre
     # when no chief ray is found: the window then grows till it holds the beam)
-    centre_mm = float(origins[0][1] - directions[0][1] * origins[0][2] / directions[0][2]) if found[0] else 0.0
+    centre_mm = first_vertex_plane_height_mm(origins[0], directions[0]) if found[0] else 0.0
     area = passing_beam_area_mm2(prescription, theta, centre_mm=centre_mm, samples_across=samples_across)
     if on_axis == 0 or area == 0:
         return 0.0
@@ -610,24 +623,21 @@ def passing_beam_area_mm2(prescription: Prescription, theta: float, *, centre_mm
     every aperture, counted on a square grid of ``samples_across``^2 rays round ``centre_mm`` (the
     height where the real chief ray crosses the first vertex plane; a wide-angle lens's pupil moves
     far from the paraxial one). The window starts at 0.75 entrance-pupil diameters over cos theta
-    and grows until no passing ray touches its border, so a pinpoint stop is counted on as fine a
-    grid as a wide-open one (a grid over the whole first surface had a few cells across the beam
-    at f/64 and none at f/1000)."""
+    and grows (:func:`_grown_window`) until it holds the beam, so a pinpoint stop is counted on as
+    fine a grid as a wide-open one (a grid over the whole first surface had a few cells across the
+    beam at f/64 and none at f/1000)."""
     data = paraxial_data(prescription)
-    half_mm = 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta)
-    limit_mm = 4.0 * max(s.semi_aperture_mm for s in prescription.surfaces)
     direction = np.array([0.0, -math.sin(theta), math.cos(theta)])
     start_z = front_most_z_mm(prescription) - 1.0
-    while True:
-        cells = (np.arange(samples_across) + 0.5) / samples_across * 2.0 * half_mm - half_mm
-        x, y = np.meshgrid(cells, cells + centre_mm)
-        points = np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
-        passed = trace_from_scene(prescription, points - direction * (-start_z / direction[2]),
-                                  direction).passed.reshape(x.shape)
-        border = passed[0].any() or passed[-1].any() or passed[:, 0].any() or passed[:, -1].any()
-        if not border or half_mm > limit_mm:
-            return float(np.count_nonzero(passed)) * (2.0 * half_mm / samples_across) ** 2
-        half_mm *= 1.6  # pupil aberration: the beam is wider (or further off) than the paraxial pupil
+
+    def passes(half_mm: float) -> np.ndarray:
+        points = _grid_on_first_vertex_plane((0.0, centre_mm), half_mm, samples_across)
+        return trace_from_scene(prescription, points - direction * (-start_z / direction[2]), direction).passed
+
+    half_mm, passed = _grown_window(passes, 0.75 * data.entrance_pupil_diameter_mm / math.cos(theta),
+                                    limit_mm=4.0 * max(s.semi_aperture_mm for s in prescription.surfaces),
+                                    across=samples_across)
+    return float(np.count_nonzero(passed)) * (2.0 * half_mm / samples_across) ** 2
 
 
 def _any_ray_passes_from_film(prescription: Prescription, film_z: float, radius_mm: float,

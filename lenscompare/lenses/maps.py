@@ -37,6 +37,7 @@ from .analysis import (
     _chief_ray_heights_on_mm,
     _chief_rays,
     central_difference_angles,
+    first_vertex_plane_height_mm,
     illumination_from_heights,
     image_circle_radius_mm,
     passing_beam_area_mm2,
@@ -218,7 +219,7 @@ def _relative_illuminations(prescription: Prescription, angles_deg) -> np.ndarra
             ri[i] = 0.0
             continue
         origin, chief = origins[3 * n + 1], directions[3 * n + 1]
-        centre_mm = float(origin[1] - chief[1] * origin[2] / chief[2])
+        centre_mm = first_vertex_plane_height_mm(origin, chief)
         ri[i] = illumination_from_heights(prescription, theta, heights[n],
                                           area_mm2=passing_beam_area_mm2(prescription, theta, centre_mm=centre_mm,
                                                                          samples_across=_PUPIL_GRID),

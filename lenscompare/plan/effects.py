@@ -106,7 +106,7 @@ def aberration_spot_px(system, field_deg: float) -> float | None:
     """
     distance_mm = system.focus_distance_mm
     on_film, weight = point_source_spot_mm(system.prescription, height_mm=distance_mm * math.tan(math.radians(field_deg)),
-                                           distance_mm=distance_mm, film_z_mm=system.film_z_mm, fit_to_beam=True)
+                                           distance_mm=distance_mm, film_z_mm=system.film_z_mm)
     if len(weight) == 0:
         return None
     pitch = system.pixel_pitch_mm
