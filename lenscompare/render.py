@@ -17,6 +17,7 @@ import numpy as np
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
 from .cameras import CameraModel, camera_for, check_spectral_parts
+from .cameras.lens import LENS_RAY_TABLE_CELLS
 from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
@@ -28,7 +29,7 @@ from .postfilter.refine import BASE_PINHOLE_SPP, RULE as REFINE_RULE, refine_pix
 from .postfilter.samples import RULE as PINHOLE_RULE
 from .progress import progress_bar
 from .render_spectral import make_spectral
-from .scene import RENDER_MODELS, SAMPLERS, Scene
+from .scene import LENS_RAYS, RENDER_MODELS, SAMPLERS, Scene
 
 # Beyond the scene file's models: the composite of chosen effects (cameras/composite.py).
 RENDERABLE_MODELS = RENDER_MODELS + ("composite",)
@@ -50,7 +51,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
            traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
            postfilter_per_pixel_spp: bool = False,
-           postfilter_uniform_pass: bool = False, lens_mirrors: bool = False) -> Image:
+           postfilter_uniform_pass: bool = False, lens_mirrors: bool = False,
+           lens_rays: str | None = None) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -119,6 +121,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         profile, an on-axis blur disk) gains nothing from averaging them.
         Off by default; ``LENSCOMPARE_LENS_MIRRORS=1`` turns it on for
         every lens system.
+    lens_rays : {'traced', 'table'}, optional
+        Override ``[render] lens_rays``: ``lens`` RGB renders only, each
+        sample's ray traced through every surface (``traced``, the default
+        and the reference) or interpolated from a table of rays traced once
+        per camera (``table``; :data:`LENS_RAY_TABLE_CELLS` cells per exit-pupil
+        ring, ``native/src/lens/lens_ray_table.h``): faster, with rays within
+        a few hundredths of a pixel of the traced ones (tests/test_lens_ray_table.py).
+        Spectral renders always trace.
     postfilter_uniform_pass : bool, optional
         ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
         as before the refined pass (a reference for bench/bench_postfilter.py).
@@ -141,12 +151,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if model not in RENDERABLE_MODELS:
         raise InputError("--model", f"expected one of {', '.join(RENDERABLE_MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction,
-                              spectral=spectral)
+                              spectral=spectral, lens_rays=lens_rays)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
         raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
     if settings.sampler not in SAMPLERS:
         raise InputError("--sampler", f"expected one of {', '.join(SAMPLERS)}, got {settings.sampler!r}")
+    if settings.lens_rays not in LENS_RAYS:
+        raise InputError("--lens-rays", f"expected one of {', '.join(LENS_RAYS)}, got {settings.lens_rays!r}")
     if not 0 <= settings.seed <= MAX_SEED:
         raise InputError("--seed", f"expected an integer from 0 to {MAX_SEED:,}, got {settings.seed}")
     threads = 0 if threads is None else int(threads)
@@ -177,6 +189,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     if lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
         native_camera.mirror_axes = native_camera.symmetric_mirror_axes
+    if settings.lens_rays == "table" and not settings.spectral and hasattr(native_camera, "use_ray_table"):
+        native_camera.use_ray_table(*LENS_RAY_TABLE_CELLS)
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
@@ -264,6 +278,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if moves(scene):  # what the image integrates over; a still scene's metadata stays as it was
         metadata["motion"] = {"shutter_s": list(settings.shutter_s), "samples_time": samples_time(scene),
                               "camera_velocity_m_per_s": list(scene.camera.velocity)}
+    if getattr(native_camera, "uses_ray_table", False):
+        metadata["lens_rays"] = {"from": "table", "radial_cells": LENS_RAY_TABLE_CELLS[0],
+                                 "around_cells": LENS_RAY_TABLE_CELLS[1]}
     if getattr(native_camera, "mirror_axes", 0):
         metadata["lens_mirror_axes"] = int(native_camera.mirror_axes)  # bit 0 x, bit 1 y (render's lens_mirrors)
     if spectral_info is not None:

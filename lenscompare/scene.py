@@ -65,6 +65,9 @@ FALLOFFS = ("none", "inverse_square")
 MEASUREMENTS = ("similarity", "blur_disks", "distortion", "vignetting")
 SAMPLERS = ("random", "jittered", "regular", "poisson", "sobol")
 DISK_MAPPINGS = ("concentric", "polar")
+# How the lens system makes its rays: each traced through every surface, or
+# looked up in a table traced once per camera (lenscompare.cameras.lens).
+LENS_RAYS = ("traced", "table")
 MAX_APERTURE_BLADES = 32  # the native aperture's limit (native/src/aperture.h)
 
 
@@ -114,6 +117,7 @@ class RenderSettings:
     effects: tuple[str, ...] | None = None  # a composite render of exactly these (lenscompare.cameras.composite)
     shutter_s: tuple[float, float] = (0.0, 0.0)  # open, close (s); equal: no motion blur (lenscompare.motion)
     spectral: bool = False  # wavelengths sampled over 380-780 nm, dispersion from the lens (lenscompare.spectral)
+    lens_rays: str = "traced"  # the lens system's rays: "traced", or "table" (RGB renders; see LENS_RAYS)
 
 
 @dataclass(frozen=True)
@@ -381,7 +385,7 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 def _read_render(t: Table) -> RenderSettings:
     t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects", "shutter",
-                  "spectral"])
+                  "spectral", "lens_rays"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -393,6 +397,7 @@ def _read_render(t: Table) -> RenderSettings:
         effects=_read_effects(t),
         shutter_s=_read_shutter(t),
         spectral=t.boolean("spectral", default=defaults.spectral),
+        lens_rays=t.string("lens_rays", default=defaults.lens_rays, choices=LENS_RAYS),
     )
 
 

@@ -456,6 +456,7 @@ NB_MODULE(_native, m) {
                          by_nm[w][i].n_film_side = n_film_side(w, i);
                      }
                  self.set_dispersion(std::move(by_nm));
+                 self.ray_table = nullptr;  // the spectral trace goes through the glass per wavelength
                  // The pupil polygons hold the pupils at 380 and 780 nm too: behind a
                  // small stop lateral colour moves them apart (at f/1000 the corner's
                  // blue pupil lay outside the 587 nm one, and blue read a tenth).
@@ -470,6 +471,21 @@ NB_MODULE(_native, m) {
              },
              "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).",
              nb::call_guard<nb::gil_scoped_release>())
+        .def("use_ray_table",
+             [](LensSystemCamera& self, int radial_cells, int around_cells) {
+                 if (radial_cells < 0 || around_cells < 0)
+                     throw std::invalid_argument("ray table cells must be >= 0");
+                 self.ray_table = radial_cells > 0 && around_cells > 0 && !self.disperses()
+                                      ? build_lens_ray_table(self.elements, *self.pupil, self.film_z_mm, radial_cells,
+                                                             around_cells)
+                                      : nullptr;
+                 // The pencils hold the rays the render sends.
+                 self.pencils = LensPencils::of(self);
+             },
+             "radial_cells"_a, "around_cells"_a,
+             "RGB batch rays by table look-up over radial x around cells per pupil ring (0: traced).",
+             nb::call_guard<nb::gil_scoped_release>())
+        .def_prop_ro("uses_ray_table", [](const LensSystemCamera& c) { return bool(c.ray_table); })
         .def_rw("mirror_axes", &LensSystemCamera::mirror_axes,
                 "Film mirrors whose rays the render reflects from traced ones: bit 0 x, bit 1 y (0, the default: "
                 "none; LENSCOMPARE_LENS_MIRRORS=1 sets symmetric_mirror_axes for new cameras).")

@@ -54,7 +54,49 @@ LC_BUILT_PER_ISA void sample_lanes(const LensSystemCamera& c, const Point2f* ras
     aim_batch(aim, c.aim_planes(), batch, c.trace_kernel);
 }
 
+// The film points of lanes [0, n), lens frame (mm), as sample_lanes finds them.
+LC_BUILT_PER_ISA void film_points(const LensSystemCamera& c, const Point2f* raster_px, int n, double* x_mm,
+                                  double* y_mm) {
+    for (int i = 0; i < kLensBatch; ++i) {
+        const Point2f p = raster_px[i < n ? i : 0];
+        x_mm[i] = (0.5 * c.width_px - double(p.x)) * c.film_mm_per_px_x;
+        y_mm[i] = (double(p.y) - 0.5 * c.height_px) * c.film_mm_per_px_y;
+    }
+}
+
 }  // namespace
+
+void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                                     LensRayBatch* batch, double* area_mm2) const {
+    double x_mm[kLensBatch], y_mm[kLensBatch];
+    bool exact[kLensBatch];
+    film_points(*this, raster_px, n, x_mm, y_mm);
+    look_up_lens_rays(*ray_table, x_mm, y_mm, lens_sample, n, batch, area_mm2, exact);
+    // The few lanes in cells the table cannot answer: traced, together.
+    int lane[kLensBatch], m = 0;
+    Point2f raster[kLensBatch], lens[kLensBatch];
+    for (int i = 0; i < n; ++i)
+        if (exact[i]) lane[m] = i, raster[m] = raster_px[i], lens[m] = lens_sample[i], ++m;
+    if (m == 0) return;
+    LensRayBatch traced;
+    double traced_area_mm2[kLensBatch], cos_theta[kLensBatch];
+    sample_batch(raster, lens, m, &traced, traced_area_mm2);
+    for (int j = 0; j < kLensBatch; ++j) cos_theta[j] = -traced.dz[j];
+    trace_from_film_batch(elements, &traced, trace_kernel, trace_precision);
+    const double plane_z_mm = ray_table->plane_z_mm;
+    for (int j = 0; j < m; ++j) {
+        const int i = lane[j];
+        batch->alive[i] = traced.alive[j];
+        if (!traced.alive[j]) continue;
+        // Onto the table's plane, as the looked-up rays start.
+        const double t = (plane_z_mm - traced.oz[j]) / traced.dz[j];
+        batch->ox[i] = traced.ox[j] + traced.dx[j] * t, batch->oy[i] = traced.oy[j] + traced.dy[j] * t;
+        batch->oz[i] = plane_z_mm;
+        batch->dx[i] = traced.dx[j], batch->dy[i] = traced.dy[j], batch->dz[i] = traced.dz[j];
+        const double cos2 = cos_theta[j] * cos_theta[j];
+        area_mm2[i] = cos2 * cos2 * traced_area_mm2[j];
+    }
+}
 
 void LensSystemCamera::sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                                     double* area_mm2) const {

@@ -16,6 +16,7 @@
 #include "cameras/lens_pencil.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
+#include "lens/lens_ray_table.h"
 #include "lens/lens_reverse.h"
 #include "lens/lens_to_world.h"
 #include "lens/lens_trace.h"
@@ -99,6 +100,9 @@ struct LensSystemCamera {
     // of the samples and reflects them (render_mirrored.h). 0: every pixel
     // traces its own samples.
     unsigned mirror_axes = 0;
+    // The rays by table look-up (lens_ray_table.h) for the batch paths of
+    // RGB renders; null: every sample traced.
+    std::shared_ptr<const LensRayTable> ray_table;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
     double film_mm_per_px_x = film_width_mm / width_px, film_mm_per_px_y = film_height_mm / height_px;
@@ -298,10 +302,21 @@ struct LensSystemCamera {
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                       double* area_mm2) const;
 
+    // trace_batch through ray_table: lanes [0, n)'s rays from the table,
+    // area_mm2 each lane's cos^4 theta times pupil area; the lanes the table
+    // cannot answer traced (lens_system.cpp). Origins on the table's plane.
+    void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
+                       double* area_mm2) const;
+
     // Samples [0, n) aimed and traced in lockstep, with each lane's cos theta
     // at the film and pupil area: what both batch forms below start from.
     void trace_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                      double* area_mm2, double* cos_theta) const {
+        if (ray_table) {
+            look_up_batch(raster_px, lens_sample, n, batch, area_mm2);
+            for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = 1.0;  // area_mm2 holds cos^4 theta already
+            return;
+        }
         sample_batch(raster_px, lens_sample, n, batch, area_mm2);
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch->dz[i];
         trace_from_film_batch(elements, batch, trace_kernel, trace_precision);

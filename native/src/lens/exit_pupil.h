@@ -116,6 +116,23 @@ class ExitPupil {
         }
     }
 
+    // pick within ring `segment`'s polygon whatever ring film radius r falls
+    // in: the ray table (lens_ray_table.h) samples each ring's map up to both
+    // its ends. False when the ring is outside the image circle.
+    bool pick_in_ring(int segment, double film_radius_mm, float u_y, PupilPick* out) const {
+        const PupilPolygon& poly = segments_[size_t(segment)];
+        if (poly.empty) return false;
+        const double u = double(u_y);
+        const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u, guide_start(poly, u)))];
+        *out = PupilPick{centre_at(poly, film_radius_mm), t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across(t, u),
+                         poly.area_mm2};
+        return true;
+    }
+
+    // The film radius the rings cover (the film corner's) and its rings per mm.
+    double max_film_radius_mm() const { return max_film_radius_mm_; }
+    double segments_per_mm() const { return segments_per_mm_; }
+
     // Which of the kPupilSegments rings a film radius falls in.
     int segment_index(double film_radius_mm) const {
         const int i = int(film_radius_mm * segments_per_mm_);

@@ -1,0 +1,217 @@
+#include "lens/lens_ray_table.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cpu_kernels.h"
+#include "lens/lens_aim.h"
+
+namespace lc {
+
+bool trace_with_margin(const std::vector<LensElement>& elements, LensRay* ray, double* margin) {
+    if (!(ray->direction.z < 0.0)) return false;
+    double least = INFINITY;
+    for (auto e = elements.rbegin(); e != elements.rend(); ++e) {
+        double t;
+        Incidence incidence;
+        if (!intersect_surface(*e, *ray, &t, &incidence)) return false;
+        const Vec3d p = ray->origin_mm + ray->direction * t;
+        const double rim = e->semi_aperture_mm;
+        least = std::min(least, rim > 0.0 ? (rim - std::sqrt(p.x * p.x + p.y * p.y)) / rim : -1.0);
+        for (int k = 0; k < e->blades; ++k)
+            least = std::min(least, (e->apothem_mm - (p.x * e->edge_normal_x[size_t(k)] +
+                                                      p.y * e->edge_normal_y[size_t(k)])) / e->apothem_mm);
+        ray->origin_mm = p;
+        if (e->is_stop || e->n_scene_side == e->n_film_side) continue;
+        Vec3d refracted;
+        if (!refract(ray->direction, surface_normal(*e, p), incidence, e->n_film_side, e->n_scene_side, &refracted))
+            return false;
+        if (!(refracted.z < 0.0)) return false;
+        ray->direction = refracted;
+    }
+    *margin = least;
+    return true;
+}
+
+namespace {
+
+// One node's values for a film point at (r, 0) and pupil sample (s, u).
+void trace_node(const std::vector<LensElement>& elements, const ExitPupil& pupil, AimPlanes planes,
+                double plane_z_mm, int ring, double film_r_mm, double s, float u, float* out) {
+    std::fill(out, out + kTableValues, 0.0f);
+    out[kTableMargin] = -1.0f;
+    out[kTableFailed] = 1.0f;
+    PupilPick pick;
+    if (!pupil.pick_in_ring(ring, film_r_mm, u, &pick)) return;
+    LensRay ray = aim_one(film_r_mm, 0.0, film_r_mm, s * s, pick, planes);
+    const double cos_theta = -ray.direction.z;
+    double margin;
+    if (!trace_with_margin(elements, &ray, &margin)) return;
+    const double t = (plane_z_mm - ray.origin_mm.z) / ray.direction.z;
+    out[kTableOriginX] = float(ray.origin_mm.x + ray.direction.x * t);
+    out[kTableOriginY] = float(ray.origin_mm.y + ray.direction.y * t);
+    out[kTableSlopeX] = float(ray.direction.x / -ray.direction.z);
+    out[kTableSlopeY] = float(ray.direction.y / -ray.direction.z);
+    const double cos2 = cos_theta * cos_theta;
+    out[kTableWeight] = float(cos2 * cos2 * pick.area_mm2);
+    out[kTableMargin] = float(margin);
+    out[kTableFailed] = 0.0f;
+    out[kTablePasses] = margin > 0.0 ? 1.0f : 0.0f;
+}
+
+}  // namespace
+
+std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensElement>& elements,
+                                                         const ExitPupil& pupil, double film_z_mm,
+                                                         int radial_cells, int around_cells) {
+    auto table = std::make_shared<LensRayTable>();
+    table->rings = kPupilSegments;
+    table->radial_cells = radial_cells, table->around_cells = around_cells;
+    table->rings_per_mm = pupil.segments_per_mm();
+    table->plane_z_mm = elements.empty() ? 0.0 : elements.front().vertex_z_mm;
+    table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(around_cells + 1));
+    const AimPlanes planes{film_z_mm, pupil.plane_z_mm()};
+    // Each node on its own: the same table whatever the threads.
+    tbb::parallel_for(0, kPupilSegments, [&](int ring) {
+        if (pupil.segment(ring).empty) return;
+        for (int end = 0; end < 2; ++end) {
+            const double film_r_mm = double(ring + end) / table->rings_per_mm;
+            for (int i = 0; i <= radial_cells; ++i)
+                for (int j = 0; j <= around_cells; ++j) {
+                    LensTableNode* node = const_cast<LensTableNode*>(table->node(ring, i, j));
+                    trace_node(elements, pupil, planes, table->plane_z_mm, ring, film_r_mm,
+                               double(i) / radial_cells, float(j) / float(around_cells), node->end[end]);
+                }
+        }
+    });
+    return table;
+}
+
+namespace {
+
+// Eight floats as one value (GCC's vector extension): a node end's values, so
+// that the interpolation is eight-wide arithmetic on any instruction set
+// (two halves at the baseline), each lane IEEE float: the same bits on all.
+typedef float Float8 __attribute__((vector_size(32), aligned(32)));
+
+Float8 load8(const float* p) {
+    Float8 v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+
+// A corner's values at film radius fraction fr between its ring's ends.
+__attribute__((always_inline)) inline Float8 at_radius(const LensTableNode* node, Float8 fr) {
+    const Float8 inner = load8(node->end[0]), outer = load8(node->end[1]);
+    return inner + fr * (outer - inner);
+}
+
+// 8 lanes' values, value by value (out[q] lane k = lane[k][q]): a transpose.
+__attribute__((always_inline)) inline void transpose8(const Float8* lane, Float8* out) {
+    // Pairs, then quads, then halves (the classic three stages of unpacks).
+    Float8 a[8], b[8];
+    for (int k = 0; k < 8; k += 2) {
+        a[k] = __builtin_shufflevector(lane[k], lane[k + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+        a[k + 1] = __builtin_shufflevector(lane[k], lane[k + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+    }
+    for (int k = 0; k < 8; k += 4)
+        for (int j = 0; j < 2; ++j) {
+            b[k + j] = __builtin_shufflevector(a[k + j], a[k + j + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+            b[k + j + 2] = __builtin_shufflevector(a[k + j], a[k + j + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+        }
+    // b[0], b[1], b[2], b[3] hold values (0, 4), (2, 6), (1, 5), (3, 7).
+    constexpr int kFirstValue[4] = {0, 2, 1, 3};
+    for (int j = 0; j < 4; ++j) {
+        out[kFirstValue[j]] = __builtin_shufflevector(b[j], b[j + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+        out[kFirstValue[j] + 4] = __builtin_shufflevector(b[j], b[j + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+    }
+}
+
+}  // namespace
+
+LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, const double* film_x_mm,
+                                        const double* film_y_mm, const Point2f* lens_sample, int n,
+                                        LensRayBatch* out, double* weight_mm2, bool* exact) {
+    static_assert(kLensBatch % 8 == 0 && kTableValues == 8, "whole 8 x 8 transposes");
+    const int last_ring = table.rings - 1;
+    const int around_nodes = table.around_cells + 1;
+    const int ring_nodes = (table.radial_cells + 1) * around_nodes;
+    const int last_radial = table.radial_cells - 1, last_around = table.around_cells - 1;
+    const float rings_per_mm = float(table.rings_per_mm);
+    const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
+    // Plain lane loops, which GCC vectorises (float lanes).
+    float ux[kLensBatch], uy[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) ux[i] = lens_sample[i < n ? i : 0].x, uy[i] = lens_sample[i < n ? i : 0].y;
+    float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
+    int first_node[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) {
+        x[i] = float(film_x_mm[i]), y[i] = float(film_y_mm[i]);
+        r[i] = std::sqrt(x[i] * x[i] + y[i] * y[i]);
+        const float ring_at = r[i] * rings_per_mm;
+        const int ring = std::min(int(ring_at), last_ring);
+        const float ring_fraction = ring_at - float(ring);
+        fr[i] = ring_fraction < 1.0f ? ring_fraction : 1.0f;
+        const float radial_at = std::sqrt(ux[i]) * radial_cells;
+        const int radial = std::min(int(radial_at), last_radial);
+        fs[i] = radial_at - float(radial);
+        const float around_at = uy[i] * around_cells;
+        const int around = std::min(int(around_at), last_around);
+        fu[i] = around_at - float(around);
+        first_node[i] = ring * ring_nodes + radial * around_nodes + around;
+    }
+    // Each lane's four corners, eight values at once; then eight lanes'
+    // values turned value by value.
+    alignas(32) float values[kTableValues][kLensBatch];
+    const LensTableNode* nodes = table.nodes.data();
+    for (int group = 0; group < kLensBatch; group += 8) {
+        Float8 lane[8], by_value[8];
+        for (int k = 0; k < 8; ++k) {
+            const int i = group + k;
+            const LensTableNode* n00 = nodes + first_node[i];
+            const Float8 f_r = Float8{} + fr[i], f_u = Float8{} + fu[i], f_s = Float8{} + fs[i];
+            const Float8 e00 = at_radius(n00, f_r), e01 = at_radius(n00 + 1, f_r);
+            const Float8 e10 = at_radius(n00 + around_nodes, f_r), e11 = at_radius(n00 + around_nodes + 1, f_r);
+            const Float8 near = e00 + f_u * (e01 - e00), far = e10 + f_u * (e11 - e10);
+            lane[k] = near + f_s * (far - near);
+        }
+        transpose8(lane, by_value);
+        for (int q = 0; q < kTableValues; ++q) __builtin_memcpy(&values[q][group], &by_value[q], sizeof(Float8));
+    }
+    // Which lanes pass, and which the caller traces. An empty ring's nodes
+    // all failed without passing: its lanes are dead.
+    for (int i = 0; i < kLensBatch; ++i) {
+        const bool valid = i < n;
+        const bool failed = values[kTableFailed][i] > 0.0f;
+        exact[i] = valid & failed & (values[kTablePasses][i] > 0.0f);
+        out->alive[i] = valid & !failed & (values[kTableMargin][i] > 0.0f);
+    }
+    // Rotated from +x to the film point's azimuth (as aim_one).
+    float ox[kLensBatch], oy[kLensBatch], dx[kLensBatch], dy[kLensBatch], dz[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) {
+        // On the axis (r = 0) cos 1, sin 0, with no floating-point operation
+        // under a condition (which GCC would not vectorise for AVX2).
+        const float on_axis = r[i] > 0.0f ? 0.0f : 1.0f;
+        const float inverse_r = 1.0f / (r[i] + on_axis);
+        const float cos_phi = (x[i] + on_axis) * inverse_r, sin_phi = y[i] * inverse_r;
+        const float sx = values[kTableSlopeX][i], sy = values[kTableSlopeY][i];
+        const float tx = cos_phi * sx - sin_phi * sy, ty = sin_phi * sx + cos_phi * sy;
+        const float inverse_length = 1.0f / std::sqrt(tx * tx + ty * ty + 1.0f);
+        ox[i] = cos_phi * values[kTableOriginX][i] - sin_phi * values[kTableOriginY][i];
+        oy[i] = sin_phi * values[kTableOriginX][i] + cos_phi * values[kTableOriginY][i];
+        dx[i] = tx * inverse_length, dy[i] = ty * inverse_length, dz[i] = -inverse_length;
+    }
+    // Into the trace's double lanes, a conversion loop each (vectorised).
+    for (int i = 0; i < kLensBatch; ++i) out->ox[i] = double(ox[i]);
+    for (int i = 0; i < kLensBatch; ++i) out->oy[i] = double(oy[i]);
+    for (int i = 0; i < kLensBatch; ++i) out->oz[i] = table.plane_z_mm;
+    for (int i = 0; i < kLensBatch; ++i) out->dx[i] = double(dx[i]);
+    for (int i = 0; i < kLensBatch; ++i) out->dy[i] = double(dy[i]);
+    for (int i = 0; i < kLensBatch; ++i) out->dz[i] = double(dz[i]);
+    float keep[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) keep[i] = out->alive[i] ? 1.0f : 0.0f;
+    for (int i = 0; i < kLensBatch; ++i) weight_mm2[i] = double(values[kTableWeight][i] * keep[i]);
+}
+
+}  // namespace lc

@@ -1,0 +1,85 @@
+// The lens system's rays by table look-up instead of a trace per sample.
+//
+// Within one exit-pupil ring (exit_pupil.h) the ray a sample makes is a
+// smooth function of three numbers: the film radius r, and the pupil sample
+// (sqrt(u.x), u.y) that the pick maps to a point of the ring's polygon (the
+// lens being round, the film point's azimuth only rotates the result). The
+// table holds that function, traced once in double at the nodes of a grid
+// (both ends of each ring x radial x around), and a sample interpolates it
+// trilinearly: the ray's crossing of the first vertex plane, its slopes, its
+// weight (cos^4 theta times the polygon's area), and a margin, the least of
+// (rim - height) / rim over the surfaces (and the blades' edges), traced
+// without the rims, whose sign says whether the ray gets through. Where a
+// node's ray misses a surface or is totally reflected the margin means
+// nothing: samples in cells touching such a node go to the exact trace.
+//
+// Interpolating rays is exact wherever the ray is linear in the sample; for
+// an aberration-free lens the rays of one film point all pass through its
+// image, and so do their interpolations, so images in focus keep their
+// sharpness. What is left (aberrations' curvature, where the binding rim
+// changes) is measured against the exact trace (tests/test_lens_ray_table.py).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "lens/exit_pupil.h"
+#include "lens/lens_trace.h"
+#include "vec.h"
+
+namespace lc {
+
+// What a node holds for each end of its ring (the ray of a film point on +x).
+enum LensTableValue : int {
+    kTableOriginX,     // crossing of the first vertex plane, mm
+    kTableOriginY,
+    kTableSlopeX,      // dx / -dz
+    kTableSlopeY,
+    kTableWeight,      // cos^4 theta at the film times the polygon's area, mm^2
+    kTableMargin,      // > 0: the ray passes every rim
+    kTableFailed,      // 1: the unclipped trace failed (margin meaningless)
+    kTablePasses,      // 1: margin > 0 and not failed
+    kTableValues
+};
+
+// One (radial, around) node of a ring: its values at the ring's inner and
+// outer film radius, one cache line.
+struct alignas(64) LensTableNode {
+    float end[2][kTableValues];
+};
+
+struct LensRayTable {
+    int rings = 0;                 // the exit pupil's
+    int radial_cells = 0, around_cells = 0;
+    double rings_per_mm = 0.0;
+    double plane_z_mm = 0.0;       // where the rays' origins lie (the first vertex plane)
+    std::vector<LensTableNode> nodes;  // [ring][radial][around]
+
+    const LensTableNode* node(int ring, int radial, int around) const {
+        return &nodes[(size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_cells + 1) +
+                      size_t(around)];
+    }
+};
+
+// Traced through elements (the camera's, blades included) at the nodes of
+// the pupil's rings, radial_cells x around_cells cells each; film at film_z_mm.
+std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensElement>& elements,
+                                                         const ExitPupil& pupil, double film_z_mm,
+                                                         int radial_cells, int around_cells);
+
+// The rays of lanes [0, n): film points (lens frame, mm) and lens samples in,
+// origins (on the table's plane), unit directions and alive out, with
+// weight_mm2 each lane's cos^4 theta times pupil area. Lanes whose cell
+// touches a failed node and may pass come back not alive with exact[i] set:
+// the caller traces them. (Built per instruction set; every build gives the
+// same bits.)
+void look_up_lens_rays(const LensRayTable& table, const double* film_x_mm, const double* film_y_mm,
+                       const Point2f* lens_sample, int n, LensRayBatch* out, double* weight_mm2, bool* exact);
+
+// The unclipped trace's margin (see above): false when the ray misses a
+// surface, is totally reflected or turns back; otherwise the ray left the
+// first surface and margin holds the least relative clearance of any rim.
+bool trace_with_margin(const std::vector<LensElement>& elements, LensRay* ray, double* margin);
+
+}  // namespace lc
