@@ -17,7 +17,7 @@ import numpy as np
 from . import __version__, _native
 from .adaptive import PREFIX_SAMPLERS, adaptive_base_spp, allocate_samples
 from .cameras import CameraModel, camera_for, check_spectral_parts
-from .cameras.lens import LENS_RAY_TABLE_CELLS
+from .cameras.lens_ray_table import use_ray_table
 from .diffraction import diffract, diffraction_aperture
 from .errors import ExternalError, InputError
 from .image import Image
@@ -125,9 +125,12 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         Override ``[render] lens_rays``: ``lens`` RGB renders only, each
         sample's ray traced through every surface (``traced``, the default
         and the reference) or interpolated from a table of rays traced once
-        per camera (``table``; :data:`LENS_RAY_TABLE_CELLS` cells per exit-pupil
-        ring, ``native/src/lens/lens_ray_table.h``): faster, with rays within
-        a few hundredths of a pixel of the traced ones (tests/test_lens_ray_table.py).
+        per camera (``table``; :mod:`lenscompare.cameras.lens_ray_table`,
+        ``native/src/lens/lens_ray_table.h``): faster, with rays within
+        a few hundredths of a pixel of the traced ones. The table is checked
+        against the trace first and refined, or refused where it cannot meet
+        :data:`lenscompare.cameras.lens_ray_table.TOLERANCE_PX`
+        (``metadata["lens_rays"]`` says which and the measured error).
         Spectral renders always trace.
     postfilter_uniform_pass : bool, optional
         ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
@@ -189,8 +192,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     if lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
         native_camera.mirror_axes = native_camera.symmetric_mirror_axes
+    lens_rays_info = None
     if settings.lens_rays == "table" and not settings.spectral and hasattr(native_camera, "use_ray_table"):
-        native_camera.use_ray_table(*LENS_RAY_TABLE_CELLS)
+        lens_rays_info = use_ray_table(camera, native_camera)  # refined, or refused (traced), by its measured error
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
@@ -278,9 +282,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if moves(scene):  # what the image integrates over; a still scene's metadata stays as it was
         metadata["motion"] = {"shutter_s": list(settings.shutter_s), "samples_time": samples_time(scene),
                               "camera_velocity_m_per_s": list(scene.camera.velocity)}
-    if getattr(native_camera, "uses_ray_table", False):
-        metadata["lens_rays"] = {"from": "table", "radial_cells": LENS_RAY_TABLE_CELLS[0],
-                                 "around_cells": LENS_RAY_TABLE_CELLS[1]}
+    if lens_rays_info is not None:
+        metadata["lens_rays"] = lens_rays_info
     if getattr(native_camera, "mirror_axes", 0):
         metadata["lens_mirror_axes"] = int(native_camera.mirror_axes)  # bit 0 x, bit 1 y (render's lens_mirrors)
     if spectral_info is not None:

@@ -59,14 +59,6 @@ def lens_elements(prescription: Prescription) -> dict[str, np.ndarray]:
     }
 
 
-# The lens-ray table's cells per exit-pupil ring ([render] lens_rays = "table"):
-# radially (in the square root of the pupil sample) and around. At 16 x 64 the
-# Double Gauss's rays leave within 0.013 px of the traced ones (99th
-# percentile), the fisheye's within 0.10 px; 8 x 32 was 10 % faster and
-# twice as far off (tests/test_lens_ray_table.py, bench/bench_lens.py).
-LENS_RAY_TABLE_CELLS = (16, 64)
-
-
 @dataclass(frozen=True, kw_only=True)
 class LensSystemCamera(CameraModel):
     """A real lens, stopped down to the scene's f-number and focused by moving the film.

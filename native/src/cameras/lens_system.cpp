@@ -83,15 +83,11 @@ void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* le
     sample_batch(raster, lens, m, &traced, traced_area_mm2);
     for (int j = 0; j < kLensBatch; ++j) cos_theta[j] = -traced.dz[j];
     trace_from_film_batch(elements, &traced, trace_kernel, trace_precision);
-    const double plane_z_mm = ray_table->plane_z_mm;
     for (int j = 0; j < m; ++j) {
         const int i = lane[j];
         batch->alive[i] = traced.alive[j];
         if (!traced.alive[j]) continue;
-        // Onto the table's plane, as the looked-up rays start.
-        const double t = (plane_z_mm - traced.oz[j]) / traced.dz[j];
-        batch->ox[i] = traced.ox[j] + traced.dx[j] * t, batch->oy[i] = traced.oy[j] + traced.dy[j] * t;
-        batch->oz[i] = plane_z_mm;
+        batch->ox[i] = traced.ox[j], batch->oy[i] = traced.oy[j], batch->oz[i] = traced.oz[j];
         batch->dx[i] = traced.dx[j], batch->dy[i] = traced.dy[j], batch->dz[i] = traced.dz[j];
         const double cos2 = cos_theta[j] * cos_theta[j];
         area_mm2[i] = cos2 * cos2 * traced_area_mm2[j];

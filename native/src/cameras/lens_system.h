@@ -304,7 +304,7 @@ struct LensSystemCamera {
 
     // trace_batch through ray_table: lanes [0, n)'s rays from the table,
     // area_mm2 each lane's cos^4 theta times pupil area; the lanes the table
-    // cannot answer traced (lens_system.cpp). Origins on the table's plane.
+    // cannot answer traced (lens_system.cpp).
     void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                        double* area_mm2) const;
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cpu_kernels.h"
 #include "lens/lens_aim.h"
@@ -38,27 +39,30 @@ bool trace_with_margin(const std::vector<LensElement>& elements, LensRay* ray, d
 namespace {
 
 // One node's values for a film point at (r, 0) and pupil sample (s, u).
-void trace_node(const std::vector<LensElement>& elements, const ExitPupil& pupil, AimPlanes planes,
-                double plane_z_mm, int ring, double film_r_mm, double s, float u, float* out) {
-    std::fill(out, out + kTableValues, 0.0f);
-    out[kTableMargin] = -1.0f;
-    out[kTableFailed] = 1.0f;
+void trace_node(const std::vector<LensElement>& elements, const ExitPupil& pupil, AimPlanes planes, int ring,
+                double film_r_mm, double s, float u, float* out) {
     PupilPick pick;
-    if (!pupil.pick_in_ring(ring, film_r_mm, u, &pick)) return;
+    if (!pupil.pick_in_ring(ring, film_r_mm, u, &pick)) {  // outside the image circle: dead
+        std::fill(out, out + kTableValues, 0.0f);
+        out[kTableMargin] = -1.0f;
+        return;
+    }
     LensRay ray = aim_one(film_r_mm, 0.0, film_r_mm, s * s, pick, planes);
     const double cos_theta = -ray.direction.z;
     double margin;
-    if (!trace_with_margin(elements, &ray, &margin)) return;
-    const double t = (plane_z_mm - ray.origin_mm.z) / ray.direction.z;
-    out[kTableOriginX] = float(ray.origin_mm.x + ray.direction.x * t);
-    out[kTableOriginY] = float(ray.origin_mm.y + ray.direction.y * t);
-    out[kTableSlopeX] = float(ray.direction.x / -ray.direction.z);
-    out[kTableSlopeY] = float(ray.direction.y / -ray.direction.z);
+    if (!trace_with_margin(elements, &ray, &margin)) {
+        std::fill(out, out + kTableValues, std::numeric_limits<float>::quiet_NaN());
+        return;
+    }
+    out[kTableOriginX] = float(ray.origin_mm.x);
+    out[kTableOriginY] = float(ray.origin_mm.y);
+    out[kTableOriginZ] = float(ray.origin_mm.z);
+    out[kTableDirectionX] = float(ray.direction.x);
+    out[kTableDirectionY] = float(ray.direction.y);
+    out[kTableDirectionZ] = float(ray.direction.z);
     const double cos2 = cos_theta * cos_theta;
     out[kTableWeight] = float(cos2 * cos2 * pick.area_mm2);
     out[kTableMargin] = float(margin);
-    out[kTableFailed] = 0.0f;
-    out[kTablePasses] = margin > 0.0 ? 1.0f : 0.0f;
 }
 
 }  // namespace
@@ -70,7 +74,6 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
     table->rings = kPupilSegments;
     table->radial_cells = radial_cells, table->around_cells = around_cells;
     table->rings_per_mm = pupil.segments_per_mm();
-    table->plane_z_mm = elements.empty() ? 0.0 : elements.front().vertex_z_mm;
     table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(around_cells + 1));
     const AimPlanes planes{film_z_mm, pupil.plane_z_mm()};
     // Each node on its own: the same table whatever the threads.
@@ -81,7 +84,7 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
             for (int i = 0; i <= radial_cells; ++i)
                 for (int j = 0; j <= around_cells; ++j) {
                     LensTableNode* node = const_cast<LensTableNode*>(table->node(ring, i, j));
-                    trace_node(elements, pupil, planes, table->plane_z_mm, ring, film_r_mm,
+                    trace_node(elements, pupil, planes, ring, film_r_mm,
                                double(i) / radial_cells, float(j) / float(around_cells), node->end[end]);
                 }
         }
@@ -162,9 +165,15 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, const double*
         first_node[i] = ring * ring_nodes + radial * around_nodes + around;
     }
     // Each lane's four corners, eight values at once; then eight lanes'
-    // values turned value by value.
+    // values turned value by value. The batch's cache lines asked for first,
+    // all together, so that their misses overlap.
     alignas(32) float values[kTableValues][kLensBatch];
     const LensTableNode* nodes = table.nodes.data();
+    for (int i = 0; i < kLensBatch; ++i) {
+        const LensTableNode* n00 = nodes + first_node[i];
+        __builtin_prefetch(n00), __builtin_prefetch(n00 + 1);
+        __builtin_prefetch(n00 + around_nodes), __builtin_prefetch(n00 + around_nodes + 1);
+    }
     for (int group = 0; group < kLensBatch; group += 8) {
         Float8 lane[8], by_value[8];
         for (int k = 0; k < 8; ++k) {
@@ -177,41 +186,49 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, const double*
             lane[k] = near + f_s * (far - near);
         }
         transpose8(lane, by_value);
+        // A failed corner's NaN kept in the margin only (it marks the lanes to trace).
+        for (int q = 0; q < kTableMargin; ++q) by_value[q] = by_value[q] == by_value[q] ? by_value[q] : Float8{};
         for (int q = 0; q < kTableValues; ++q) __builtin_memcpy(&values[q][group], &by_value[q], sizeof(Float8));
     }
-    // Which lanes pass, and which the caller traces. An empty ring's nodes
-    // all failed without passing: its lanes are dead.
+    // Which lanes pass, and which the caller traces (NaN: a failed corner).
+    float keep[kLensBatch];  // 1: alive
     for (int i = 0; i < kLensBatch; ++i) {
         const bool valid = i < n;
-        const bool failed = values[kTableFailed][i] > 0.0f;
-        exact[i] = valid & failed & (values[kTablePasses][i] > 0.0f);
-        out->alive[i] = valid & !failed & (values[kTableMargin][i] > 0.0f);
+        const float margin = values[kTableMargin][i];
+        exact[i] = valid & (margin != margin);
+        out->alive[i] = valid & (margin > 0.0f);
+        keep[i] = out->alive[i] ? 1.0f : 0.0f;
     }
     // Rotated from +x to the film point's azimuth (as aim_one).
-    float ox[kLensBatch], oy[kLensBatch], dx[kLensBatch], dy[kLensBatch], dz[kLensBatch];
+    float ox[kLensBatch], oy[kLensBatch], oz[kLensBatch], dx[kLensBatch], dy[kLensBatch], dz[kLensBatch],
+        w[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
         // On the axis (r = 0) cos 1, sin 0, with no floating-point operation
         // under a condition (which GCC would not vectorise for AVX2).
         const float on_axis = r[i] > 0.0f ? 0.0f : 1.0f;
         const float inverse_r = 1.0f / (r[i] + on_axis);
         const float cos_phi = (x[i] + on_axis) * inverse_r, sin_phi = y[i] * inverse_r;
-        const float sx = values[kTableSlopeX][i], sy = values[kTableSlopeY][i];
-        const float tx = cos_phi * sx - sin_phi * sy, ty = sin_phi * sx + cos_phi * sy;
-        const float inverse_length = 1.0f / std::sqrt(tx * tx + ty * ty + 1.0f);
-        ox[i] = cos_phi * values[kTableOriginX][i] - sin_phi * values[kTableOriginY][i];
-        oy[i] = sin_phi * values[kTableOriginX][i] + cos_phi * values[kTableOriginY][i];
-        dx[i] = tx * inverse_length, dy[i] = ty * inverse_length, dz[i] = -inverse_length;
+        const float ax = values[kTableDirectionX][i], ay = values[kTableDirectionY][i];
+        const float az = values[kTableDirectionZ][i];
+        const float inverse_length = 1.0f / std::sqrt(ax * ax + ay * ay + az * az);
+        const float rx = cos_phi * values[kTableOriginX][i] - sin_phi * values[kTableOriginY][i];
+        const float ry = sin_phi * values[kTableOriginX][i] + cos_phi * values[kTableOriginY][i];
+        const float ux = (cos_phi * ax - sin_phi * ay) * inverse_length;
+        const float uy = (sin_phi * ax + cos_phi * ay) * inverse_length;
+        const float uz = az * inverse_length;
+        // Dead lanes: (0, 0, 0) toward -z, weight 0 (finite values, no branch).
+        ox[i] = rx * keep[i], oy[i] = ry * keep[i], oz[i] = values[kTableOriginZ][i] * keep[i];
+        dx[i] = ux * keep[i], dy[i] = uy * keep[i], dz[i] = uz * keep[i] + (keep[i] - 1.0f);
+        w[i] = values[kTableWeight][i] * keep[i];
     }
     // Into the trace's double lanes, a conversion loop each (vectorised).
     for (int i = 0; i < kLensBatch; ++i) out->ox[i] = double(ox[i]);
     for (int i = 0; i < kLensBatch; ++i) out->oy[i] = double(oy[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->oz[i] = table.plane_z_mm;
+    for (int i = 0; i < kLensBatch; ++i) out->oz[i] = double(oz[i]);
     for (int i = 0; i < kLensBatch; ++i) out->dx[i] = double(dx[i]);
     for (int i = 0; i < kLensBatch; ++i) out->dy[i] = double(dy[i]);
     for (int i = 0; i < kLensBatch; ++i) out->dz[i] = double(dz[i]);
-    float keep[kLensBatch];
-    for (int i = 0; i < kLensBatch; ++i) keep[i] = out->alive[i] ? 1.0f : 0.0f;
-    for (int i = 0; i < kLensBatch; ++i) weight_mm2[i] = double(values[kTableWeight][i] * keep[i]);
+    for (int i = 0; i < kLensBatch; ++i) weight_mm2[i] = double(w[i]);
 }
 
 }  // namespace lc

@@ -6,7 +6,7 @@
 // lens being round, the film point's azimuth only rotates the result). The
 // table holds that function, traced once in double at the nodes of a grid
 // (both ends of each ring x radial x around), and a sample interpolates it
-// trilinearly: the ray's crossing of the first vertex plane, its slopes, its
+// trilinearly: where the ray leaves the first surface, its direction, its
 // weight (cos^4 theta times the polygon's area), and a margin, the least of
 // (rim - height) / rim over the surfaces (and the blades' edges), traced
 // without the rims, whose sign says whether the ray gets through. Where a
@@ -31,15 +31,18 @@
 namespace lc {
 
 // What a node holds for each end of its ring (the ray of a film point on +x).
+// A node whose unclipped trace failed holds NaN throughout: a sample in a
+// cell touching it is traced (a cell's corners are read even at weight 0).
+// The nodes of a ring outside the image circle hold margin -1: dead.
 enum LensTableValue : int {
-    kTableOriginX,     // crossing of the first vertex plane, mm
+    kTableOriginX,     // where the ray leaves the first surface, mm
     kTableOriginY,
-    kTableSlopeX,      // dx / -dz
-    kTableSlopeY,
+    kTableOriginZ,
+    kTableDirectionX,  // unit direction toward the scene (interpolated, then normalised)
+    kTableDirectionY,
+    kTableDirectionZ,
     kTableWeight,      // cos^4 theta at the film times the polygon's area, mm^2
     kTableMargin,      // > 0: the ray passes every rim
-    kTableFailed,      // 1: the unclipped trace failed (margin meaningless)
-    kTablePasses,      // 1: margin > 0 and not failed
     kTableValues
 };
 
@@ -53,7 +56,6 @@ struct LensRayTable {
     int rings = 0;                 // the exit pupil's
     int radial_cells = 0, around_cells = 0;
     double rings_per_mm = 0.0;
-    double plane_z_mm = 0.0;       // where the rays' origins lie (the first vertex plane)
     std::vector<LensTableNode> nodes;  // [ring][radial][around]
 
     const LensTableNode* node(int ring, int radial, int around) const {
@@ -69,9 +71,9 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
                                                          int radial_cells, int around_cells);
 
 // The rays of lanes [0, n): film points (lens frame, mm) and lens samples in,
-// origins (on the table's plane), unit directions and alive out, with
-// weight_mm2 each lane's cos^4 theta times pupil area. Lanes whose cell
-// touches a failed node and may pass come back not alive with exact[i] set:
+// origins (on the first surface, to interpolation), unit directions and
+// alive out, with weight_mm2 each lane's cos^4 theta times pupil area. Lanes
+// whose cell touches a failed node come back not alive with exact[i] set:
 // the caller traces them. (Built per instruction set; every build gives the
 // same bits.)
 void look_up_lens_rays(const LensRayTable& table, const double* film_x_mm, const double* film_y_mm,
