@@ -17,7 +17,7 @@ from ..progress import progress_bar
 from ..scene import Scene
 from .findings import findings
 from .plots import plot_error_vs_time
-from .study import CostSettings, povray_series_wanted, prepared_for_cost, study_scene
+from .study import CostSettings, povray_series_wanted, prepared_for_cost, study_scene, study_series
 
 __all__ = ["CostSettings", "run_cost_study", "time_table_rows"]
 
@@ -41,7 +41,7 @@ def run_cost_study(scenes: list[Scene], out_dir, settings: CostSettings | None =
     out = prepare_output_dir(out_dir)
     stems = stems or unique_file_names(s.name for s in scenes)
     start = time.perf_counter()
-    renders = sum(len(settings.models) * len(settings.samplers) * len(settings.spp_values)
+    renders = sum(sum(len(study_series(model, settings)) for model in settings.models) * len(settings.spp_values)
                   * settings.timing_rounds
                   + (len(settings.povray_spp_values) if povray_series_wanted(p, settings) else 0)
                   for p in prepared_scenes)

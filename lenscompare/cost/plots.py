@@ -6,12 +6,12 @@ import warnings
 from pathlib import Path
 
 from ..atomic import atomic_output
-from .study import TARGET_RELATIVE_RMSE, pareto_front
+from .study import TABLE_SERIES, TARGET_RELATIVE_RMSE, pareto_front
 
 __all__ = ["plot_error_vs_time"]
 
 SAMPLER_STYLE = {"random": ("#7f7f7f", "o"), "jittered": ("#1f77b4", "s"), "regular": ("#ff7f0e", "^"),
-                 "poisson": ("#2ca02c", "D"), "sobol": ("#d62728", "v")}
+                 "poisson": ("#2ca02c", "D"), "sobol": ("#d62728", "v"), TABLE_SERIES: ("#9467bd", "P")}
 
 
 def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:

@@ -29,6 +29,12 @@ __all__ = ["CostSettings", "study_scene", "povray_series_wanted", "time_to_error
 TARGET_RELATIVE_RMSE = 0.01
 
 
+# The lens system's series with its rays interpolated from a table traced once
+# ([render] lens_rays = "table"): its error, against the traced lens's
+# converged image, holds the table's own besides the noise.
+TABLE_SERIES = "jittered, ray table"
+
+
 @dataclass(frozen=True)
 class CostSettings:
     quick: bool = False
@@ -84,10 +90,9 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
     for model, (ref, cached) in zip(settings.models, converged):
         result["references"][model] = {"spp": settings.reference_spp, "cached": cached,
                                        "seconds": ref.metadata.get("seconds")}
-    grid = [(model, sampler, spp) for model in settings.models for sampler in settings.samplers
+    grid = [(model, sampler, spp) for model in settings.models for sampler in study_series(model, settings)
             for spp in settings.spp_values]
-    calls = [((scene,), {"model": model, "spp": spp, "sampler": sampler, "seed": 0, "progress": False})
-             for model, sampler, spp in grid]
+    calls = [((scene,), _render_options(model, sampler, spp)) for model, sampler, spp in grid]
     images = dict(zip(grid, run_calls(cluster, render, calls, threads=settings.threads, progress=progress)))
     by_round = {cell: [images[cell].metadata] for cell in grid}
     rounds = settings.timing_rounds
@@ -97,7 +102,7 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
             by_round[cell].append(image.metadata)
     for model in settings.models:
         series = {}
-        for sampler in settings.samplers:
+        for sampler in study_series(model, settings):
             points = []
             for spp in settings.spp_values:
                 image = images[model, sampler, spp]
@@ -131,6 +136,22 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
         result["povray"] = {"error": "left out of a quick study: POV-Ray renders a moving scene as the mean of "
                                      "sub-frames, which costs most of the study (run without --quick)"}
     return result
+
+
+def study_series(model: str, settings: CostSettings) -> tuple[str, ...]:
+    """The model's series: one per sampler, and for the lens system the jittered
+    sampler again with its rays from a table (:data:`TABLE_SERIES`)."""
+    if model == "lens" and "jittered" in settings.samplers:
+        return (*settings.samplers, TABLE_SERIES)
+    return settings.samplers
+
+
+def _render_options(model: str, series: str, spp: int) -> dict:
+    """render()'s keywords for one point of a series."""
+    options = {"model": model, "spp": spp, "sampler": series, "seed": 0, "progress": False}
+    if series == TABLE_SERIES:  # scored against the traced lens system's converged image
+        options.update(sampler="jittered", lens_rays="table")
+    return options
 
 
 def povray_series_wanted(scene: Scene, settings: CostSettings) -> bool:
