@@ -127,13 +127,13 @@ class MitsubaRender:
         return time.perf_counter() - start
 
 
-def native_timer(scene, model, spp, threads, *, robust=True, lens_mirrors=False):
+def native_timer(scene, model, spp, threads, *, robust=True, lens_mirrors=False, lens_rays=None):
     def run():
         # Read when the native scene is built: each render builds its own.
         os.environ["LENSCOMPARE_EMBREE_ROBUST"] = "1" if robust else "0"
         try:
             return render(scene, model=model, spp=spp, threads=threads, progress=False,
-                          lens_mirrors=lens_mirrors).metadata["seconds"]
+                          lens_mirrors=lens_mirrors, lens_rays=lens_rays).metadata["seconds"]
         finally:
             os.environ.pop("LENSCOMPARE_EMBREE_ROBUST")
     return run
@@ -263,6 +263,8 @@ def main() -> int:
                 timers["native_lens"] = native_timer(lens_scene, "lens", args.spp, args.threads)
                 timers["native_lens_mirrored"] = native_timer(lens_scene, "lens", args.spp, args.threads,
                                                               lens_mirrors=True)
+                timers["native_lens_table"] = native_timer(lens_scene, "lens", args.spp, args.threads,
+                                                           lens_rays="table")
             for variant, error in variants.items():
                 if error is None:
                     for model in ("thin", "pinhole"):
@@ -306,6 +308,8 @@ def main() -> int:
                 ratios["native_lens_over_native_pinhole"] = sps["native_lens"] / sps["native_pinhole"]
                 # render(lens_mirrors=True): a quarter of the samples traced, the rest reflected
                 ratios["native_lens_mirrored_over_native_pinhole"] = sps["native_lens_mirrored"] / sps["native_pinhole"]
+                # [render] lens_rays = "table": the rays interpolated from a table traced once per camera
+                ratios["native_lens_table_over_native_pinhole"] = sps["native_lens_table"] / sps["native_pinhole"]
             ratios["native_thin_over_native_pinhole"] = sps["native_thin"] / sps["native_pinhole"]
             if "povray_thin" in sps:
                 ratios["native_thin_over_povray_thin"] = sps["native_thin"] / sps["povray_thin"]

@@ -54,30 +54,27 @@ LC_BUILT_PER_ISA void sample_lanes(const LensSystemCamera& c, const Point2f* ras
     aim_batch(aim, c.aim_planes(), batch, c.trace_kernel);
 }
 
-// The film points of lanes [0, n), lens frame (mm), as sample_lanes finds them.
-LC_BUILT_PER_ISA void film_points(const LensSystemCamera& c, const Point2f* raster_px, int n, double* x_mm,
-                                  double* y_mm) {
-    for (int i = 0; i < kLensBatch; ++i) {
-        const Point2f p = raster_px[i < n ? i : 0];
-        x_mm[i] = (0.5 * c.width_px - double(p.x)) * c.film_mm_per_px_x;
-        y_mm[i] = (double(p.y) - 0.5 * c.height_px) * c.film_mm_per_px_y;
-    }
-}
-
 }  // namespace
 
 void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                                      LensRayBatch* batch, double* area_mm2) const {
-    double x_mm[kLensBatch], y_mm[kLensBatch];
     bool exact[kLensBatch];
-    film_points(*this, raster_px, n, x_mm, y_mm);
-    look_up_lens_rays(*ray_table, x_mm, y_mm, lens_sample, n, batch, area_mm2, exact);
+    const FilmPlacement film{float(0.5 * width_px), float(0.5 * height_px), float(film_mm_per_px_x),
+                             float(film_mm_per_px_y)};
+    look_up_lens_rays(*ray_table, film, raster_px, lens_sample, n, batch, area_mm2, exact);
     // The few lanes in cells the table cannot answer: traced, together.
+    bool any = false;
+    for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
+    if (!any) return;
+    trace_lanes(raster_px, lens_sample, n, exact, batch, area_mm2);
+}
+
+void LensSystemCamera::trace_lanes(const Point2f* raster_px, const Point2f* lens_sample, int n, const bool* which,
+                                   LensRayBatch* batch, double* area_mm2) const {
     int lane[kLensBatch], m = 0;
-    Point2f raster[kLensBatch], lens[kLensBatch];
+    Point2f raster[kLensBatch], lens[kLensBatch];  // zeroed (Point2f's initialisers): only here, off the common path
     for (int i = 0; i < n; ++i)
-        if (exact[i]) lane[m] = i, raster[m] = raster_px[i], lens[m] = lens_sample[i], ++m;
-    if (m == 0) return;
+        if (which[i]) lane[m] = i, raster[m] = raster_px[i], lens[m] = lens_sample[i], ++m;
     LensRayBatch traced;
     double traced_area_mm2[kLensBatch], cos_theta[kLensBatch];
     sample_batch(raster, lens, m, &traced, traced_area_mm2);

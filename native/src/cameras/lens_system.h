@@ -307,6 +307,10 @@ struct LensSystemCamera {
     // cannot answer traced (lens_system.cpp).
     void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                        double* area_mm2) const;
+    // look_up_batch's traced lanes: lanes i < n with which[i] traced into
+    // batch and area_mm2 (times cos^4 theta, as the table's weights).
+    void trace_lanes(const Point2f* raster_px, const Point2f* lens_sample, int n, const bool* which,
+                     LensRayBatch* batch, double* area_mm2) const;
 
     // Samples [0, n) aimed and traced in lockstep, with each lane's cos theta
     // at the film and pupil area: what both batch forms below start from.

@@ -134,9 +134,9 @@ __attribute__((always_inline)) inline void transpose8(const Float8* lane, Float8
 
 }  // namespace
 
-LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, const double* film_x_mm,
-                                        const double* film_y_mm, const Point2f* lens_sample, int n,
-                                        LensRayBatch* out, double* weight_mm2, bool* exact) {
+LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
+                                        const Point2f* lens_sample, int n, LensRayBatch* out, double* weight_mm2,
+                                        bool* exact) {
     static_assert(kLensBatch % 8 == 0 && kTableValues == 8, "whole 8 x 8 transposes");
     const int last_ring = table.rings - 1;
     const int around_nodes = table.around_cells + 1;
@@ -145,12 +145,15 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, const double*
     const float rings_per_mm = float(table.rings_per_mm);
     const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
     // Plain lane loops, which GCC vectorises (float lanes).
-    float ux[kLensBatch], uy[kLensBatch];
-    for (int i = 0; i < kLensBatch; ++i) ux[i] = lens_sample[i < n ? i : 0].x, uy[i] = lens_sample[i < n ? i : 0].y;
+    float px[kLensBatch], py[kLensBatch], ux[kLensBatch], uy[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) {
+        const int k = i < n ? i : 0;
+        px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
+    }
     float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
     int first_node[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
-        x[i] = float(film_x_mm[i]), y[i] = float(film_y_mm[i]);
+        x[i] = (film.centre_x_px - px[i]) * film.mm_per_px_x, y[i] = (py[i] - film.centre_y_px) * film.mm_per_px_y;
         r[i] = std::sqrt(x[i] * x[i] + y[i] * y[i]);
         const float ring_at = r[i] * rings_per_mm;
         const int ring = std::min(int(ring_at), last_ring);

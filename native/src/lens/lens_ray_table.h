@@ -70,13 +70,20 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
                                                          const ExitPupil& pupil, double film_z_mm,
                                                          int radial_cells, int around_cells);
 
-// The rays of lanes [0, n): film points (lens frame, mm) and lens samples in,
+// The rays of lanes [0, n): raster positions and lens samples in,
 // origins (on the first surface, to interpolation), unit directions and
 // alive out, with weight_mm2 each lane's cos^4 theta times pupil area. Lanes
 // whose cell touches a failed node come back not alive with exact[i] set:
 // the caller traces them. (Built per instruction set; every build gives the
 // same bits.)
-void look_up_lens_rays(const LensRayTable& table, const double* film_x_mm, const double* film_y_mm,
+// Where a raster position lies on the film (lens frame, mm; the image is
+// inverted): x = (centre_x_px - raster x) * mm_per_px_x, y = (raster y -
+// centre_y_px) * mm_per_px_y.
+struct FilmPlacement {
+    float centre_x_px, centre_y_px, mm_per_px_x, mm_per_px_y;
+};
+
+void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
                        const Point2f* lens_sample, int n, LensRayBatch* out, double* weight_mm2, bool* exact);
 
 // The unclipped trace's margin (see above): false when the ray misses a
