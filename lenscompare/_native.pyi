@@ -130,6 +130,13 @@ class LensSystemCamera:
     def inverse_centre_irradiance(self) -> float:
         """The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre."""
 
+    def use_ray_table(self, radial_cells: int, around_cells: int) -> None:
+        """RGB batch rays by table look-up over radial x around cells per exit-pupil ring (0: traced;
+        a dispersive camera always traces); the tile pencils are measured again (GIL released)."""
+
+    @property
+    def uses_ray_table(self) -> bool: ...
+
 class CompositeCamera:
     """Composite: a thin lens at the entrance pupil with radial distortion and illumination tables traced
     once through a lens system."""
