@@ -174,5 +174,8 @@ def test_lens_rays_setting_is_checked(tmp_path):
         load_scene(path)
     with pytest.raises(InputError, match="--lens-rays"):
         render(_scene("dgauss.50mm", resolution=(8, 6)), model="lens", spp=1, lens_rays="exact")
-    with pytest.raises(ValueError):
-        camera_for(_scene("dgauss.50mm", resolution=(8, 6)), "lens").native().use_ray_table(-1, 4)
+    native = camera_for(_scene("dgauss.50mm", resolution=(8, 6)), "lens").native()
+    for cells in ((-1, 4), (4, -1), (257, 64), (16, 1025)):
+        with pytest.raises(ValueError, match="ray table cells"):
+            native.use_ray_table(*cells)
+    assert not native.uses_ray_table

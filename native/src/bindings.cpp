@@ -473,8 +473,9 @@ NB_MODULE(_native, m) {
              nb::call_guard<nb::gil_scoped_release>())
         .def("use_ray_table",
              [](LensSystemCamera& self, int radial_cells, int around_cells) {
-                 if (radial_cells < 0 || around_cells < 0)
-                     throw std::invalid_argument("ray table cells must be >= 0");
+                 // 256 x 1024 cells per ring is already 1.1 GB.
+                 if (radial_cells < 0 || around_cells < 0 || radial_cells > 256 || around_cells > 1024)
+                     throw std::invalid_argument("ray table cells: radial 0 to 256, around 0 to 1024");
                  self.ray_table = radial_cells > 0 && around_cells > 0 && !self.disperses()
                                       ? build_lens_ray_table(self.elements, *self.pupil, self.film_z_mm, radial_cells,
                                                              around_cells)
