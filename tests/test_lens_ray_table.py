@@ -179,3 +179,30 @@ def test_lens_rays_setting_is_checked(tmp_path):
         with pytest.raises(ValueError, match="ray table cells"):
             native.use_ray_table(*cells)
     assert not native.uses_ray_table
+
+
+@pytest.mark.parametrize("options", [
+    {"lens_mirrors": True},               # one look-up serves a pixel and its mirror images
+    {"adaptive": True},                   # the second pass's counts differ per pixel
+    {"sampler": "sobol"},
+], ids=["mirrors", "adaptive", "sobol"])
+def test_table_composes_with_the_other_render_options(options):
+    scene = _scene("dgauss.50mm", resolution=(64, 42))
+    traced = render(scene, model="lens", spp=64, seed=4, threads=2, progress=False, **options).pixels
+    images = [render(scene, model="lens", spp=64, seed=4, threads=threads, progress=False, lens_rays="table",
+                     **options) for threads in (1, 2)]
+    assert images[0].metadata["lens_rays"]["from"] == "table"
+    assert images[0].pixels.tobytes() == images[1].pixels.tobytes()
+    norm = np.sqrt(np.mean(traced.astype(float) ** 2))
+    assert np.sqrt(np.mean((images[0].pixels.astype(float) - traced) ** 2)) / norm < 0.02
+    assert images[0].pixels.mean() / traced.mean() == pytest.approx(1.0, abs=0.003)
+
+
+def test_moving_camera_with_the_table():
+    scene = load_scene(REFERENCE_SCENES / "moving_showcase.toml").with_camera(
+        lens="dgauss.50mm", f_number=None, resolution=(48, 32), focal_length_mm=None)
+    traced = render(scene, model="lens", spp=32, seed=2, threads=2, progress=False).pixels
+    table = render(scene, model="lens", spp=32, seed=2, threads=2, progress=False, lens_rays="table").pixels
+    assert np.isfinite(table).all()
+    norm = np.sqrt(np.mean(traced.astype(float) ** 2))
+    assert np.sqrt(np.mean((table.astype(float) - traced) ** 2)) / norm < 0.02
