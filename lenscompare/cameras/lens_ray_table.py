@@ -35,7 +35,7 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
     camera : LensSystemCamera
         The camera value (its film and focal length set the pixel's angle).
     native : lenscompare._native.LensSystemCamera
-        Its native camera, without a table.
+        Its native camera (a table it has already is dropped first).
     tolerance_px : float, optional
         The largest 99.9th-percentile direction error, in pixels' angles.
     check_samples : int, optional
@@ -48,6 +48,8 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
         the cells tried last, and the measured error (``p999_error_px``);
         a refused table leaves ``native`` tracing.
     """
+    if native.uses_ray_table:  # the check compares with the trace
+        native.use_ray_table(0, 0)
     width, height = camera.film.width_px, camera.film.height_px
     rng = np.random.default_rng(0)
     raster = np.column_stack([rng.uniform(0, width, check_samples),
