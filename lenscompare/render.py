@@ -160,7 +160,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
     if settings.sampler not in SAMPLERS:
         raise InputError("--sampler", f"expected one of {', '.join(SAMPLERS)}, got {settings.sampler!r}")
-    if settings.lens_rays not in LENS_RAYS:
+    if settings.lens_rays not in (None, *LENS_RAYS):
         raise InputError("--lens-rays", f"expected one of {', '.join(LENS_RAYS)}, got {settings.lens_rays!r}")
     if not 0 <= settings.seed <= MAX_SEED:
         raise InputError("--seed", f"expected an integer from 0 to {MAX_SEED:,}, got {settings.seed}")

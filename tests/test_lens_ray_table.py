@@ -215,3 +215,16 @@ def test_moving_camera_with_the_table():
     assert np.isfinite(table).all()
     norm = np.sqrt(np.mean(traced.astype(float) ** 2))
     assert np.sqrt(np.mean((table.astype(float) - traced) ** 2)) / norm < 0.02
+
+
+def test_model_auto_takes_the_table_for_a_lens_system_plan_within_tolerance(tmp_path):
+    from lenscompare.plan import plan_scene, render_planned
+    scene = _scene("dgauss.50mm").with_render(spp=1)
+    assert plan_scene(scene, measure_costs=False).model == "lens"  # aberrations 1.3 px: no composite
+    image = render_planned(scene, threads=2, progress=False)
+    assert image.metadata["plan"]["model"] == "lens" and image.metadata["lens_rays"]["from"] == "table"
+    # A tolerance below the table's own bound, or the scene or the caller saying so: traced.
+    assert "lens_rays" not in render_planned(scene, tolerance_px=0.01, threads=2, progress=False).metadata
+    assert "lens_rays" not in render_planned(scene.with_render(lens_rays="traced"), threads=2,
+                                             progress=False).metadata
+    assert "lens_rays" not in render_planned(scene, lens_rays="traced", threads=2, progress=False).metadata

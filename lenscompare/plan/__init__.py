@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..cameras import COLOR_PARTS, COMPOSITE_EFFECTS, camera_for
+from ..cameras.lens_ray_table import TOLERANCE_PX as RAY_TABLE_TOLERANCE_PX
 from ..image import Image
 from ..postfilter import pinhole_pass_spp, postfilter_suffices
 from ..render import render
@@ -211,7 +212,9 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     The plan is made from the scene alone (no timing renders), unless the
     caller made it already (``plan``), and stored in
     ``image.metadata["plan"]``; ``render_options`` go to
-    :func:`lenscompare.render.render`.
+    :func:`lenscompare.render.render`. A lens-system plan takes its rays
+    from a table (``lens_rays = "table"``) unless the scene or the caller
+    says otherwise or ``tolerance_px`` is below the table's own bound.
     """
     if plan is None:
         plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent,
@@ -222,6 +225,11 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
         scene = scene.with_render(shutter_s=(0.5 * (open_s + close_s),) * 2)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
+    if (plan.model == "lens" and render_options.get("lens_rays") is None and scene.render.lens_rays is None
+            and tolerance_px >= RAY_TABLE_TOLERANCE_PX):
+        # The lens system's rays from a table: checked before the render to stay within
+        # RAY_TABLE_TOLERANCE_PX of the traced ones (else it traces), inside the plan's tolerance.
+        render_options["lens_rays"] = "table"
     if plan.model == "composite":
         image = render(scene, model="composite", effects=plan.composite_effects, **render_options)
     else:
