@@ -131,8 +131,9 @@ class LensSystemCamera:
         """The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre."""
 
     def use_ray_table(self, radial_cells: int, around_cells: int) -> None:
-        """RGB batch rays by table look-up over radial x around cells per exit-pupil ring (0: traced;
-        a dispersive camera always traces); the tile pencils are measured again (GIL released)."""
+        """The batch rays (every wavelength's, without dispersion) by table look-up over radial x around cells
+        per exit-pupil ring (0: traced; a dispersive camera always traces); the tile pencils are measured
+        again (GIL released)."""
 
     @property
     def uses_ray_table(self) -> bool: ...

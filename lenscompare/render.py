@@ -122,7 +122,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         Off by default; ``LENSCOMPARE_LENS_MIRRORS=1`` turns it on for
         every lens system.
     lens_rays : {'traced', 'table'}, optional
-        Override ``[render] lens_rays``: ``lens`` RGB renders only, each
+        Override ``[render] lens_rays``: ``lens`` renders only, each
         sample's ray traced through every surface (``traced``, the default
         and the reference) or interpolated from a table of rays traced once
         per camera (``table``; :mod:`lenscompare.cameras.lens_ray_table`,
@@ -131,7 +131,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         against the trace first and refined, or refused where it cannot meet
         :data:`lenscompare.cameras.lens_ray_table.TOLERANCE_PX`
         (``metadata["lens_rays"]`` says which and the measured error).
-        Spectral renders always trace.
+        Spectral renders through a lens with dispersion trace each
+        wavelength through its glass whatever the setting.
     postfilter_uniform_pass : bool, optional
         ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
         as before the refined pass (a reference for bench/bench_postfilter.py).
@@ -192,13 +193,17 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
     if lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
         native_camera.mirror_axes = native_camera.symmetric_mirror_axes
-    lens_rays_info = None
-    if settings.lens_rays == "table" and not settings.spectral and hasattr(native_camera, "use_ray_table"):
-        lens_rays_info = use_ray_table(camera, native_camera)  # refined, or refused (traced), by its measured error
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
                      if settings.spectral else None)
+    lens_rays_info = None
+    if settings.lens_rays == "table" and hasattr(native_camera, "use_ray_table"):
+        if spectral_info is not None and spectral_info["camera_disperses"]:
+            lens_rays_info = {"from": "traced", "reason": "the lens disperses: each wavelength is traced through "
+                                                          "its glass"}
+        else:  # refined, or refused (traced), by its measured error
+            lens_rays_info = use_ray_table(camera, native_camera)
 
     # The poisson sampler's patterns for this spp are made once per process: made here, outside
     # the render's time, as Mitsuba's JIT warm-up is kept out of its (bench_peers.py).

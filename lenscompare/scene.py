@@ -117,7 +117,7 @@ class RenderSettings:
     effects: tuple[str, ...] | None = None  # a composite render of exactly these (lenscompare.cameras.composite)
     shutter_s: tuple[float, float] = (0.0, 0.0)  # open, close (s); equal: no motion blur (lenscompare.motion)
     spectral: bool = False  # wavelengths sampled over 380-780 nm, dispersion from the lens (lenscompare.spectral)
-    # The lens system's rays: "traced" or "table" (RGB renders; see LENS_RAYS); None, not given:
+    # The lens system's rays: "traced" or "table" (not a dispersive lens's spectral renders; LENS_RAYS); None, not given:
     # traced, but --model auto may take the table when its check is within the plan's tolerance.
     lens_rays: str | None = None
 

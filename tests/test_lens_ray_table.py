@@ -11,7 +11,8 @@ strongly aberrated ball-like singlet that reflects totally at its rim) it is
 refused and the render traces; a render from the table differs from the
 traced render with the same samples by much less than the render's own
 noise; the flat field's centre still reads 1; the image is the same for any
-thread count and lens-trace kernel; a spectral render traces regardless.
+thread count and lens-trace kernel; a spectral render takes it unless the
+lens disperses.
 """
 
 from __future__ import annotations
@@ -169,10 +170,21 @@ def test_the_check_compares_with_the_trace_even_on_a_camera_with_a_table():
     assert first == again and again["p999_error_px"] > 0
 
 
-def test_spectral_renders_trace_whatever_the_setting():
-    scene = _scene("dgauss.50mm", resolution=(32, 20))
-    image = render(scene, model="lens", spp=4, threads=2, progress=False, spectral=True, lens_rays="table")
-    assert "lens_rays" not in image.metadata
+def test_spectral_renders_take_the_table_unless_the_lens_disperses():
+    # Without dispersion every wavelength rides one ray: the table's, as in RGB.
+    scene = _scene("dgauss.50mm", resolution=(48, 32))
+    traced = render(scene, model="lens", spp=16, seed=3, threads=2, progress=False, spectral=True).pixels
+    table = render(scene, model="lens", spp=16, seed=3, threads=2, progress=False, spectral=True,
+                   lens_rays="table")
+    assert table.metadata["lens_rays"]["from"] == "table"
+    norm = np.sqrt(np.mean(traced.astype(float) ** 2))
+    assert np.sqrt(np.mean((table.pixels.astype(float) - traced) ** 2)) / norm < 0.02
+    # With dispersion each wavelength is traced through its glass.
+    dispersive = _scene(str(TEST_LENSES / "dgauss_abbe.dat"), resolution=(32, 20))
+    image = render(dispersive, model="lens", spp=4, threads=2, progress=False, spectral=True, lens_rays="table")
+    assert image.metadata["lens_rays"]["from"] == "traced" and "disperses" in image.metadata["lens_rays"]["reason"]
+    assert image.pixels.tobytes() == render(dispersive, model="lens", spp=4, threads=2, progress=False,
+                                            spectral=True).pixels.tobytes()
 
 
 def test_lens_rays_setting_is_checked(tmp_path):

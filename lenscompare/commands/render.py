@@ -45,7 +45,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--sampler", choices=SAMPLERS)
     p.add_argument("--seed", type=SEED, help="0 to 2^64 - 1")
     p.add_argument("--lens-rays", choices=LENS_RAYS,
-                   help="--model lens, RGB: trace every sample's ray (traced, the default) or interpolate a "
+                   help="--model lens: trace every sample's ray (traced, the default) or interpolate a "
                         "table of rays traced once (table: faster, rays within hundredths of a pixel)")
     p.add_argument("--adaptive", action="store_true", default=None,
                    help="spp is the mean: a first pass finds the noisy pixels, the rest of the samples go there")

@@ -484,7 +484,7 @@ NB_MODULE(_native, m) {
                  self.pencils = LensPencils::of(self);
              },
              "radial_cells"_a, "around_cells"_a,
-             "RGB batch rays by table look-up over radial x around cells per pupil ring (0: traced).",
+             "The batch rays (those of every wavelength, without dispersion) by table look-up over radial x around cells per pupil ring (0: traced).",
              nb::call_guard<nb::gil_scoped_release>())
         .def_prop_ro("uses_ray_table", [](const LensSystemCamera& c) { return bool(c.ray_table); })
         .def_rw("mirror_axes", &LensSystemCamera::mirror_axes,

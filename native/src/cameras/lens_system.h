@@ -100,8 +100,9 @@ struct LensSystemCamera {
     // of the samples and reflects them (render_mirrored.h). 0: every pixel
     // traces its own samples.
     unsigned mirror_axes = 0;
-    // The rays by table look-up (lens_ray_table.h) for the batch paths of
-    // RGB renders; null: every sample traced.
+    // The rays by table look-up (lens_ray_table.h) for the batch paths
+    // (RGB, and spectral without dispersion: set_dispersion drops it);
+    // null: every sample traced.
     std::shared_ptr<const LensRayTable> ray_table;
     // Derived from the above once: a division per ray costs more than the
     // rest of the ray's set-up.
