@@ -1,6 +1,6 @@
 """The lens-ray table (``[render] lens_rays = "table"``) against the trace,
-lens by lens: for every shipped lens (Double Gauss also at f/8, f/1000 and
-with five blades) and the hard-case test lenses, the same film and pupil
+lens by lens: for every shipped lens (Double Gauss also at f/8 and f/1000)
+and the hard-case test lenses (a bladed stop is refused outright: not round), the same film and pupil
 samples through the traced and the interpolated batch rays at each grid the
 render may use, and how far the rays that leave the lens differ: direction
 error in pixels' angles (percentiles), the share of samples that pass one way
@@ -29,8 +29,7 @@ from lenscompare.scene import load_scene
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "reference_scenes" / "showcase.toml"
 TEST_LENSES = ROOT / "tests" / "data" / "lenses"
-CASES = [("dgauss.50mm", None, 0), ("dgauss.50mm", 8.0, 0), ("dgauss.50mm", 1000.0, 0), ("dgauss.50mm", None, 5),
-         ("wide.22mm", None, 0), ("fisheye.10mm", None, 0), ("telephoto.250mm", None, 0),
+CASES = [("dgauss.50mm", None, 0), ("dgauss.50mm", 8.0, 0), ("dgauss.50mm", 1000.0, 0), ("wide.22mm", None, 0), ("fisheye.10mm", None, 0), ("telephoto.250mm", None, 0),
          *((str(TEST_LENSES / f"{name}.dat"), None, 0) for name in
            ("cemented_zero_layer", "planoconvex_flat_front", "planoconvex_nearly_flat_front", "tir_prism"))]
 

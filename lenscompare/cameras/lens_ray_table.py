@@ -46,10 +46,15 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
     dict
         For the image's metadata: ``from`` (``"table"`` or ``"traced"``),
         the cells tried last, and the measured error (``p999_error_px``);
-        a refused table leaves ``native`` tracing.
+        a refused table leaves ``native`` tracing. A bladed stop is refused
+        at once (``reason``): the table holds one film azimuth's rays and
+        turns them, which only a round lens allows.
     """
     if native.uses_ray_table:  # the check compares with the trace
         native.use_ray_table(0, 0)
+    if camera.aperture_blades:
+        return {"from": "traced", "reason": f"a {camera.aperture_blades}-blade stop is not round: a film point's "
+                                            "rays are not the rotated rays of one film azimuth, which the table holds"}
     width, height = camera.film.width_px, camera.film.height_px
     rng = np.random.default_rng(0)
     raster = np.column_stack([rng.uniform(0, width, check_samples),

@@ -476,7 +476,11 @@ NB_MODULE(_native, m) {
                  // 256 x 1024 cells per ring is already 1.1 GB.
                  if (radial_cells < 0 || around_cells < 0 || radial_cells > 256 || around_cells > 1024)
                      throw std::invalid_argument("ray table cells: radial 0 to 256, around 0 to 1024");
-                 self.ray_table = radial_cells > 0 && around_cells > 0 && !self.disperses()
+                 // A bladed stop is not round: a film point's rays are not the rotated rays of
+                 // one on +x, which is what the table holds.
+                 const bool round = std::none_of(self.elements.begin(), self.elements.end(),
+                                                 [](const LensElement& e) { return e.blades > 0; });
+                 self.ray_table = radial_cells > 0 && around_cells > 0 && !self.disperses() && round
                                       ? build_lens_ray_table(self.elements, *self.pupil, self.film_z_mm, radial_cells,
                                                              around_cells)
                                       : nullptr;
