@@ -254,3 +254,18 @@ def test_model_auto_takes_the_table_for_a_lens_system_plan_within_tolerance(tmp_
     assert "lens_rays" not in render_planned(scene.with_render(lens_rays="traced"), threads=2,
                                              progress=False).metadata
     assert "lens_rays" not in render_planned(scene, lens_rays="traced", threads=2, progress=False).metadata
+
+
+def test_the_check_weighs_the_light_too(monkeypatch):
+    from lenscompare.cameras import lens_ray_table
+    model = camera_for(_scene("dgauss.50mm", f_number=8.0, resolution=(64, 42)), "lens")
+    taken = lens_ray_table.use_ray_table(model, model.native())
+    assert taken["from"] == "table" and abs(taken["weight_sum_over_traced"] - 1) < 0.005
+    assert 0 < taken["passing_one_way_only"] < 0.01
+    # Tolerances below what the table reaches (0.05 % dimmer, a sliver passing one way): refused.
+    for name in ("WEIGHT_SUM_TOLERANCE", "ONE_WAY_TOLERANCE"):
+        with monkeypatch.context() as m:
+            m.setattr(lens_ray_table, name, 0.0)
+            native = model.native()
+            assert lens_ray_table.use_ray_table(model, native)["from"] == "traced"
+            assert not native.uses_ray_table
