@@ -203,7 +203,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
             lens_rays_info = {"from": "traced", "reason": "the lens disperses: each wavelength is traced through "
                                                           "its glass"}
         else:  # refined, or refused (traced), by its measured error
+            table_start = time.perf_counter()
             lens_rays_info = use_ray_table(camera, native_camera)
+            # Outside `seconds`, as the camera's other set-up (the exit pupil) is.
+            lens_rays_info["setup_seconds"] = time.perf_counter() - table_start
 
     # The poisson sampler's patterns for this spp are made once per process: made here, outside
     # the render's time, as Mitsuba's JIT warm-up is kept out of its (bench_peers.py).
