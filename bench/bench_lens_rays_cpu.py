@@ -12,8 +12,9 @@ pixel in a row), so the pupil tables stay cached as they do in a render. Cost
 is this process's CPU time, best of ``--repeat``. Each kernel's rays are
 hashed: every kernel must give the same bits within a precision. The single
 trace's largest departure from the double one over these rays is printed too
-(origins in mm, directions; samples blocked by one trace only). Prints one
-JSON object. Not a test. Usage::
+(origins in mm, directions; samples blocked by one trace only), and the same
+rays' cost from the lens-ray table (``lens_rays = "table"``, 16 x 64 cells,
+the fastest kernel for the cells it traces). Prints one JSON object. Not a test. Usage::
 
     flock /tmp/bench.lock .venv/bin/python bench/bench_lens_rays_cpu.py [--repeat 15]
 """
@@ -34,6 +35,7 @@ sys.path.insert(0, str(ROOT))
 
 from lenscompare._native import diagnostics  # noqa: E402
 from lenscompare.cameras import camera_for  # noqa: E402
+from lenscompare.cameras.lens_ray_table import TABLE_CELLS  # noqa: E402
 from lenscompare.scene import load_scene  # noqa: E402
 
 LENS = "dgauss.50mm"
@@ -67,6 +69,7 @@ def main() -> int:
     kernels = diagnostics.lens_trace_kernels()
     best = {(precision, kernel): float("inf") for precision in PRECISIONS for kernel in kernels}
     ray_hash, rays = {}, {}
+    table_best = float("inf")
     # Alternating passes, so that a busy spell of the machine does not land on one kernel only.
     for _ in range(args.repeat):
         for precision, kernel in best:
@@ -77,6 +80,15 @@ def main() -> int:
             best[precision, kernel] = min(best[precision, kernel], time.process_time() - start)
             ray_hash[precision, kernel] = hashlib.sha1(b"".join(a.tobytes() for a in out)).hexdigest()[:16]
             rays[precision] = tuple(a.copy() for a in out)
+        # The same rays from the lens-ray table ([render] lens_rays = "table"), the fastest kernel
+        # for the cells it traces.
+        diagnostics.set_lens_trace_precision(camera, "single")
+        diagnostics.set_lens_trace_kernel(camera, kernels[-1])
+        camera.use_ray_table(*TABLE_CELLS[0])
+        start = time.process_time()
+        diagnostics.generate_lens_rays_batched(camera, raster, lens, *out)
+        table_best = min(table_best, time.process_time() - start)
+        camera.use_ray_table(0, 0)
     single, double = rays["single"], rays["double"]
     passed_single, passed_double = np.any(single[1] != 0.0, axis=1), np.any(double[1] != 0.0, axis=1)
     both = passed_single & passed_double
@@ -89,6 +101,8 @@ def main() -> int:
         "ns_per_ray_by_kernel": {precision: {kernel: best[precision, kernel] / n * 1e9 for kernel in kernels}
                                  for precision in PRECISIONS},
         "single_over_double_time": {kernel: best["single", kernel] / best["double", kernel] for kernel in kernels},
+        "ns_per_ray_from_the_table": table_best / n * 1e9,
+        "table_over_single_trace_time": table_best / best["single", kernels[-1]],
         "fraction_passed": float(np.mean(passed_double)),
         "kernels_agree_bit_for_bit": {precision: len({ray_hash[precision, k] for k in kernels}) == 1
                                       for precision in PRECISIONS},
