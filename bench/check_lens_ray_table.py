@@ -21,9 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
-from lenscompare.cameras.lens_ray_table import TABLE_CELLS, use_ray_table
+from lenscompare.cameras.lens_ray_table import TABLE_CELLS, batch_rays, use_ray_table
 from lenscompare.scene import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -32,13 +31,6 @@ TEST_LENSES = ROOT / "tests" / "data" / "lenses"
 CASES = [("dgauss.50mm", None, 0), ("dgauss.50mm", 8.0, 0), ("dgauss.50mm", 1000.0, 0), ("wide.22mm", None, 0), ("fisheye.10mm", None, 0), ("telephoto.250mm", None, 0),
          *((str(TEST_LENSES / f"{name}.dat"), None, 0) for name in
            ("cemented_zero_layer", "planoconvex_flat_front", "planoconvex_nearly_flat_front", "tir_prism"))]
-
-
-def rays(camera, raster, lens):
-    origin, direction = np.zeros((len(raster), 3)), np.zeros((len(raster), 3))
-    weight = np.zeros(len(raster), np.float32)
-    diagnostics.generate_lens_rays_batched(camera, raster, lens, origin, direction, weight)
-    return direction, weight
 
 
 def main():
@@ -56,14 +48,14 @@ def main():
         raster = np.column_stack([rng.uniform(0, width, args.samples),
                                   rng.uniform(0, height, args.samples)]).astype(np.float32)
         lens_sample = rng.uniform(0, 1, (args.samples, 2)).astype(np.float32)
-        traced = rays(camera, raster, lens_sample)
+        _, *traced = batch_rays(camera, raster, lens_sample)
         pixel_angle = (model.film.width_mm / width) / model.focal_length_mm
         grids = {}
         for cells in TABLE_CELLS:
             start = time.perf_counter()
             camera.use_ray_table(*cells)
             build_s = time.perf_counter() - start
-            table = rays(camera, raster, lens_sample)
+            _, *table = batch_rays(camera, raster, lens_sample)
             both = (table[1] > 0) & (traced[1] > 0)
             error = np.linalg.norm(table[0][both] - traced[0][both], axis=1) / pixel_angle
             grids[f"{cells[0]}x{cells[1]}"] = {

@@ -25,6 +25,7 @@ import pytest
 from helpers import REFERENCE_SCENES
 from lenscompare._native import diagnostics
 from lenscompare.cameras import camera_for
+from lenscompare.cameras.lens_ray_table import batch_rays
 from lenscompare.errors import InputError
 from lenscompare.render import render
 from lenscompare.scene import load_scene
@@ -56,13 +57,6 @@ def _scene(lens, f_number=None, blades=0, *, resolution=(240, 160)):
         lens=lens, f_number=f_number, aperture_blades=blades, resolution=resolution, focal_length_mm=None)
 
 
-def _rays(camera, raster, lens):
-    origin, direction = np.zeros((len(raster), 3)), np.zeros((len(raster), 3))
-    weight = np.zeros(len(raster), np.float32)
-    diagnostics.generate_lens_rays_batched(camera, raster, lens, origin, direction, weight)
-    return origin, direction, weight
-
-
 @pytest.mark.parametrize("lens, f_number, blades, p99_px", CASES)
 def test_table_rays_leave_the_lens_where_traced_rays_do(lens, f_number, blades, p99_px):
     scene = _scene(lens, f_number, blades)
@@ -73,10 +67,10 @@ def test_table_rays_leave_the_lens_where_traced_rays_do(lens, f_number, blades, 
     width, height = scene.camera.resolution
     raster = np.column_stack([rng.uniform(0, width, n), rng.uniform(0, height, n)]).astype(np.float32)
     lens_sample = rng.uniform(0, 1, (n, 2)).astype(np.float32)
-    traced = _rays(camera, raster, lens_sample)
+    traced = batch_rays(camera, raster, lens_sample)
     camera.use_ray_table(*CELLS)
     assert camera.uses_ray_table
-    table = _rays(camera, raster, lens_sample)
+    table = batch_rays(camera, raster, lens_sample)
     assert all(np.isfinite(a).all() for a in table)
     passed_traced, passed = traced[2] > 0, table[2] > 0
     assert passed_traced.mean() > 0.3
@@ -145,7 +139,7 @@ def test_same_image_for_any_thread_count_and_kernel():
     by_kernel = []
     for kernel in diagnostics.lens_trace_kernels():
         diagnostics.set_lens_trace_kernel(camera, kernel)
-        by_kernel.append(b"".join(a.tobytes() for a in _rays(camera, raster, lens_sample)))
+        by_kernel.append(b"".join(a.tobytes() for a in batch_rays(camera, raster, lens_sample)))
     assert len(set(by_kernel)) == 1
 
 

@@ -69,11 +69,11 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
     raster = np.column_stack([rng.uniform(0, width, check_samples),
                               rng.uniform(0, height, check_samples)]).astype(np.float32)
     lens = rng.uniform(0, 1, (check_samples, 2)).astype(np.float32)
-    traced = _rays(native, raster, lens)
+    _, *traced = batch_rays(native, raster, lens)
     pixel_angle = (camera.film.width_mm / width) / camera.focal_length_mm
     for radial_cells, around_cells in TABLE_CELLS:
         native.use_ray_table(radial_cells, around_cells)
-        table = _rays(native, raster, lens)
+        _, *table = batch_rays(native, raster, lens)
         both = (table[1] > 0) & (traced[1] > 0)
         error_px = np.linalg.norm(table[0][both] - traced[0][both], axis=1) / pixel_angle
         p999 = float(np.percentile(error_px, 99.9)) if error_px.size else 0.0
@@ -89,9 +89,11 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
     return {"from": "traced", **info}
 
 
-def _rays(native, raster, lens):
-    """(directions, weights) of the camera's batch rays for these samples."""
-    origin, direction = np.zeros((len(raster), 3)), np.zeros((len(raster), 3))
-    weight = np.zeros(len(raster), np.float32)
-    diagnostics.generate_lens_rays_batched(native, raster, lens, origin, direction, weight)
-    return direction, weight
+def batch_rays(native, raster_px: np.ndarray, lens: np.ndarray):
+    """(origins, directions, weights) of the native lens camera's batch rays
+    (the render's path: the table's where it has one) for these raster
+    positions and lens samples (float32, shape (n, 2)); weight 0: blocked."""
+    origin, direction = np.zeros((len(raster_px), 3)), np.zeros((len(raster_px), 3))
+    weight = np.zeros(len(raster_px), np.float32)
+    diagnostics.generate_lens_rays_batched(native, raster_px, lens, origin, direction, weight)
+    return origin, direction, weight

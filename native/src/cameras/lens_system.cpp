@@ -77,9 +77,7 @@ void LensSystemCamera::trace_lanes(const Point2f* raster_px, const Point2f* lens
         if (which[i]) lane[m] = i, raster[m] = raster_px[i], lens[m] = lens_sample[i], ++m;
     LensRayBatch traced;
     double traced_area_mm2[kLensBatch], cos_theta[kLensBatch];
-    sample_batch(raster, lens, m, &traced, traced_area_mm2);
-    for (int j = 0; j < kLensBatch; ++j) cos_theta[j] = -traced.dz[j];
-    trace_from_film_batch(elements, &traced, trace_kernel, trace_precision);
+    trace_exactly(raster, lens, m, &traced, traced_area_mm2, cos_theta);
     for (int j = 0; j < m; ++j) {
         const int i = lane[j];
         batch->alive[i] = traced.alive[j];

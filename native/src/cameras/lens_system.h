@@ -322,6 +322,12 @@ struct LensSystemCamera {
             for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = 1.0;  // area_mm2 holds cos^4 theta already
             return;
         }
+        trace_exactly(raster_px, lens_sample, n, batch, area_mm2, cos_theta);
+    }
+
+    // trace_batch without a table: every lane aimed and traced.
+    void trace_exactly(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
+                       double* area_mm2, double* cos_theta) const {
         sample_batch(raster_px, lens_sample, n, batch, area_mm2);
         for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -batch->dz[i];
         trace_from_film_batch(elements, batch, trace_kernel, trace_precision);

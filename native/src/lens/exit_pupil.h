@@ -78,13 +78,7 @@ class ExitPupil {
     // sampler's). With sqrt(u.x) along, aim_one gives a uniform sample of the
     // polygon. False when the ring is outside the image circle.
     bool pick(double film_radius_mm, float u_y, PupilPick* out) const {
-        const PupilPolygon& poly = segments_[size_t(segment_index(film_radius_mm))];
-        if (poly.empty) return false;
-        const double u = double(u_y);
-        const FanTriangle& t = poly.fan[size_t(triangle_past(poly, u, guide_start(poly, u)))];
-        *out = PupilPick{centre_at(poly, film_radius_mm), t.a_x_mm, t.a_y_mm, t.b_x_mm, t.b_y_mm, across(t, u),
-                         poly.area_mm2};
-        return true;
+        return pick_in_ring(segment_index(film_radius_mm), film_radius_mm, u_y, out);
     }
 
     // pick for the lanes of a batch at once, into aim's pick columns and
@@ -129,8 +123,7 @@ class ExitPupil {
         return true;
     }
 
-    // The film radius the rings cover (the film corner's) and its rings per mm.
-    double max_film_radius_mm() const { return max_film_radius_mm_; }
+    // Rings per mm of film radius.
     double segments_per_mm() const { return segments_per_mm_; }
 
     // Which of the kPupilSegments rings a film radius falls in.

@@ -15,22 +15,14 @@ bool trace_with_margin(const std::vector<LensElement>& elements, LensRay* ray, d
     if (!(ray->direction.z < 0.0)) return false;
     double least = INFINITY;
     for (auto e = elements.rbegin(); e != elements.rend(); ++e) {
-        double t;
-        Incidence incidence;
-        if (!intersect_surface(*e, *ray, &t, &incidence)) return false;
-        const Vec3d p = ray->origin_mm + ray->direction * t;
+        // The trace's own crossing without its rim tests; the hit point is then the origin.
+        if (!cross_toward_scene(*e, ray, /*test_aperture=*/false)) return false;
+        const Vec3d& p = ray->origin_mm;
         const double rim = e->semi_aperture_mm;
         least = std::min(least, rim > 0.0 ? (rim - std::sqrt(p.x * p.x + p.y * p.y)) / rim : -1.0);
         for (int k = 0; k < e->blades; ++k)
             least = std::min(least, (e->apothem_mm - (p.x * e->edge_normal_x[size_t(k)] +
                                                       p.y * e->edge_normal_y[size_t(k)])) / e->apothem_mm);
-        ray->origin_mm = p;
-        if (e->is_stop || e->n_scene_side == e->n_film_side) continue;
-        Vec3d refracted;
-        if (!refract(ray->direction, surface_normal(*e, p), incidence, e->n_film_side, e->n_scene_side, &refracted))
-            return false;
-        if (!(refracted.z < 0.0)) return false;
-        ray->direction = refracted;
     }
     *margin = least;
     return true;
@@ -83,9 +75,8 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
             const double film_r_mm = double(ring + end) / table->rings_per_mm;
             for (int i = 0; i <= radial_cells; ++i)
                 for (int j = 0; j <= around_cells; ++j) {
-                    LensTableNode* node = const_cast<LensTableNode*>(table->node(ring, i, j));
-                    trace_node(elements, pupil, planes, ring, film_r_mm,
-                               double(i) / radial_cells, float(j) / float(around_cells), node->end[end]);
+                    trace_node(elements, pupil, planes, ring, film_r_mm, double(i) / radial_cells,
+                               float(j) / float(around_cells), table->node(ring, i, j)->end[end]);
                 }
         }
     });

@@ -58,10 +58,11 @@ struct LensRayTable {
     double rings_per_mm = 0.0;
     std::vector<LensTableNode> nodes;  // [ring][radial][around]
 
-    const LensTableNode* node(int ring, int radial, int around) const {
-        return &nodes[(size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_cells + 1) +
-                      size_t(around)];
+    size_t node_index(int ring, int radial, int around) const {
+        return (size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_cells + 1) + size_t(around);
     }
+    const LensTableNode* node(int ring, int radial, int around) const { return &nodes[node_index(ring, radial, around)]; }
+    LensTableNode* node(int ring, int radial, int around) { return &nodes[node_index(ring, radial, around)]; }
 };
 
 // Traced through elements (the camera's, blades included) at the nodes of
