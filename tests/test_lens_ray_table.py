@@ -204,7 +204,7 @@ def test_lens_rays_setting_is_checked(tmp_path):
     with pytest.raises(InputError, match="--lens-rays"):
         render(_scene("dgauss.50mm", resolution=(8, 6)), model="lens", spp=1, lens_rays="exact")
     native = camera_for(_scene("dgauss.50mm", resolution=(8, 6)), "lens").native()
-    for cells in ((-1, 4), (4, -1), (257, 64), (16, 1025)):
+    for cells in ((-1, 4), (4, -1), (257, 64), (16, 1026), (16, 63)):  # around: even (the half table)
         with pytest.raises(ValueError, match="ray table cells"):
             native.use_ray_table(*cells)
     assert not native.uses_ray_table

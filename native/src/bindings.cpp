@@ -474,8 +474,9 @@ NB_MODULE(_native, m) {
         .def("use_ray_table",
              [](LensSystemCamera& self, int radial_cells, int around_cells) {
                  // 256 x 1024 cells per ring is already 1.1 GB.
-                 if (radial_cells < 0 || around_cells < 0 || radial_cells > 256 || around_cells > 1024)
-                     throw std::invalid_argument("ray table cells: radial 0 to 256, around 0 to 1024");
+                 if (radial_cells < 0 || around_cells < 0 || radial_cells > 256 || around_cells > 1024 ||
+                     around_cells % 2 != 0)
+                     throw std::invalid_argument("ray table cells: radial 0 to 256, around 0 to 1024 and even");
                  // A bladed stop is not round: a film point's rays are not the rotated rays of
                  // one on +x, which is what the table holds.
                  const bool round = std::none_of(self.elements.begin(), self.elements.end(),

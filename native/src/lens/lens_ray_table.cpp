@@ -66,7 +66,7 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
     table->rings = kPupilSegments;
     table->radial_cells = radial_cells, table->around_cells = around_cells;
     table->rings_per_mm = pupil.segments_per_mm();
-    table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(around_cells + 1));
+    table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(table->around_nodes()));
     const AimPlanes planes{film_z_mm, pupil.plane_z_mm()};
     // Each node on its own: the same table whatever the threads.
     tbb::parallel_for(0, kPupilSegments, [&](int ring) {
@@ -74,7 +74,7 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
         for (int end = 0; end < 2; ++end) {
             const double film_r_mm = double(ring + end) / table->rings_per_mm;
             for (int i = 0; i <= radial_cells; ++i)
-                for (int j = 0; j <= around_cells; ++j) {
+                for (int j = 0; j < table->around_nodes(); ++j) {
                     trace_node(elements, pupil, planes, ring, film_r_mm, double(i) / radial_cells,
                                float(j) / float(around_cells), table->node(ring, i, j)->end[end]);
                 }
@@ -130,9 +130,9 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
                                         bool* exact) {
     static_assert(kLensBatch % 8 == 0 && kTableValues == 8, "whole 8 x 8 transposes");
     const int last_ring = table.rings - 1;
-    const int around_nodes = table.around_cells + 1;
+    const int around_nodes = table.around_nodes();
     const int ring_nodes = (table.radial_cells + 1) * around_nodes;
-    const int last_radial = table.radial_cells - 1, last_around = table.around_cells - 1;
+    const int last_radial = table.radial_cells - 1, last_around = around_nodes - 2;
     const float rings_per_mm = float(table.rings_per_mm);
     const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
     // Plain lane loops, which GCC vectorises (float lanes).
@@ -142,6 +142,7 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
         px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
     }
     float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
+    float y_sign[kLensBatch];  // -1: u.y past 1/2, read at 1 - u.y and turned over in y
     int first_node[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
         x[i] = (film.centre_x_px - px[i]) * film.mm_per_px_x, y[i] = (py[i] - film.centre_y_px) * film.mm_per_px_y;
@@ -153,7 +154,10 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
         const float radial_at = std::sqrt(ux[i]) * radial_cells;
         const int radial = std::min(int(radial_at), last_radial);
         fs[i] = radial_at - float(radial);
-        const float around_at = uy[i] * around_cells;
+        // u.y itself up to 1/2, else 1 - u.y (exact past 1/2); min and a
+        // product rather than a condition, so that GCC vectorises the loop.
+        y_sign[i] = 1.0f - 2.0f * float(uy[i] > 0.5f);
+        const float around_at = std::min(uy[i], 1.0f - uy[i]) * around_cells;
         const int around = std::min(int(around_at), last_around);
         fu[i] = around_at - float(around);
         first_node[i] = ring * ring_nodes + radial * around_nodes + around;
@@ -202,11 +206,12 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
         const float on_axis = r[i] > 0.0f ? 0.0f : 1.0f;
         const float inverse_r = 1.0f / (r[i] + on_axis);
         const float cos_phi = (x[i] + on_axis) * inverse_r, sin_phi = y[i] * inverse_r;
-        const float ax = values[kTableDirectionX][i], ay = values[kTableDirectionY][i];
+        const float ax = values[kTableDirectionX][i], ay = values[kTableDirectionY][i] * y_sign[i];
         const float az = values[kTableDirectionZ][i];
         const float inverse_length = 1.0f / std::sqrt(ax * ax + ay * ay + az * az);
-        const float rx = cos_phi * values[kTableOriginX][i] - sin_phi * values[kTableOriginY][i];
-        const float ry = sin_phi * values[kTableOriginX][i] + cos_phi * values[kTableOriginY][i];
+        const float qx = values[kTableOriginX][i], qy = values[kTableOriginY][i] * y_sign[i];
+        const float rx = cos_phi * qx - sin_phi * qy;
+        const float ry = sin_phi * qx + cos_phi * qy;
         const float ux = (cos_phi * ax - sin_phi * ay) * inverse_length;
         const float uy = (sin_phi * ax + cos_phi * ay) * inverse_length;
         const float uz = az * inverse_length;

@@ -13,6 +13,13 @@
 // node's ray misses a surface or is totally reflected the margin means
 // nothing: samples in cells touching such a node go to the exact trace.
 //
+// The table holds half of each ring's pupil: the pick is symmetric about the
+// meridional plane (u.y and 1 - u.y give points mirrored in y, to 1e-9 of
+// their traced rays on the lenses of tests/test_lens_ray_table.py), so a
+// sample with u.y > 1/2 reads 1 - u.y's values and turns its y components
+// over. Half the nodes to trace and half the cache lines a ring's samples
+// share.
+//
 // Interpolating rays is exact wherever the ray is linear in the sample; for
 // an aberration-free lens the rays of one film point all pass through its
 // image, and so do their interpolations, so images in focus keep their
@@ -54,19 +61,22 @@ struct alignas(64) LensTableNode {
 
 struct LensRayTable {
     int rings = 0;                 // the exit pupil's
-    int radial_cells = 0, around_cells = 0;
+    int radial_cells = 0, around_cells = 0;  // around_cells over the whole of u.y (even)
     double rings_per_mm = 0.0;
-    std::vector<LensTableNode> nodes;  // [ring][radial][around]
+    std::vector<LensTableNode> nodes;  // [ring][radial][around, u.y from 0 to 1/2]
 
+    // Nodes around a ring's half pupil: u.y = j / around_cells for j up to half.
+    int around_nodes() const { return around_cells / 2 + 1; }
     size_t node_index(int ring, int radial, int around) const {
-        return (size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_cells + 1) + size_t(around);
+        return (size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_nodes()) + size_t(around);
     }
     const LensTableNode* node(int ring, int radial, int around) const { return &nodes[node_index(ring, radial, around)]; }
     LensTableNode* node(int ring, int radial, int around) { return &nodes[node_index(ring, radial, around)]; }
 };
 
 // Traced through elements (the camera's, blades included) at the nodes of
-// the pupil's rings, radial_cells x around_cells cells each; film at film_z_mm.
+// the pupil's rings, radial_cells x around_cells cells each (around_cells
+// even; half of them traced); film at film_z_mm.
 std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensElement>& elements,
                                                          const ExitPupil& pupil, double film_z_mm,
                                                          int radial_cells, int around_cells);
