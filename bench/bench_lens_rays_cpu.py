@@ -14,7 +14,9 @@ hashed: every kernel must give the same bits within a precision. The single
 trace's largest departure from the double one over these rays is printed too
 (origins in mm, directions; samples blocked by one trace only), and the same
 rays' cost from the lens-ray table (``lens_rays = "table"``, 16 x 64 cells,
-the fastest kernel for the cells it traces). Prints one JSON object. Not a test. Usage::
+the fastest kernel for the cells it traces), and both through the render's
+own float path (``ns_per_ray_render_rows``: the packets' rows, where the
+table's rays go to the world in float). Prints one JSON object. Not a test. Usage::
 
     flock /tmp/bench.lock .venv/bin/python bench/bench_lens_rays_cpu.py [--repeat 15]
 """
@@ -70,6 +72,8 @@ def main() -> int:
     best = {(precision, kernel): float("inf") for precision in PRECISIONS for kernel in kernels}
     ray_hash, rays = {}, {}
     table_best = float("inf")
+    rows_out = np.zeros((n, 3), np.float32), np.zeros((n, 3), np.float32), np.zeros(n, np.float32)
+    rows_best = {"table": float("inf"), "traced": float("inf")}
     # Alternating passes, so that a busy spell of the machine does not land on one kernel only.
     for _ in range(args.repeat):
         for precision, kernel in best:
@@ -88,7 +92,12 @@ def main() -> int:
         start = time.process_time()
         diagnostics.generate_lens_rays_batched(camera, raster, lens, *out)
         table_best = min(table_best, time.process_time() - start)
-        camera.use_ray_table(0, 0)
+        # The render's own path (float rows, as the packets take them), traced and from the table.
+        for source in ("table", "traced"):
+            start = time.process_time()
+            diagnostics.generate_lens_ray_rows(camera, raster, lens, *rows_out)
+            rows_best[source] = min(rows_best[source], time.process_time() - start)
+            camera.use_ray_table(0, 0)
     single, double = rays["single"], rays["double"]
     passed_single, passed_double = np.any(single[1] != 0.0, axis=1), np.any(double[1] != 0.0, axis=1)
     both = passed_single & passed_double
@@ -103,6 +112,8 @@ def main() -> int:
         "single_over_double_time": {kernel: best["single", kernel] / best["double", kernel] for kernel in kernels},
         "ns_per_ray_from_the_table": table_best / n * 1e9,
         "table_over_single_trace_time": table_best / best["single", kernels[-1]],
+        "ns_per_ray_render_rows": {source: seconds / n * 1e9 for source, seconds in rows_best.items()},
+        "render_rows_table_over_traced_time": rows_best["table"] / rows_best["traced"],
         "fraction_passed": float(np.mean(passed_double)),
         "kernels_agree_bit_for_bit": {precision: len({ray_hash[precision, k] for k in kernels}) == 1
                                       for precision in PRECISIONS},

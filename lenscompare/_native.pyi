@@ -315,6 +315,18 @@ class _Diagnostics(types.ModuleType):
         generate_rays; in single, the render's, the same rays to float rounding)."""
 
     @staticmethod
+    def generate_lens_ray_rows(
+        camera: LensSystemCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+        origin: numpy.ndarray,  # float32 (n, 3), written
+        direction: numpy.ndarray,  # float32 (n, 3), written
+        weight: numpy.ndarray,  # float32 (n,), written
+    ) -> None:
+        """The render's own camera rays in float, as its packets take them (generate_weighted_ray_rows: from
+        the lens-ray table where the camera has one); weight 0 and zeros where blocked."""
+
+    @staticmethod
     def generate_rays_batched(
         camera: PinholeCamera | ThinLensCamera,
         raster_px: numpy.ndarray,  # float32 (n, 2)

@@ -90,10 +90,11 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
 
 
 def batch_rays(native, raster_px: np.ndarray, lens: np.ndarray):
-    """(origins, directions, weights) of the native lens camera's batch rays
-    (the render's path: the table's where it has one) for these raster
-    positions and lens samples (float32, shape (n, 2)); weight 0: blocked."""
-    origin, direction = np.zeros((len(raster_px), 3)), np.zeros((len(raster_px), 3))
+    """(origins, directions, weights) of the rays the render's packets take
+    from the native lens camera (float, the table's where it has one) for
+    these raster positions and lens samples (float32, shape (n, 2)), widened
+    to float64; weight 0: blocked."""
+    origin, direction = np.zeros((len(raster_px), 3), np.float32), np.zeros((len(raster_px), 3), np.float32)
     weight = np.zeros(len(raster_px), np.float32)
-    diagnostics.generate_lens_rays_batched(native, raster_px, lens, origin, direction, weight)
-    return origin, direction, weight
+    diagnostics.generate_lens_ray_rows(native, raster_px, lens, origin, direction, weight)
+    return origin.astype(np.float64), direction.astype(np.float64), weight

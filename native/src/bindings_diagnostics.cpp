@@ -176,6 +176,36 @@ void bind_lens(nb::module_& m) {
           "generate_rays through the render loop's lockstep batch trace (in double precision the same bits as "
           "generate_rays; in single, the render's, the same rays to float rounding).");
 
+    m.def("generate_lens_ray_rows",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<float, -1, 3> origin, CArray<float, -1, 3> direction, CArray<float, -1> weight) {
+              const size_t count = raster_px.shape(0);
+              if (lens.shape(0) != count || origin.shape(0) != count || direction.shape(0) != count ||
+                  weight.shape(0) != count)
+                  throw std::invalid_argument("one row per sample");
+              const Point2f* raster = points(raster_px);
+              const Point2f* u = points(lens);
+              for (size_t first = 0; first < count; first += kCameraBatch) {
+                  const int n = int(std::min<size_t>(kCameraBatch, count - first));
+                  CameraRayRows rows;
+                  float w[kCameraBatch];
+                  bool alive[kCameraBatch];
+                  camera.generate_weighted_ray_rows(raster + first, u + first, n, &rows, w, alive);
+                  for (int i = 0; i < n; ++i) {
+                      const size_t at = first + size_t(i);
+                      for (int a = 0; a < 3; ++a) {
+                          origin(at, a) = alive[i] ? rows.origin[a][i] : 0.0f;
+                          direction(at, a) = alive[i] ? rows.direction[a][i] : 0.0f;
+                      }
+                      weight(at) = alive[i] ? w[i] : 0.0f;
+                  }
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "The render's own camera rays in float, as its packets take them (generate_weighted_ray_rows: "
+          "from the lens-ray table where the camera has one); weight 0 and zeros where blocked.");
+
     m.def("generate_lens_rays_at",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
              CArray<const float, -1, kHeroWavelengths> nm, bool batched, CArray<double, -1, 3> origin,

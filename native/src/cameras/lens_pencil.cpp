@@ -49,6 +49,25 @@ LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRayBa
     return outside == 0;
 }
 
+LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRaysF& b, const bool* alive) {
+    int32_t checked[kLensBatch];  // as wide as the floats
+    for (int i = 0; i < kLensBatch; ++i) checked[i] = alive[i];
+    const float pencil_z_mm = float(c.pencil_z_mm), radius_mm = float(c.radius_mm), k_per_mm = float(c.k_per_mm);
+    const float lo_x = float(c.screen_lo[0]), lo_y = float(c.screen_lo[1]);
+    const float hi_x = float(c.screen_hi[0]), hi_y = float(c.screen_hi[1]);
+    int32_t outside = 0;
+    for (int i = 0; i < kLensBatch; ++i) {
+        const float w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
+        const float lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
+        const float sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
+        const float rw = radius_mm * w;
+        const bool within = (w > 0.0f) & (z_mm >= 0.0f) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
+                            (sw_x >= lo_x * w) & (sw_x <= hi_x * w) & (sw_y >= lo_y * w) & (sw_y <= hi_y * w);
+        outside |= checked[i] & int32_t(!within);
+    }
+    return outside == 0;
+}
+
 std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera) {
     auto p = std::make_shared<LensPencils>();
     // Every ray leaves from the front surface, within its semi-aperture: the

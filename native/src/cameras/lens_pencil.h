@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cameras/camera_pencil.h"
+#include "lens/lens_ray_table.h"
 #include "lens/lens_trace.h"
 #include "vec.h"
 
@@ -42,6 +43,10 @@ struct LensPencilCheck {
 // double, from the traced rays before they are rounded to float: the
 // rounding moves a ray by far less than may_meet_ball's margin.
 bool lens_rays_within(const LensPencilCheck& check, const LensRayBatch& b, const bool* alive);
+// The same for the lens-ray table's float rays, in float. Its rounding (a
+// few float epsilons of the rays' lateral reach, under 1e-6 relative) is,
+// like the rays' own rounding above, far below may_meet_ball's 1e-5.
+bool lens_rays_within(const LensPencilCheck& check, const LensRaysF& b, const bool* alive);
 
 class LensPencils {
   public:

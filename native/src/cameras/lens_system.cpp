@@ -56,17 +56,56 @@ LC_BUILT_PER_ISA void sample_lanes(const LensSystemCamera& c, const Point2f* ras
 
 }  // namespace
 
+FilmPlacement LensSystemCamera::film_placement() const {
+    return {float(0.5 * width_px), float(0.5 * height_px), float(film_mm_per_px_x), float(film_mm_per_px_y)};
+}
+
 void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                                      LensRayBatch* batch, double* area_mm2) const {
+    LensRaysF rays;
     bool exact[kLensBatch];
-    const FilmPlacement film{float(0.5 * width_px), float(0.5 * height_px), float(film_mm_per_px_x),
-                             float(film_mm_per_px_y)};
-    look_up_lens_rays(*ray_table, film, raster_px, lens_sample, n, batch, area_mm2, exact);
+    look_up_lens_rays(*ray_table, film_placement(), raster_px, lens_sample, n, &rays, exact);
+    for (int i = 0; i < kLensBatch; ++i) batch->ox[i] = double(rays.ox[i]);
+    for (int i = 0; i < kLensBatch; ++i) batch->oy[i] = double(rays.oy[i]);
+    for (int i = 0; i < kLensBatch; ++i) batch->oz[i] = double(rays.oz[i]);
+    for (int i = 0; i < kLensBatch; ++i) batch->dx[i] = double(rays.dx[i]);
+    for (int i = 0; i < kLensBatch; ++i) batch->dy[i] = double(rays.dy[i]);
+    for (int i = 0; i < kLensBatch; ++i) batch->dz[i] = double(rays.dz[i]);
+    for (int i = 0; i < kLensBatch; ++i) area_mm2[i] = double(rays.weight_mm2[i]);
+    std::copy_n(rays.alive, kLensBatch, batch->alive);
     // The few lanes in cells the table cannot answer: traced, together.
     bool any = false;
     for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
     if (!any) return;
     trace_lanes(raster_px, lens_sample, n, exact, batch, area_mm2);
+}
+
+bool LensSystemCamera::look_up_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                                        CameraRayRows* rows, float* weight, bool* alive,
+                                        const LensPencilCheck* check) const {
+    LensRaysF rays;
+    bool exact[kLensBatch];
+    look_up_lens_rays(*ray_table, film_placement(), raster_px, lens_sample, n, &rays, exact);
+    bool any = false;
+    for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
+    if (any) {
+        // Traced in double, then rounded to float into their lanes: the
+        // rest of the way is the table's.
+        LensRayBatch traced;
+        double area_mm2[kLensBatch];
+        trace_lanes(raster_px, lens_sample, n, exact, &traced, area_mm2);
+        for (int i = 0; i < n; ++i) {
+            if (!exact[i]) continue;
+            rays.alive[i] = traced.alive[i];
+            if (!traced.alive[i]) continue;
+            rays.ox[i] = float(traced.ox[i]), rays.oy[i] = float(traced.oy[i]), rays.oz[i] = float(traced.oz[i]);
+            rays.dx[i] = float(traced.dx[i]), rays.dy[i] = float(traced.dy[i]), rays.dz[i] = float(traced.dz[i]);
+            rays.weight_mm2[i] = float(area_mm2[i]);
+        }
+    }
+    lens_to_world_rows(LensToWorldF(lens_to_world()), rays, rows, weight);
+    for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && rays.alive[i];
+    return !check || lens_rays_within(*check, rays, alive);
 }
 
 void LensSystemCamera::trace_lanes(const Point2f* raster_px, const Point2f* lens_sample, int n, const bool* which,

@@ -308,6 +308,14 @@ struct LensSystemCamera {
     // cannot answer traced (lens_system.cpp).
     void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                        double* area_mm2) const;
+    // generate_weighted_ray_rows through ray_table: the look-up's float rays
+    // to the world in float (lens_to_world.h) and checked in float
+    // (lens_pencil.h); the lanes the table cannot answer traced in double
+    // and rounded into theirs (lens_system.cpp).
+    bool look_up_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
+                          float* weight, bool* alive, const LensPencilCheck* check) const;
+    // Where the film lies in raster pixels, for the look-up.
+    FilmPlacement film_placement() const;
     // look_up_batch's traced lanes: lanes i < n with which[i] traced into
     // batch and area_mm2 (times cos^4 theta, as the table's weights).
     void trace_lanes(const Point2f* raster_px, const Point2f* lens_sample, int n, const bool* which,
@@ -349,6 +357,7 @@ struct LensSystemCamera {
     // its pencil; true without one.
     bool generate_weighted_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
                                     float* weight, bool* alive, const LensPencilCheck* check = nullptr) const {
+        if (ray_table) return look_up_ray_rows(raster_px, lens_sample, n, rows, weight, alive, check);
         LensRayBatch batch;
         double area_mm2[kLensBatch], cos_theta[kLensBatch];
         trace_batch(raster_px, lens_sample, n, &batch, area_mm2, cos_theta);

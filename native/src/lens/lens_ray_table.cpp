@@ -126,8 +126,7 @@ __attribute__((always_inline)) inline void transpose8(const Float8* lane, Float8
 }  // namespace
 
 LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
-                                        const Point2f* lens_sample, int n, LensRayBatch* out, double* weight_mm2,
-                                        bool* exact) {
+                                        const Point2f* lens_sample, int n, LensRaysF* out, bool* exact) {
     static_assert(kLensBatch % 8 == 0 && kTableValues == 8, "whole 8 x 8 transposes");
     const int last_ring = table.rings - 1;
     const int around_nodes = table.around_nodes();
@@ -198,8 +197,6 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
         keep[i] = out->alive[i] ? 1.0f : 0.0f;
     }
     // Rotated from +x to the film point's azimuth (as aim_one).
-    float ox[kLensBatch], oy[kLensBatch], oz[kLensBatch], dx[kLensBatch], dy[kLensBatch], dz[kLensBatch],
-        w[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) {
         // On the axis (r = 0) cos 1, sin 0, with no floating-point operation
         // under a condition (which GCC would not vectorise for AVX2).
@@ -216,18 +213,10 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
         const float uy = (sin_phi * ax + cos_phi * ay) * inverse_length;
         const float uz = az * inverse_length;
         // Dead lanes: (0, 0, 0) toward -z, weight 0 (finite values, no branch).
-        ox[i] = rx * keep[i], oy[i] = ry * keep[i], oz[i] = values[kTableOriginZ][i] * keep[i];
-        dx[i] = ux * keep[i], dy[i] = uy * keep[i], dz[i] = uz * keep[i] + (keep[i] - 1.0f);
-        w[i] = values[kTableWeight][i] * keep[i];
+        out->ox[i] = rx * keep[i], out->oy[i] = ry * keep[i], out->oz[i] = values[kTableOriginZ][i] * keep[i];
+        out->dx[i] = ux * keep[i], out->dy[i] = uy * keep[i], out->dz[i] = uz * keep[i] + (keep[i] - 1.0f);
+        out->weight_mm2[i] = values[kTableWeight][i] * keep[i];
     }
-    // Into the trace's double lanes, a conversion loop each (vectorised).
-    for (int i = 0; i < kLensBatch; ++i) out->ox[i] = double(ox[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->oy[i] = double(oy[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->oz[i] = double(oz[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->dx[i] = double(dx[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->dy[i] = double(dy[i]);
-    for (int i = 0; i < kLensBatch; ++i) out->dz[i] = double(dz[i]);
-    for (int i = 0; i < kLensBatch; ++i) weight_mm2[i] = double(w[i]);
 }
 
 }  // namespace lc

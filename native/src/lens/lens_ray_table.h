@@ -82,8 +82,8 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
                                                          int radial_cells, int around_cells);
 
 // The rays of lanes [0, n): raster positions and lens samples in,
-// origins (on the first surface, to interpolation), unit directions and
-// alive out, with weight_mm2 each lane's cos^4 theta times pupil area. Lanes
+// origins (on the first surface, to interpolation), unit directions, alive
+// and weight_mm2 (each lane's cos^4 theta times pupil area) out. Lanes
 // whose cell touches a failed node come back not alive with exact[i] set:
 // the caller traces them. (Built per instruction set; every build gives the
 // same bits.)
@@ -94,8 +94,18 @@ struct FilmPlacement {
     float centre_x_px, centre_y_px, mm_per_px_x, mm_per_px_y;
 };
 
+// The table's rays in single precision, as they are interpolated: the
+// render's path goes on in float to the world (lens_to_world.h) without a
+// double column between.
+struct LensRaysF {
+    float ox[kLensBatch], oy[kLensBatch], oz[kLensBatch];
+    float dx[kLensBatch], dy[kLensBatch], dz[kLensBatch];
+    float weight_mm2[kLensBatch];  // cos^4 theta times pupil area
+    bool alive[kLensBatch];
+};
+
 void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
-                       const Point2f* lens_sample, int n, LensRayBatch* out, double* weight_mm2, bool* exact);
+                       const Point2f* lens_sample, int n, LensRaysF* out, bool* exact);
 
 // The unclipped trace's margin (see above): false when the ray misses a
 // surface, is totally reflected or turns back; otherwise the ray left the

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cameras/camera_ray.h"
+#include "lens/lens_ray_table.h"
 #include "lens/lens_trace.h"
 #include "vec.h"
 
@@ -31,5 +32,19 @@ void lens_to_world_batch(const LensToWorld& t, const LensRayBatch& lens, const d
 // end): no double columns between the trace and the packet.
 void lens_to_world_rows(const LensToWorld& t, const LensRayBatch& lens, const double* cos_theta,
                         const double* area_mm2, CameraRayRows* rows, float* weight);
+
+// The same step in single precision for the lens-ray table's rays
+// (LensRaysF), which are float already: LensToWorld rounded to float once per
+// batch, each lane's arithmetic in float in camera_ray's order (no FMA, so
+// every instruction set gives the same bits). The world rays differ from the
+// double step's by float rounding of the sum (under 1e-6 relative), far
+// within the table's own interpolation error.
+struct LensToWorldF {
+    float origin[3], right[3], up[3], forward[3];
+    float entrance_pupil_z_mm, weight_per_mm2;
+    explicit LensToWorldF(const LensToWorld& t);
+};
+
+void lens_to_world_rows(const LensToWorldF& t, const LensRaysF& lens, CameraRayRows* rows, float* weight);
 
 }  // namespace lc
