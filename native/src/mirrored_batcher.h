@@ -77,6 +77,11 @@ class MirroredBatcher {
     void flush() {
         if (pending_ == 0) return;
         const int n = pending_;
+        if (camera_.ray_table) {
+            flush_from_table(n);
+            pending_ = 0;
+            return;
+        }
         camera_.trace_batch(staged_.raster_px, staged_.lens, n, &traced_, area_mm2_, cos_theta_);
         for (unsigned m = 0; m < 4; ++m) {
             if (!packets_[m]) continue;
@@ -94,12 +99,35 @@ class MirroredBatcher {
     }
 
   private:
+    // flush through the lens-ray table: its float rays looked up once, each
+    // mirror's reflected and sent to the world in float, as the unmirrored
+    // table path does (LensSystemCamera::look_up_ray_rows); a moving camera's
+    // offset added to the float rows, as for every camera there.
+    void flush_from_table(int n) {
+        camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
+        const LensToWorldF to_world(to_world_);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!packets_[m]) continue;
+            const bool* taken = staged_.taken[m];
+            if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
+            const LensRaysF* rays = &table_rays_;
+            if (m) mirror_lens_rays(table_rays_, m, &table_image_), rays = &table_image_;
+            lens_to_world_rows(to_world, *rays, &rows_, weight_);
+            if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
+            for (int i = 0; i < kCameraBatch; ++i) alive_[i] = i < n && rays->alive[i] && taken[i];
+            if (const LensPencilCheck* check = check_[m].active())
+                check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
+        }
+    }
+
     const LensSystemCamera& camera_;
     const SceneMotion& motion_;
     LensToWorld to_world_;
     RayPacket* packets_[4];
     MirroredColumns staged_;
     LensRayBatch traced_, image_;
+    LensRaysF table_rays_, table_image_;
     double area_mm2_[kLensBatch], cos_theta_[kLensBatch];
     CameraRayRows rows_;
     CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera

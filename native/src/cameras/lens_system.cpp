@@ -80,29 +80,33 @@ void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* le
     trace_lanes(raster_px, lens_sample, n, exact, batch, area_mm2);
 }
 
+void LensSystemCamera::look_up_rays(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                                    LensRaysF* rays) const {
+    bool exact[kLensBatch];
+    look_up_lens_rays(*ray_table, film_placement(), raster_px, lens_sample, n, rays, exact);
+    bool any = false;
+    for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
+    if (!any) return;
+    // Traced in double, then rounded to float into their lanes: the rest of
+    // the way is the table's.
+    LensRayBatch traced;
+    double area_mm2[kLensBatch];
+    trace_lanes(raster_px, lens_sample, n, exact, &traced, area_mm2);
+    for (int i = 0; i < n; ++i) {
+        if (!exact[i]) continue;
+        rays->alive[i] = traced.alive[i];
+        if (!traced.alive[i]) continue;
+        rays->ox[i] = float(traced.ox[i]), rays->oy[i] = float(traced.oy[i]), rays->oz[i] = float(traced.oz[i]);
+        rays->dx[i] = float(traced.dx[i]), rays->dy[i] = float(traced.dy[i]), rays->dz[i] = float(traced.dz[i]);
+        rays->weight_mm2[i] = float(area_mm2[i]);
+    }
+}
+
 bool LensSystemCamera::look_up_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n,
                                         CameraRayRows* rows, float* weight, bool* alive,
                                         const LensPencilCheck* check) const {
     LensRaysF rays;
-    bool exact[kLensBatch];
-    look_up_lens_rays(*ray_table, film_placement(), raster_px, lens_sample, n, &rays, exact);
-    bool any = false;
-    for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
-    if (any) {
-        // Traced in double, then rounded to float into their lanes: the
-        // rest of the way is the table's.
-        LensRayBatch traced;
-        double area_mm2[kLensBatch];
-        trace_lanes(raster_px, lens_sample, n, exact, &traced, area_mm2);
-        for (int i = 0; i < n; ++i) {
-            if (!exact[i]) continue;
-            rays.alive[i] = traced.alive[i];
-            if (!traced.alive[i]) continue;
-            rays.ox[i] = float(traced.ox[i]), rays.oy[i] = float(traced.oy[i]), rays.oz[i] = float(traced.oz[i]);
-            rays.dx[i] = float(traced.dx[i]), rays.dy[i] = float(traced.dy[i]), rays.dz[i] = float(traced.dz[i]);
-            rays.weight_mm2[i] = float(area_mm2[i]);
-        }
-    }
+    look_up_rays(raster_px, lens_sample, n, &rays);
     lens_to_world_rows(LensToWorldF(lens_to_world()), rays, rows, weight);
     for (int i = 0; i < kLensBatch; ++i) alive[i] = i < n && rays.alive[i];
     return !check || lens_rays_within(*check, rays, alive);

@@ -69,6 +69,15 @@ inline void mirror_lens_batch(const LensRayBatch& in, unsigned mirror, LensRayBa
         for (int i = 0; i < kLensBatch; ++i) out->oy[i] = -in.oy[i], out->dy[i] = -in.dy[i];
 }
 
+// The same for the lens-ray table's float rays.
+inline void mirror_lens_rays(const LensRaysF& in, unsigned mirror, LensRaysF* out) {
+    *out = in;
+    if (mirror & 1u)
+        for (int i = 0; i < kLensBatch; ++i) out->ox[i] = -in.ox[i], out->dx[i] = -in.dx[i];
+    if (mirror & 2u)
+        for (int i = 0; i < kLensBatch; ++i) out->oy[i] = -in.oy[i], out->dy[i] = -in.dy[i];
+}
+
 static_assert(kLensBatch == kCameraBatch, "generate_ray_batch takes the render loop's whole camera batch");
 
 struct LensSystemCamera {
@@ -308,10 +317,11 @@ struct LensSystemCamera {
     // cannot answer traced (lens_system.cpp).
     void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                        double* area_mm2) const;
-    // generate_weighted_ray_rows through ray_table: the look-up's float rays
-    // to the world in float (lens_to_world.h) and checked in float
-    // (lens_pencil.h); the lanes the table cannot answer traced in double
-    // and rounded into theirs (lens_system.cpp).
+    // Lanes [0, n)'s rays from ray_table in float (the lens frame), the
+    // lanes the table cannot answer traced in double and rounded into theirs.
+    void look_up_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRaysF* rays) const;
+    // generate_weighted_ray_rows through ray_table: look_up_rays' rays to the
+    // world in float (lens_to_world.h) and checked in float (lens_pencil.h).
     bool look_up_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, CameraRayRows* rows,
                           float* weight, bool* alive, const LensPencilCheck* check) const;
     // Where the film lies in raster pixels, for the look-up.

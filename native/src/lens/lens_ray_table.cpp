@@ -136,9 +136,14 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
     const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
     // Plain lane loops, which GCC vectorises (float lanes).
     float px[kLensBatch], py[kLensBatch], ux[kLensBatch], uy[kLensBatch];
-    for (int i = 0; i < kLensBatch; ++i) {
-        const int k = i < n ? i : 0;
-        px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
+    if (n == kLensBatch) {  // the common whole batch: a straight copy, which vectorises
+        for (int i = 0; i < kLensBatch; ++i)
+            px[i] = raster_px[i].x, py[i] = raster_px[i].y, ux[i] = lens_sample[i].x, uy[i] = lens_sample[i].y;
+    } else {
+        for (int i = 0; i < kLensBatch; ++i) {
+            const int k = i < n ? i : 0;
+            px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
+        }
     }
     float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
     float y_sign[kLensBatch];  // -1: u.y past 1/2, read at 1 - u.y and turned over in y
