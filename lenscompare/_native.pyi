@@ -130,10 +130,11 @@ class LensSystemCamera:
     def inverse_centre_irradiance(self) -> float:
         """The weight scale that makes a uniform scene of radiance 1 read 1 at the film centre."""
 
-    def use_ray_table(self, radial_cells: int, around_cells: int) -> None:
+    def use_ray_table(self, radial_cells: int, around_cells: int, measure_pencils: bool = True) -> None:
         """The batch rays (every wavelength's, without dispersion) by table look-up over radial x around cells
-        per exit-pupil ring (0: traced; a dispersive camera always traces); the tile pencils are measured
-        again (GIL released)."""
+        per exit-pupil ring (0: traced; around_cells even; a dispersive camera always traces); the tile pencils
+        are measured again unless measure_pencils is False (a caller trying grids in turn measures once, for
+        the one it keeps; GIL released)."""
 
     @property
     def uses_ray_table(self) -> bool: ...
@@ -313,6 +314,11 @@ class _Diagnostics(types.ModuleType):
     ) -> None:
         """generate_rays through the render loop's lockstep batch trace (in double precision the same bits as
         generate_rays; in single, the render's, the same rays to float rounding)."""
+
+    @staticmethod
+    def set_lens_pencils(camera: LensSystemCamera, mode: str) -> None:
+        """The camera's per-tile pencils (lens_pencil.h): "measured" (the render's), "collapsed" (every screen
+        range shrunk to a point, so the render's check falls back nearly everywhere) or "none"."""
 
     @staticmethod
     def generate_lens_ray_rows(

@@ -217,6 +217,21 @@ def test_the_check_compares_with_the_trace_even_on_a_camera_with_a_table():
     assert first == again and again["p999_error_px"] > 0
 
 
+def test_the_kept_grid_has_its_own_pencils():
+    # The grids are tried without re-measuring the tile pencils, then the kept
+    # grid's are measured once: they must be those a direct build measures
+    # (the table's rays'), not the traced rays' left from before.
+    from lenscompare.cameras.lens_ray_table import use_ray_table
+    model = camera_for(_scene("dgauss.50mm", resolution=(64, 42)), "lens")
+    checked, direct, traced = model.native(), model.native(), model.native()
+    assert use_ray_table(model, checked)["from"] == "table"
+    direct.use_ray_table(*CELLS)
+    for rect in ((0, 0, 16, 16), (24, 10, 40, 26), (48, 26, 64, 42)):
+        pencil = diagnostics.lens_pencil(checked, *rect)
+        assert pencil == diagnostics.lens_pencil(direct, *rect)
+        assert pencil != diagnostics.lens_pencil(traced, *rect)  # so the test can tell them apart
+
+
 @pytest.mark.parametrize("rotation_deg", [0.0, 10.0])
 def test_a_bladed_stop_is_refused_and_the_render_traces(rotation_deg):
     # The table holds a film point on +x and turns its rays to the point's azimuth; blades do

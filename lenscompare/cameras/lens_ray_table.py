@@ -71,8 +71,10 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
     lens = rng.uniform(0, 1, (check_samples, 2)).astype(np.float32)
     _, *traced = batch_rays(native, raster, lens)
     pixel_angle = (camera.film.width_mm / width) / camera.focal_length_mm
+    # The grids tried without their tile pencils (the traced rays' stay), which
+    # are measured once for the grid kept.
     for radial_cells, around_cells in TABLE_CELLS:
-        native.use_ray_table(radial_cells, around_cells)
+        native.use_ray_table(radial_cells, around_cells, measure_pencils=False)
         _, *table = batch_rays(native, raster, lens)
         both = (table[1] > 0) & (traced[1] > 0)
         error_px = np.linalg.norm(table[0][both] - traced[0][both], axis=1) / pixel_angle
@@ -84,8 +86,9 @@ def use_ray_table(camera: LensSystemCamera, native, *, tolerance_px: float = TOL
                 "weight_sum_over_traced": weight_ratio}
         if (p999 <= tolerance_px and one_way <= ONE_WAY_TOLERANCE
                 and abs(weight_ratio - 1.0) <= WEIGHT_SUM_TOLERANCE):
+            diagnostics.set_lens_pencils(native, "measured")  # the kept grid's rays' pencils
             return {"from": "table", **info}
-    native.use_ray_table(0, 0)
+    native.use_ray_table(0, 0, measure_pencils=False)  # the traced rays' pencils never left
     return {"from": "traced", **info}
 
 

@@ -472,7 +472,7 @@ NB_MODULE(_native, m) {
              "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).",
              nb::call_guard<nb::gil_scoped_release>())
         .def("use_ray_table",
-             [](LensSystemCamera& self, int radial_cells, int around_cells) {
+             [](LensSystemCamera& self, int radial_cells, int around_cells, bool measure_pencils) {
                  // 256 x 1024 cells per ring is already 1.1 GB.
                  if (radial_cells < 0 || around_cells < 0 || radial_cells > 256 || around_cells > 1024 ||
                      around_cells % 2 != 0)
@@ -485,11 +485,12 @@ NB_MODULE(_native, m) {
                                       ? build_lens_ray_table(self.elements, *self.pupil, self.film_z_mm, radial_cells,
                                                              around_cells)
                                       : nullptr;
-                 // The pencils hold the rays the render sends.
-                 self.pencils = LensPencils::of(self);
+                 // The pencils hold the rays the render sends (a caller trying grids in turn
+                 // measures them once, for the one it keeps).
+                 if (measure_pencils) self.pencils = LensPencils::of(self);
              },
-             "radial_cells"_a, "around_cells"_a,
-             "The batch rays (those of every wavelength, without dispersion) by table look-up over radial x around cells per pupil ring (0: traced).",
+             "radial_cells"_a, "around_cells"_a, "measure_pencils"_a = true,
+             "The batch rays (those of every wavelength, without dispersion) by table look-up over radial x around cells per pupil ring (0: traced); measure_pencils=False leaves the tile pencils as they were (measure them before rendering).",
              nb::call_guard<nb::gil_scoped_release>())
         .def_prop_ro("uses_ray_table", [](const LensSystemCamera& c) { return bool(c.ray_table); })
         .def_rw("mirror_axes", &LensSystemCamera::mirror_axes,
