@@ -17,7 +17,7 @@ from .lens import LensSystemCamera
 
 # Cells per exit-pupil ring (radially in the square root of the pupil sample,
 # around), coarsest first: a finer grid is tried only when the coarser misses
-# the tolerance. 32 x 128 is 17 MB; past it the render traces.
+# the tolerance. 32 x 128 is 8.7 MB (half of each ring's pupil, mirrored); past it the render traces.
 TABLE_CELLS = ((16, 64), (32, 128))
 # The largest direction error allowed, 99.9th percentile, in pixels' angles
 # (film pixel over focal length). Shipped lenses at 16 x 64: Double Gauss
