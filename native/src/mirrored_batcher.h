@@ -83,18 +83,10 @@ class MirroredBatcher {
             return;
         }
         camera_.trace_batch(staged_.raster_px, staged_.lens, n, &traced_, area_mm2_, cos_theta_);
-        for (unsigned m = 0; m < 4; ++m) {
-            if (!packets_[m]) continue;
-            const bool* taken = staged_.taken[m];
-            if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
-            const LensRayBatch* rays = &traced_;
-            if (m) mirror_lens_batch(traced_, m, &image_), rays = &image_;
-            mirrored_rows(to_world_, motion_, *rays, cos_theta_, area_mm2_, n, staged_.time, taken, &columns_, &rows_,
+        for_each_mirror(n, traced_, &image_, [&](const LensRayBatch& rays, const bool* taken) {
+            mirrored_rows(to_world_, motion_, rays, cos_theta_, area_mm2_, n, staged_.time, taken, &columns_, &rows_,
                           weight_, alive_);
-            if (const LensPencilCheck* check = check_[m].active())
-                check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
-            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
-        }
+        });
         pending_ = 0;
     }
 
@@ -106,15 +98,25 @@ class MirroredBatcher {
     void flush_from_table(int n) {
         camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
         const LensToWorldF to_world(to_world_);
+        for_each_mirror(n, table_rays_, &table_image_, [&](const LensRaysF& rays, const bool* taken) {
+            lens_to_world_rows(to_world, rays, &rows_, weight_);
+            if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
+            for (int i = 0; i < kCameraBatch; ++i) alive_[i] = i < n && rays.alive[i] && taken[i];
+        });
+    }
+
+    // Each mirror whose image takes some of the n samples: rays reflected
+    // into image (the canonical ones for mirror 0), made into rows_, weight_
+    // and alive_ by to_rows(rays, taken), checked and queued in its packet.
+    template <class Rays, class ToRows>
+    void for_each_mirror(int n, const Rays& traced, Rays* image, ToRows to_rows) {
         for (unsigned m = 0; m < 4; ++m) {
             if (!packets_[m]) continue;
             const bool* taken = staged_.taken[m];
             if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
-            const LensRaysF* rays = &table_rays_;
-            if (m) mirror_lens_rays(table_rays_, m, &table_image_), rays = &table_image_;
-            lens_to_world_rows(to_world, *rays, &rows_, weight_);
-            if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
-            for (int i = 0; i < kCameraBatch; ++i) alive_[i] = i < n && rays->alive[i] && taken[i];
+            const Rays* rays = &traced;
+            if (m) mirror_lens_rays(traced, m, image), rays = image;
+            to_rows(*rays, taken);
             if (const LensPencilCheck* check = check_[m].active())
                 check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
             packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);

@@ -63,7 +63,7 @@ class MirroredSpectralBatcher {
                 for (unsigned m = 0; m < 4; ++m) {
                     if (!any_taken[m]) continue;
                     const LensRayBatch* rays = &batch;
-                    if (m) mirror_lens_batch(batch, m, &image_), rays = &image_;
+                    if (m) mirror_lens_rays(batch, m, &image_), rays = &image_;
                     mirrored_rows(to_world_, motion_, *rays, cos_theta, area_mm2, n, staged_.time, staged_.taken[m],
                                   &columns_, &rows_[m][k], weight_[m][k], alive_[m][k]);
                     if (const LensPencilCheck* check = check_[m].active(); check && within[m])

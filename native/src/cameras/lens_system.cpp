@@ -63,8 +63,7 @@ FilmPlacement LensSystemCamera::film_placement() const {
 void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n,
                                      LensRayBatch* batch, double* area_mm2) const {
     LensRaysF rays;
-    bool exact[kLensBatch];
-    look_up_lens_rays(*ray_table, film_placement(), raster_px, lens_sample, n, &rays, exact);
+    look_up_rays(raster_px, lens_sample, n, &rays);
     for (int i = 0; i < kLensBatch; ++i) batch->ox[i] = double(rays.ox[i]);
     for (int i = 0; i < kLensBatch; ++i) batch->oy[i] = double(rays.oy[i]);
     for (int i = 0; i < kLensBatch; ++i) batch->oz[i] = double(rays.oz[i]);
@@ -73,11 +72,6 @@ void LensSystemCamera::look_up_batch(const Point2f* raster_px, const Point2f* le
     for (int i = 0; i < kLensBatch; ++i) batch->dz[i] = double(rays.dz[i]);
     for (int i = 0; i < kLensBatch; ++i) area_mm2[i] = double(rays.weight_mm2[i]);
     std::copy_n(rays.alive, kLensBatch, batch->alive);
-    // The few lanes in cells the table cannot answer: traced, together.
-    bool any = false;
-    for (int i = 0; i < kLensBatch; ++i) any |= exact[i];
-    if (!any) return;
-    trace_lanes(raster_px, lens_sample, n, exact, batch, area_mm2);
 }
 
 void LensSystemCamera::look_up_rays(const Point2f* raster_px, const Point2f* lens_sample, int n,

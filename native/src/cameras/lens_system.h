@@ -58,19 +58,12 @@ inline unsigned lens_mirror_axes(const std::vector<LensElement>& elements) {
     return axes;
 }
 
-// A traced batch's mirror image: lanes' origins and directions reflected in
-// the lens frame's x (mirror bit 0) and y (bit 1), what tracing the
-// reflected film and pupil points gives for a lens symmetric under them.
-inline void mirror_lens_batch(const LensRayBatch& in, unsigned mirror, LensRayBatch* out) {
-    *out = in;
-    if (mirror & 1u)
-        for (int i = 0; i < kLensBatch; ++i) out->ox[i] = -in.ox[i], out->dx[i] = -in.dx[i];
-    if (mirror & 2u)
-        for (int i = 0; i < kLensBatch; ++i) out->oy[i] = -in.oy[i], out->dy[i] = -in.dy[i];
-}
-
-// The same for the lens-ray table's float rays.
-inline void mirror_lens_rays(const LensRaysF& in, unsigned mirror, LensRaysF* out) {
+// A batch's mirror image: lanes' origins and directions reflected in the
+// lens frame's x (mirror bit 0) and y (bit 1), what tracing the reflected
+// film and pupil points gives for a lens symmetric under them. Rays: the
+// trace's LensRayBatch (double) or the lens-ray table's LensRaysF (float).
+template <class Rays>
+inline void mirror_lens_rays(const Rays& in, unsigned mirror, Rays* out) {
     *out = in;
     if (mirror & 1u)
         for (int i = 0; i < kLensBatch; ++i) out->ox[i] = -in.ox[i], out->dx[i] = -in.dx[i];
@@ -312,9 +305,9 @@ struct LensSystemCamera {
     void sample_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                       double* area_mm2) const;
 
-    // trace_batch through ray_table: lanes [0, n)'s rays from the table,
-    // area_mm2 each lane's cos^4 theta times pupil area; the lanes the table
-    // cannot answer traced (lens_system.cpp).
+    // trace_batch through ray_table: look_up_rays' rays widened to double
+    // (the diagnostics' batch path; the render takes the float rows of
+    // look_up_ray_rows), area_mm2 each lane's cos^4 theta times pupil area.
     void look_up_batch(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* batch,
                        double* area_mm2) const;
     // Lanes [0, n)'s rays from ray_table in float (the lens frame), the
@@ -326,7 +319,7 @@ struct LensSystemCamera {
                           float* weight, bool* alive, const LensPencilCheck* check) const;
     // Where the film lies in raster pixels, for the look-up.
     FilmPlacement film_placement() const;
-    // look_up_batch's traced lanes: lanes i < n with which[i] traced into
+    // look_up_rays' traced lanes: lanes i < n with which[i] traced into
     // batch and area_mm2 (times cos^4 theta, as the table's weights).
     void trace_lanes(const Point2f* raster_px, const Point2f* lens_sample, int n, const bool* which,
                      LensRayBatch* batch, double* area_mm2) const;
