@@ -152,6 +152,23 @@ void generate_rays_batched(const Camera& camera, CArray<const float, -1, 2> rast
     }
 }
 
+// The lens camera's rays for samples [0, count) batch by batch, as the
+// render's packets take them (generate_weighted_ray_rows, each batch checked
+// against check when one is given): emit(first, n, rows, weight, alive,
+// within) per batch.
+template <class Emit>
+void for_each_ray_rows_batch(const LensSystemCamera& camera, const Point2f* raster, const Point2f* u, size_t count,
+                             const LensPencilCheck* check, Emit emit) {
+    for (size_t first = 0; first < count; first += kCameraBatch) {
+        const int n = int(std::min<size_t>(kCameraBatch, count - first));
+        CameraRayRows rows;
+        float weight[kCameraBatch];
+        bool alive[kCameraBatch];
+        const bool within = camera.generate_weighted_ray_rows(raster + first, u + first, n, &rows, weight, alive, check);
+        emit(first, n, rows, weight, alive, within);
+    }
+}
+
 void bind_lens(nb::module_& m) {
     m.def("count_lens_passes",
           [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens) {
@@ -183,23 +200,18 @@ void bind_lens(nb::module_& m) {
               if (lens.shape(0) != count || origin.shape(0) != count || direction.shape(0) != count ||
                   weight.shape(0) != count)
                   throw std::invalid_argument("one row per sample");
-              const Point2f* raster = points(raster_px);
-              const Point2f* u = points(lens);
-              for (size_t first = 0; first < count; first += kCameraBatch) {
-                  const int n = int(std::min<size_t>(kCameraBatch, count - first));
-                  CameraRayRows rows;
-                  float w[kCameraBatch];
-                  bool alive[kCameraBatch];
-                  camera.generate_weighted_ray_rows(raster + first, u + first, n, &rows, w, alive);
-                  for (int i = 0; i < n; ++i) {
-                      const size_t at = first + size_t(i);
-                      for (int a = 0; a < 3; ++a) {
-                          origin(at, a) = alive[i] ? rows.origin[a][i] : 0.0f;
-                          direction(at, a) = alive[i] ? rows.direction[a][i] : 0.0f;
-                      }
-                      weight(at) = alive[i] ? w[i] : 0.0f;
-                  }
-              }
+              for_each_ray_rows_batch(camera, points(raster_px), points(lens), count, nullptr,
+                                      [&](size_t first, int n, const CameraRayRows& rows, const float* w,
+                                          const bool* alive, bool) {
+                                          for (int i = 0; i < n; ++i) {
+                                              const size_t at = first + size_t(i);
+                                              for (int a = 0; a < 3; ++a) {
+                                                  origin(at, a) = alive[i] ? rows.origin[a][i] : 0.0f;
+                                                  direction(at, a) = alive[i] ? rows.direction[a][i] : 0.0f;
+                                              }
+                                              weight(at) = alive[i] ? w[i] : 0.0f;
+                                          }
+                                      });
           },
           "camera"_a, "raster_px"_a, "lens"_a, "origin"_a, "direction"_a, "weight"_a,
           nb::call_guard<nb::gil_scoped_release>(),
@@ -469,18 +481,11 @@ void bind_lens(nb::module_& m) {
                   throw std::invalid_argument("no pencil for this rectangle");
               const size_t count = raster_px.shape(0);
               if (lens.shape(0) != count) throw std::invalid_argument("one lens sample per raster sample");
-              const Point2f* raster = points(raster_px);
-              const Point2f* u = points(lens);
               // Batch by batch, as the render checks them: the batches whose rays all lie within.
               size_t within = 0, batches = 0;
-              for (size_t first = 0; first < count; first += kLensBatch, ++batches) {
-                  const int n = int(std::min<size_t>(kLensBatch, count - first));
-                  CameraRayRows rows;
-                  float weight[kLensBatch];
-                  bool alive[kLensBatch];
-                  within += camera.generate_weighted_ray_rows(raster + first, u + first, n, &rows, weight, alive,
-                                                              &check);
-              }
+              for_each_ray_rows_batch(camera, points(raster_px), points(lens), count, &check,
+                                      [&](size_t, int, const CameraRayRows&, const float*, const bool*,
+                                          bool batch_within) { within += batch_within, ++batches; });
               return std::make_tuple(within, batches);
           },
           "camera"_a, "x0_px"_a, "y0_px"_a, "x1_px"_a, "y1_px"_a, "raster_px"_a, "lens"_a,

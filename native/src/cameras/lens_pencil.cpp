@@ -29,43 +29,39 @@ struct SampledRay {
 
 }  // namespace
 
-LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRayBatch& b, const bool* alive) {
-    // The flags as wide as the doubles, so that one loop of both vectorises.
-    int64_t checked[kLensBatch];
+namespace {
+
+// Both forms' test, in the rays' own precision T (the check's bounds rounded
+// to T once). Division-free: each test multiplied through by w = -dz > 0.
+// Flag as wide as T, so that one loop of both vectorises.
+template <class T, class Flag, class Rays>
+__attribute__((always_inline)) inline bool rays_within(const LensPencilCheck& c, const Rays& b, const bool* alive) {
+    Flag checked[kLensBatch];
     for (int i = 0; i < kLensBatch; ++i) checked[i] = alive[i];
-    // Division-free: each test multiplied through by w = -dz > 0.
-    int64_t outside = 0;
+    const T pencil_z_mm = T(c.pencil_z_mm), radius_mm = T(c.radius_mm), k_per_mm = T(c.k_per_mm);
+    const T lo_x = T(c.screen_lo[0]), lo_y = T(c.screen_lo[1]), hi_x = T(c.screen_hi[0]), hi_y = T(c.screen_hi[1]);
+    Flag outside = 0;
     for (int i = 0; i < kLensBatch; ++i) {
-        const double w = -b.dz[i], z_mm = c.pencil_z_mm - b.oz[i];
-        const double lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
-        const double sw_x = b.dx[i] + c.k_per_mm * lw_x, sw_y = b.dy[i] + c.k_per_mm * lw_y;
-        const double rw = c.radius_mm * w;
+        const T w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
+        const T lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
+        const T sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
+        const T rw = radius_mm * w;
         // & rather than &&: no branches, so the loop vectorises
-        const bool within = (w > 0.0) & (z_mm >= 0.0) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
-                            (sw_x >= c.screen_lo[0] * w) & (sw_x <= c.screen_hi[0] * w) &
-                            (sw_y >= c.screen_lo[1] * w) & (sw_y <= c.screen_hi[1] * w);
-        outside |= checked[i] & int64_t(!within);
+        const bool within = (w > T(0)) & (z_mm >= T(0)) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
+                            (sw_x >= lo_x * w) & (sw_x <= hi_x * w) & (sw_y >= lo_y * w) & (sw_y <= hi_y * w);
+        outside |= checked[i] & Flag(!within);
     }
     return outside == 0;
 }
 
+}  // namespace
+
+LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRayBatch& b, const bool* alive) {
+    return rays_within<double, int64_t>(c, b, alive);
+}
+
 LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRaysF& b, const bool* alive) {
-    int32_t checked[kLensBatch];  // as wide as the floats
-    for (int i = 0; i < kLensBatch; ++i) checked[i] = alive[i];
-    const float pencil_z_mm = float(c.pencil_z_mm), radius_mm = float(c.radius_mm), k_per_mm = float(c.k_per_mm);
-    const float lo_x = float(c.screen_lo[0]), lo_y = float(c.screen_lo[1]);
-    const float hi_x = float(c.screen_hi[0]), hi_y = float(c.screen_hi[1]);
-    int32_t outside = 0;
-    for (int i = 0; i < kLensBatch; ++i) {
-        const float w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
-        const float lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
-        const float sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
-        const float rw = radius_mm * w;
-        const bool within = (w > 0.0f) & (z_mm >= 0.0f) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
-                            (sw_x >= lo_x * w) & (sw_x <= hi_x * w) & (sw_y >= lo_y * w) & (sw_y <= hi_y * w);
-        outside |= checked[i] & int32_t(!within);
-    }
-    return outside == 0;
+    return rays_within<float, int32_t>(c, b, alive);
 }
 
 std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera) {
