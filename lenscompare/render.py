@@ -52,7 +52,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
            postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False, lens_mirrors: bool = False,
-           lens_rays: str | None = None) -> Image:
+           lens_rays: str | None = None, lens_bands: bool = False) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -195,7 +195,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         native_camera.mirror_axes = native_camera.symmetric_mirror_axes
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
-                                   traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths)
+                                   traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths,
+                                   lens_bands=lens_bands)
                      if settings.spectral else None)
     lens_rays_info = None
     if settings.lens_rays == "table" and hasattr(native_camera, "use_ray_table"):

@@ -33,7 +33,8 @@ _FOCAL_STEP_NM = 5.0
 
 
 def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
-                  traced_wavelengths: int | None = None, sample_wavelengths: bool = False) -> dict:
+                  traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
+                  lens_bands: bool = False) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
@@ -62,7 +63,9 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     # A dispersive thin or thick lens integrates each ray's band of wavelengths
     # (native/src/render_tile_bands.h; a moving camera's band rays shift with
     # their sample's time) unless asked to draw them.
-    bands = (disperses and not sample_wavelengths and camera.model in ("thin", "thick")
+    if disperses and camera.model == "lens" and lens_bands and not sample_wavelengths:
+        native_camera.set_band_rays(True)
+    bands = (disperses and not sample_wavelengths and camera.model in ("thin", "thick", "lens")
              and native_camera.carries_bands())
     sampled = (disperses or sample_wavelengths) and not bands
     wavelengths = ("hero wavelengths (Wilkie et al. 2014)" if sampled

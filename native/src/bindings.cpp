@@ -471,6 +471,12 @@ NB_MODULE(_native, m) {
              },
              "n_scene_side"_a, "n_film_side"_a, "Each surface's indices at every nm from 380 to 780 (rows).",
              nb::call_guard<nb::gil_scoped_release>())
+        .def("set_band_rays", &LensSystemCamera::set_band_rays, "on"_a,
+             "Whether spectral renders (wavelengths not drawn) give each sample one ray carrying every wavelength "
+             "whose film point stays in its pixel (cameras/lens_system_bands.cpp), instead of a ray per traced "
+             "hero wavelength. After set_dispersion.")
+        .def("carries_bands", &LensSystemCamera::carries_bands,
+             "Whether spectral renders take band rays: set_band_rays(True) on a lens with dispersion.")
         .def("use_ray_table",
              [](LensSystemCamera& self, int radial_cells, int around_cells, bool measure_pencils) {
                  // 256 x 1024 cells per ring is already 1.1 GB.

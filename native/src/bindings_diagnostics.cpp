@@ -45,6 +45,57 @@ namespace {
 
 const Point2f* points(const CArray<const float, -1, 2>& a) { return reinterpret_cast<const Point2f*>(a.data()); }
 
+// A camera's band rays (render_tile_bands.h) in render order, for the
+// diagnostics: each ray's sample, ray, band and (where weight is given) weight.
+template <class Camera>
+size_t write_band_rays(const Camera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+                       CArray<int, -1> sample, CArray<double, -1, 3> origin, CArray<double, -1, 3> direction,
+                       CArray<double, -1> k_lo, CArray<double, -1> k_hi, CArray<bool, -1> whole, double* weight) {
+    if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");
+    const size_t count = raster_px.shape(0), room = sample.shape(0);
+    if (lens.shape(0) != count || origin.shape(0) != room || direction.shape(0) != room || k_lo.shape(0) != room ||
+        k_hi.shape(0) != room || whole.shape(0) != room)
+        throw std::invalid_argument("one row per sample in, as many rows as room out");
+    size_t written = 0;
+    BandRays rays;
+    for (size_t first = 0; first < count; first += kCameraBatch) {
+        const int n = int(std::min<size_t>(kCameraBatch, count - first));
+        rays.clear();
+        camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays);
+        if (written + size_t(rays.whole_count + rays.size()) > room) throw std::invalid_argument("not enough room");
+        CameraRayRows whole_rows, split_rows;
+        BandRayWeights whole_weights, split_weights;
+        camera.whole_ray_rows(rays, &whole_rows, &whole_weights);
+        auto write = [&](const CameraRayRows& rows, const BandRayWeights& w, int r, int batch_sample, bool is_whole,
+                         double lo, double hi) {
+            sample(written) = int(first) + batch_sample;
+            for (int a = 0; a < 3; ++a)
+                origin(written, size_t(a)) = rows.origin[a][r], direction(written, size_t(a)) = rows.direction[a][r];
+            whole(written) = is_whole, k_lo(written) = lo, k_hi(written) = hi;
+            if (weight) weight[written] = !w.used ? 1.0 : w.alive[r] ? double(w.weight[r]) : 0.0;
+            ++written;
+        };
+        // In sample order: a whole sample's one ray, or a split one's rays.
+        int next_whole = 0, next_split = 0;
+        for (int i = 0; i < n; ++i) {
+            if (next_whole < rays.whole_count && rays.whole_sample[next_whole] == i) {
+                write(whole_rows, whole_weights, next_whole++, i, true, camera.band_runs().lowest(),
+                      camera.band_runs().highest());
+                continue;
+            }
+            for (; next_split < rays.size() && rays.sample[size_t(next_split)] == i; ++next_split) {
+                const int at = next_split % kCameraBatch;
+                if (at == 0)
+                    camera.band_ray_rows(rays, next_split, std::min(kCameraBatch, rays.size() - next_split),
+                                         &split_rows, &split_weights);
+                write(split_rows, split_weights, at, i, false, rays.k_lo[size_t(next_split)],
+                      rays.k_hi[size_t(next_split)]);
+            }
+        }
+    }
+    return written;
+}
+
 // One family of kernels (lens trace, own primitives, random numbers): its
 // kernels slowest first, and whether this CPU runs one and what it is called.
 template <class Kernel, size_t N>
@@ -303,53 +354,26 @@ void bind_lens(nb::module_& m) {
           [](const ThinLensCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
              CArray<int, -1> sample, CArray<double, -1, 3> origin, CArray<double, -1, 3> direction,
              CArray<double, -1> k_lo, CArray<double, -1> k_hi, CArray<bool, -1> whole) {
-              if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");
-              const size_t count = raster_px.shape(0), room = sample.shape(0);
-              if (lens.shape(0) != count || origin.shape(0) != room || direction.shape(0) != room ||
-                  k_lo.shape(0) != room || k_hi.shape(0) != room || whole.shape(0) != room)
-                  throw std::invalid_argument("one row per sample in, as many rows as room out");
-              size_t written = 0;
-              BandRays rays;
-              for (size_t first = 0; first < count; first += kCameraBatch) {
-                  const int n = int(std::min<size_t>(kCameraBatch, count - first));
-                  rays.clear();
-                  camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays);
-                  if (written + size_t(rays.whole_count + rays.size()) > room)
-                      throw std::invalid_argument("not enough room");
-                  CameraRayRows whole_rows, split_rows;
-                  camera.whole_ray_rows(rays, &whole_rows);
-                  auto write = [&](const CameraRayRows& rows, int r, int batch_sample, bool is_whole, double lo,
-                                   double hi) {
-                      sample(written) = int(first) + batch_sample;
-                      for (int a = 0; a < 3; ++a)
-                          origin(written, size_t(a)) = rows.origin[a][r],
-                                         direction(written, size_t(a)) = rows.direction[a][r];
-                      whole(written) = is_whole, k_lo(written) = lo, k_hi(written) = hi;
-                      ++written;
-                  };
-                  // In sample order: a whole sample's one ray, or a split one's rays.
-                  int next_whole = 0, next_split = 0;
-                  for (int i = 0; i < n; ++i) {
-                      if (next_whole < rays.whole_count && rays.whole_sample[next_whole] == i) {
-                          write(whole_rows, next_whole++, i, true, camera.band_runs().lowest(),
-                                camera.band_runs().highest());
-                          continue;
-                      }
-                      for (; next_split < rays.size() && rays.sample[size_t(next_split)] == i; ++next_split) {
-                          const int at = next_split % kCameraBatch;
-                          if (at == 0)
-                              camera.band_ray_rows(rays, next_split, std::min(kCameraBatch, rays.size() - next_split),
-                                                   &split_rows);
-                          write(split_rows, at, i, false, rays.k_lo[size_t(next_split)], rays.k_hi[size_t(next_split)]);
-                      }
-                  }
-              }
-              return written;
+              return write_band_rays(camera, raster_px, lens, sample, origin, direction, k_lo, k_hi, whole, nullptr);
           },
           "camera"_a, "raster_px"_a, "lens"_a, "sample"_a, "origin"_a, "direction"_a, "k_lo"_a, "k_hi"_a,
           "whole"_a, nb::call_guard<nb::gil_scoped_release>(),
           "A dispersive thin lens's rays in a spectral render whose rays carry bands (cameras/thin_lens_bands.h): "
           "each ray's sample, ray (float, widened), and band of 1 / focus [k_lo, k_hi); returns the ray count.");
+
+    m.def("lens_band_rays",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             CArray<int, -1> sample, CArray<double, -1, 3> origin, CArray<double, -1, 3> direction,
+             CArray<double, -1> k_lo, CArray<double, -1> k_hi, CArray<bool, -1> whole, CArray<double, -1> weight) {
+              if (weight.shape(0) != sample.shape(0)) throw std::invalid_argument("as many weights as room out");
+              return write_band_rays(camera, raster_px, lens, sample, origin, direction, k_lo, k_hi, whole,
+                                     weight.data());
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "sample"_a, "origin"_a, "direction"_a, "k_lo"_a, "k_hi"_a,
+          "whole"_a, "weight"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "A dispersive lens system's rays in a spectral render whose rays carry bands "
+          "(cameras/lens_system_bands.cpp): each ray's sample, ray (float, widened), band of the dispersion "
+          "parameter [k_lo, k_hi) and weight (0: vignetted); returns the ray count.");
 
     m.def("focus_band_map",
           [](CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,

@@ -75,7 +75,7 @@ RenderStats render_rows(const Scene& scene, const Camera& camera, const RenderSe
     if constexpr (HasBandRays<Camera>::value)
         if (bands) band_integrals.emplace(scene.focus_band_integrals(camera.band_focus_table()));
     if constexpr (std::is_same_v<Camera, LensSystemCamera>) {
-        if (camera.mirror_axes) {
+        if (camera.mirror_axes && !bands) {  // band rays are not mirrored
             if (sampled) return render_mirrored_rows<MirroredRender::Spectral>(scene, camera, s, rows, rgb);
             if (integrated) return render_mirrored_rows<MirroredRender::RgbIntegrated>(scene, camera, s, rows, rgb);
             return render_mirrored_rows<MirroredRender::Rgb>(scene, camera, s, rows, rgb);

@@ -43,17 +43,23 @@ class BandRayPacket {
     }
     void uncull() { batch_.uncull(), whole_.uncull(); }
 
-    // Queues whole samples' rays [0, n) of rows, ray i for the pixel at slot[i].
-    void add_whole(const CameraRayRows& rows, int n, const float* time_u, const size_t* slot) {
-        whole_.add_rows(rows, n, time_u, slot);
+    // Queues whole samples' rays [0, n) of rows, ray i for the pixel at
+    // slot[i] (those alive, with their weights, where weights are used).
+    void add_whole(const CameraRayRows& rows, int n, const float* time_u, const size_t* slot,
+                   const BandRayWeights& weights) {
+        if (weights.used) whole_.add_rows(rows, n, time_u, slot, weights.alive, weights.weight);
+        else whole_.add_rows(rows, n, time_u, slot);
     }
 
     // Queues row i of rows carrying the wavelengths of planes of focus
-    // [k_lo, k_hi); last: its sample's last ray.
-    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, float time_u, bool last, size_t slot) {
+    // [k_lo, k_hi) (the lens system: of its dispersion parameter), its
+    // radiance scaled by weight; last: its sample's last ray.
+    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, float weight, float time_u, bool last,
+             size_t slot) {
         const int j = batch_.count;
         batch_.set(j, rows, i);
         batch_.time[j] = time_u;
+        weight_[j] = weight;
         k_lo_[j] = k_lo, k_hi_[j] = k_hi;
         last_[j] = last;
         slot_[j] = slot;
@@ -73,7 +79,7 @@ class BandRayPacket {
         scene_.spectral_band_radiance(batch_, &bands_, radiance_);
         Vec3f pending = pending_;
         for (int j = 0; j < batch_.count; ++j) {
-            pending += radiance_[j];
+            pending += radiance_[j] * weight_[j];
             if (last_[j]) {
                 finished_.add(slot_[j], pending);
                 pending = Vec3f{};
@@ -89,6 +95,7 @@ class BandRayPacket {
     RayPacket whole_;
     RayBatch batch_;
     double k_lo_[kPacketSize], k_hi_[kPacketSize];
+    float weight_[kPacketSize];
     RayFocusBands bands_;  // batch_'s bands: k_lo_ and k_hi_
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
@@ -120,12 +127,16 @@ class BandCameraSampleBatcher {
         }
     }
 
+    // As CameraSampleBatcher's (the lens system's measured pencil): every
+    // ray of a batch, whole or split, is checked.
+    void check_by(const LensPencilCheck& check) { check_.start(check); }
+
     void flush() {
         if (pending_ == 0) return;
         rays_.clear();
-        camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_);
+        check_.passed(camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_, check_.active()), packet_);
         if (const int whole = rays_.whole_count; whole > 0) {
-            camera_.whole_ray_rows(rays_, &rows_);
+            camera_.whole_ray_rows(rays_, &rows_, &weights_);
             float time_u[kCameraBatch];
             size_t slot[kCameraBatch];
             for (int r = 0; r < whole; ++r) {
@@ -133,12 +144,12 @@ class BandCameraSampleBatcher {
                 time_u[r] = staged_.time[sample], slot[r] = staged_.slot[sample];
             }
             if (moves_camera_) move_origins(motion_, whole, time_u, &rows_);
-            packet_.add_whole(rows_, whole, time_u, slot);
+            packet_.add_whole(rows_, whole, time_u, slot, weights_);
         }
         const int count = rays_.size();
         for (int first = 0; first < count; first += kCameraBatch) {
             const int n = std::min(kCameraBatch, count - first);
-            camera_.band_ray_rows(rays_, first, n, &rows_);
+            check_.passed(camera_.band_ray_rows(rays_, first, n, &rows_, &weights_, check_.active()), packet_);
             if (moves_camera_) {
                 float time_u[kCameraBatch];
                 for (int r = 0; r < n; ++r) time_u[r] = staged_.time[rays_.sample[size_t(first + r)]];
@@ -148,7 +159,9 @@ class BandCameraSampleBatcher {
                 const size_t ray = size_t(first + r);
                 const int sample = rays_.sample[ray];
                 const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
-                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], staged_.time[sample], last,
+                // A vignetted ray (finite, weight 0) still goes: it may close its sample.
+                const float weight = !weights_.used ? 1.0f : weights_.alive[r] ? weights_.weight[r] : 0.0f;
+                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], weight, staged_.time[sample], last,
                             staged_.slot[sample]);
             }
         }
@@ -163,6 +176,8 @@ class BandCameraSampleBatcher {
     SampleColumns staged_;
     BandRays rays_;
     CameraRayRows rows_;
+    BandRayWeights weights_;
+    TileCheck check_;
     int pending_ = 0;
 };
 
@@ -193,7 +208,9 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
     BandCameraSampleBatcher<Camera> batcher(camera, scene.motion(), packet);
     // The derived pencil spans the planes of focus (ThinLensCamera::pencil):
     // every band's ray is some wavelength's own ray from a film point in its
-    // pixel (a moving camera: swept along its path, cull_tile).
+    // pixel (a moving camera: swept along its path, cull_tile). The lens
+    // system's is measured at the d line, each batch checked (the split
+    // rays start up to a pixel outside the tile).
     cull_tile(camera, scene.motion(), tile, &packet, &batcher);
     PixelSamples samples(s.spp, scene.motion().samples_time(), false, true);
     RenderStats stats;

@@ -14,6 +14,7 @@
 
 #include "cameras/camera_ray.h"
 #include "cameras/lens_pencil.h"
+#include "cameras/thin_lens_bands.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
 #include "lens/lens_ray_table.h"
@@ -22,6 +23,7 @@
 #include "lens/lens_trace.h"
 #include "scene.h"
 #include "spectral.h"
+#include "spectral_bands.h"
 
 namespace lc {
 
@@ -102,6 +104,13 @@ struct LensSystemCamera {
     // of the samples and reflects them (render_mirrored.h). 0: every pixel
     // traces its own samples.
     unsigned mirror_axes = 0;
+    // Spectral renders whose rays carry bands of the spectrum
+    // (lens_system_bands.cpp; set_band_rays): the dispersion parameter k at
+    // every nm from 380 nm, its runs, and whether the render takes them.
+    std::vector<double> band_parameter_by_nm;
+    DispersionRuns band_parameter_runs;
+    std::vector<LensElement> reversed_blue_elements;  // reversed_lens of the 380 nm glass: the back-trace
+    bool band_rays_on = false;
     // The rays by table look-up (lens_ray_table.h) for the batch paths
     // (RGB, and spectral without dispersion: set_dispersion drops it);
     // null: every sample traced.
@@ -158,6 +167,27 @@ struct LensSystemCamera {
         reversed_elements = reversed_lens(elements);
         reversed_dispersion = LensDispersion::of(reversed_by_nm);
     }
+
+    // Band rays (lens_system_bands.cpp, render_tile_bands.h): one ray per
+    // sample carries every wavelength whose film point stays in its pixel.
+    // on: whether spectral renders take them (a lens with dispersion only).
+    void set_band_rays(bool on);
+    bool carries_bands() const { return band_rays_on && disperses() && band_parameter_runs.fits(); }
+    const DispersionRuns& band_runs() const { return band_parameter_runs; }
+    const std::vector<double>& band_focus_table() const { return band_parameter_by_nm; }
+    bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
+                   const LensPencilCheck* check = nullptr) const;
+    // band_rays' trace: samples [0, n) aimed and traced at the d line with
+    // the rims stopping none, margin (kLensBatch) each ray's least rim
+    // clearance (lens_trace.h, trace_from_film_batch_margins); rows, weight
+    // and alive as generate_weighted_ray_rows', alive where the ray got
+    // through every surface (whatever its margin).
+    bool trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
+                         double* margin, CameraRayRows* rows, float* weight, bool* alive,
+                         const LensPencilCheck* check) const;
+    void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const;
+    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
+                       const LensPencilCheck* check = nullptr) const;
 
     // Where on the film the rays of leaving came from at lane i's glass row
     // (row[i], of elements_by_nm): each traced back through the glass at that

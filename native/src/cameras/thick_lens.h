@@ -50,14 +50,16 @@ struct ThickLensCamera {
     bool carries_bands() const { return at_front_principal_plane.carries_bands(); }
     const DispersionRuns& band_runs() const { return at_front_principal_plane.band_runs(); }
     const std::vector<double>& band_focus_table() const { return at_front_principal_plane.band_focus_table(); }
-    void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
-        at_front_principal_plane.band_rays(raster_px, lens_sample, n, out);
+    bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
+                   const LensPencilCheck* check = nullptr) const {
+        return at_front_principal_plane.band_rays(raster_px, lens_sample, n, out, check);
     }
-    void whole_ray_rows(const BandRays& rays, CameraRayRows* out) const {
-        at_front_principal_plane.whole_ray_rows(rays, out);
+    void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const {
+        at_front_principal_plane.whole_ray_rows(rays, out, weights);
     }
-    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
-        at_front_principal_plane.band_ray_rows(rays, first, n, out);
+    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
+                       const LensPencilCheck* check = nullptr) const {
+        return at_front_principal_plane.band_ray_rows(rays, first, n, out, weights, check);
     }
     void generate_shared_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, const HeroWavelengths* w,
                                   int n, CameraRayRows* rows, bool (*own)[kCameraBatch]) const {

@@ -47,30 +47,36 @@ struct ThinLensCamera {
     const std::vector<double>& band_focus_table() const { return inverse_focus_per_m_by_nm; }
 
     // Samples [0, n)'s rays (n <= kCameraBatch), each carrying the whole spectrum or a band of planes of
-    // focus (thin_lens_bands.h), into out (cleared).
-    void band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out) const {
+    // focus (thin_lens_bands.h), into out (cleared). (check: the lens system's; a derived pencil needs none.)
+    bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
+                   const LensPencilCheck* /*check*/ = nullptr) const {
         double lens_x[kCameraBatch], lens_y[kCameraBatch];
         lens_points(lens_sample, n, lens_x, lens_y);
         split_into_bands(n, raster_px, lens_x, lens_y, dispersion_runs, film_px_per_screen_x(),
                          film_px_per_screen_y(), out);
+        return true;
     }
 
     // The whole samples' rays of band_rays' in float: each the ray at the
-    // reference plane of focus from its film point.
-    void whole_ray_rows(const BandRays& rays, CameraRayRows* out) const {
+    // reference plane of focus from its film point (all pass, weight 1).
+    void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(rays.whole_count, film, rays.whole_raster_px, screen_x, screen_y);
         thin_lens_rays_lanes(rays.whole_count, screen_x, screen_y, rays.whole_lens_x_m, rays.whole_lens_y_m,
                              dispersion_runs.reference(), FrameF::of(world_from_camera), out);
+        weights->used = false;
     }
 
     // The split samples' rays [first, first + n) of band_rays' (n <=
     // kCameraBatch) in float, as whole_ray_rows'.
-    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out) const {
+    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
+                       const LensPencilCheck* /*check*/ = nullptr) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);
         thin_lens_rays_lanes(n, screen_x, screen_y, rays.lens_x_m.data() + first, rays.lens_y_m.data() + first,
                              dispersion_runs.reference(), FrameF::of(world_from_camera), out);
+        weights->used = false;
+        return true;
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {

@@ -32,9 +32,16 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
 // instruction, and its floor in software was most of this function (perf).
 __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(
     int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const DispersionRuns& runs,
-    double x_scale, double y_scale, BandRays* out) {
-    const double k_lowest = runs.lowest(), k_highest = runs.highest(), k_ref = runs.reference();
-    const double below = k_lowest - k_ref, above = k_highest - k_ref;
+    double x_scale, double y_scale, BandRays* out, const double* k_ref_by_sample, const double* k_from_by_sample,
+    const double* k_to_by_sample) {
+    const double k_all_lowest = runs.lowest(), k_all_highest = runs.highest();
+    // Each sample's stretch of k (a lens system's ray passes its rims over part of the spectrum only).
+    double k_from[kCameraBatch], k_to[kCameraBatch];
+    if (k_from_by_sample) std::copy_n(k_from_by_sample, n, k_from), std::copy_n(k_to_by_sample, n, k_to);
+    else std::fill_n(k_from, n, k_all_lowest), std::fill_n(k_to, n, k_all_highest);
+    double k_refs[kCameraBatch];
+    if (k_ref_by_sample) std::copy_n(k_ref_by_sample, n, k_refs);
+    else std::fill_n(k_refs, n, runs.reference());
     // Every sample's test first, without a branch (a fifth of them split, at
     // random: the branch on it was a third of this function, perf): each
     // written as a whole sample, kept only where it is one, and its index
@@ -43,10 +50,14 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
     int whole_count = 0, split_count = 0;
     for (int i = 0; i < n; ++i) {
         const double x = raster_px[i].x, y = raster_px[i].y;
+        const double below = k_from[i] - k_refs[i], above = k_to[i] - k_refs[i];
         // Screen x grows with raster x, screen y against raster y (FilmToScreen).
         const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
-        const bool whole = (std::floor(x + gx * below) == std::floor(x + gx * above)) &
-                           (std::floor(y + gy * below) == std::floor(y + gy * above));
+        // Whole: the whole spectrum in one pixel; or none of it (the camera then marks it vignetted).
+        const bool whole = ((std::floor(x + gx * below) == std::floor(x + gx * above)) &
+                            (std::floor(y + gy * below) == std::floor(y + gy * above)) &
+                            (k_from[i] == k_all_lowest) & (k_to[i] == k_all_highest)) |
+                           !(k_to[i] > k_from[i]);
         out->whole_sample[whole_count] = i, out->whole_raster_px[whole_count] = raster_px[i];
         out->whole_lens_x_m[whole_count] = float(lens_x_m[i]), out->whole_lens_y_m[whole_count] = float(lens_y_m[i]);
         whole_count += int(whole);
@@ -57,6 +68,8 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
     for (int s = 0; s < split_count; ++s) {
         const int i = split[s];
         const double x = raster_px[i].x, y = raster_px[i].y;
+        const double k_ref = k_refs[i], k_lowest = k_from[i], k_highest = k_to[i];
+        const double below = k_lowest - k_ref, above = k_highest - k_ref;
         const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
         const double pixel_x = std::floor(x), pixel_y = std::floor(y);
         auto emit_one = [&](double cell_x, double cell_y, double k_from, double k_to) {

@@ -1,5 +1,7 @@
 // A dispersive thin lens's rays when each carries a band of wavelengths
-// rather than a few drawn ones (render_tile_bands.h).
+// rather than a few drawn ones (render_tile_bands.h). The lens system's band
+// rays (lens_system_bands.cpp) are split here too, along the film points of a
+// dispersion parameter instead of planes of focus.
 //
 // A thin lens of focal length f(λ) sends lens point p toward its own plane
 // of focus k(λ) = 1 / focus, so wavelength λ's ray from film point x is the
@@ -27,6 +29,8 @@
 
 namespace lc {
 
+struct LensPencilCheck;  // lens_pencil.h: the lens system's measured pencil
+
 // A batch's rays. The samples whose every wavelength lands in their own
 // pixel (most of them) are one ray each carrying the whole spectrum: their
 // indices in the batch, film points and lens points (m) in whole_*, the first
@@ -49,6 +53,15 @@ struct BandRays {
     std::vector<double> k_lo, k_hi;
     std::vector<double> x_edges, y_edges;  // split_into_bands' scratch
 
+    // A camera whose rays may be vignetted and carry a weight (the lens
+    // system) traces every sample's own ray in band_rays; kept here, so that
+    // whole_ray_rows copies them and band_ray_rows traces a split sample's
+    // rays with its lens sample.
+    CameraRayRows sample_rows;
+    float sample_weight[kCameraBatch];
+    bool sample_alive[kCameraBatch];
+    Point2f sample_raster_px[kCameraBatch], sample_lens[kCameraBatch];
+
     int size() const { return count; }
     void clear() { count = 0, whole_count = 0; }
     // Room for m more entries.
@@ -61,11 +74,24 @@ struct BandRays {
     }
 };
 
+// Each ray's weight and whether it passed, for a camera that vignettes (the
+// lens system). used false: every ray passes with weight 1 (the thin lens).
+struct BandRayWeights {
+    bool used = false;
+    float weight[kCameraBatch];
+    bool alive[kCameraBatch];
+};
+
 // Samples [0, n) (n <= kCameraBatch; film point raster_px[i], lens point in
 // m) into their rays, *out's whole samples and split rays (after clear()): 1 /
-// focus over runs' range, the reference plane runs.reference(), x_scale and
-// y_scale the raster pixels per screen unit (y against raster y).
+// focus over runs' range (or each sample's own part of it, [k_from, k_to):
+// where a lens system's ray passes its rims), the reference plane
+// runs.reference() (or each sample's own, k_ref_by_sample), x_scale and
+// y_scale the raster pixels per screen unit (y against raster y). A sample
+// whose stretch is empty is written as whole.
 void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
-                      const DispersionRuns& runs, double x_scale, double y_scale, BandRays* out);
+                      const DispersionRuns& runs, double x_scale, double y_scale, BandRays* out,
+                      const double* k_ref_by_sample = nullptr, const double* k_from_by_sample = nullptr,
+                      const double* k_to_by_sample = nullptr);
 
 }  // namespace lc

@@ -428,6 +428,16 @@ void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements,
 void trace_from_film_batch_single_avx512(const std::vector<LensElement>& elements, LaneGlass glass,
                                          LensRayBatch* b);
 
+// The single-precision trace with the rims stopping no ray, each lane's least
+// clearance (rim^2 - height^2) / rim^2 over the surfaces into margin (> 0:
+// the rims would pass it): the lens system's band rays (lens_system_bands.cpp).
+void trace_from_film_batch_single_margins_portable(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                    double* margin);
+void trace_from_film_batch_single_margins_avx2(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                double* margin);
+void trace_from_film_batch_single_margins_avx512(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                  double* margin);
+
 enum class LensTraceKernel { Portable, Avx2, Avx512 };
 enum class LensTracePrecision { Double, Single };
 constexpr LensTraceKernel kLensTraceKernels[] = {LensTraceKernel::Portable, LensTraceKernel::Avx2,
@@ -454,6 +464,15 @@ inline void trace_from_film_batch(const std::vector<LensElement>& elements, Lens
         case LensTraceKernel::Portable:
             trace_from_film_batch_portable(elements, LaneGlass{nullptr, nullptr}, b);
             return;
+    }
+}
+
+inline void trace_from_film_batch_margins(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                          double* margin, LensTraceKernel kernel) {
+    switch (kernel) {
+        case LensTraceKernel::Avx512: trace_from_film_batch_single_margins_avx512(elements, b, margin); return;
+        case LensTraceKernel::Avx2: trace_from_film_batch_single_margins_avx2(elements, b, margin); return;
+        case LensTraceKernel::Portable: trace_from_film_batch_single_margins_portable(elements, b, margin); return;
     }
 }
 

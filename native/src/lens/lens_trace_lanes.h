@@ -30,7 +30,7 @@ namespace lc {
 // group of lanes: each division here occupies the divider the lanes' square
 // roots and divisions wait for. The same values as the scalar trace's.
 struct SurfaceScalars {
-    double four_c, radius_mm, semi2_mm2, eta, eta2;
+    double four_c, radius_mm, semi2_mm2, inverse_semi2_per_mm2, eta, eta2;
     bool refracts, direct_near_root;
 
     // single: for the single-precision trace, which always divides (its
@@ -41,6 +41,7 @@ struct SurfaceScalars {
         f.four_c = 4.0 * e.curvature_per_mm;
         f.radius_mm = e.curvature_per_mm != 0.0 ? 1.0 / e.curvature_per_mm : 0.0;
         f.semi2_mm2 = e.semi_aperture_mm * e.semi_aperture_mm;
+        f.inverse_semi2_per_mm2 = f.semi2_mm2 > 0.0 ? 1.0 / f.semi2_mm2 : 0.0;
         f.direct_near_root = !single && lc::direct_near_root(e.curvature_per_mm);
         f.refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
         f.eta = f.refracts ? e.n_film_side / e.n_scene_side : 1.0;
@@ -57,6 +58,7 @@ template <class D, class M>
 struct LaneGroup {
     D ox, oy, oz, dx, dy, dz;
     M alive;
+    D margin;  // kMargins' traces: the least clearance of the rims met so far
 };
 
 // Snell refraction of l's directions at the surface points p with index ratio
@@ -81,8 +83,11 @@ inline M refract_lanes(const LensElement& e, D px, D py, D pz, D cos_i, D cos2_i
 
 // kDispersed: each lane refracts with its own row of glass.dispersion
 // (glass.eta_lanes, laid_out); otherwise every lane with e's indices, and glass,
-// surface and first go unused.
-template <class D, class M, bool kDispersed>
+// surface and first go unused. kMargins: the rims stop no lane; each lane's
+// margin keeps the least (rim^2 - height^2) / rim^2 over the surfaces it
+// meets (the blades' (apothem - distance) / apothem), whose sign says whether
+// the rims would have passed it (lens_system_bands.cpp).
+template <class D, class M, bool kDispersed, bool kMargins = false>
 inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceScalars& f, size_t surface,
                                           LaneGlass glass, int first, LaneGroup<D, M>* l) {
     const D zero(0.0), one(1.0), inf(INFINITY);
@@ -120,10 +125,20 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
     // Hit point and aperture test
     const D px = mul_add(l->dx, t, l->ox), py = mul_add(l->dy, t, l->oy), pz = mul_add(l->dz, t, l->oz);
     const M hit = ok;
-    ok = ok & not_greater(mul_add(py, py, px * px), D(f.semi2_mm2));
-    for (int k = 0; k < e.blades; ++k)
-        ok = ok & not_greater(mul_add(py, D(e.edge_normal_y[size_t(k)]), px * D(e.edge_normal_x[size_t(k)])),
-                              D(e.apothem_mm));
+    if constexpr (kMargins) {
+        auto least = [](D a, D b) { return select(a < b, a, b); };
+        D margin = (D(f.semi2_mm2) - mul_add(py, py, px * px)) * D(f.inverse_semi2_per_mm2);
+        for (int k = 0; k < e.blades; ++k)
+            margin = least(margin, (D(e.apothem_mm) - mul_add(py, D(e.edge_normal_y[size_t(k)]),
+                                                                px * D(e.edge_normal_x[size_t(k)]))) *
+                                       D(1.0 / e.apothem_mm));
+        l->margin = select(hit, least(l->margin, margin), l->margin);
+    } else {
+        ok = ok & not_greater(mul_add(py, py, px * px), D(f.semi2_mm2));
+        for (int k = 0; k < e.blades; ++k)
+            ok = ok & not_greater(mul_add(py, D(e.edge_normal_y[size_t(k)]), px * D(e.edge_normal_x[size_t(k)])),
+                                  D(e.apothem_mm));
+    }
     D nx = l->dx, ny = l->dy, nz = l->dz;
     if constexpr (kDispersed) {
         const LensDispersion& d = *glass.dispersion;
@@ -164,9 +179,12 @@ __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, co
 }
 
 // trace_from_film_batch_portable's work for the whole batch, in groups of
-// D::kLanes lanes side by side so that their latencies overlap.
-template <class D, class M, bool kDispersed>
-inline void trace_from_film_lanes(const LensElement* elements, size_t count, LaneGlass glass, LensRayBatch* b) {
+// D::kLanes lanes side by side so that their latencies overlap. kMargins:
+// margin (kLensBatch) gets each lane's least rim clearance (above), the rims
+// stopping none.
+template <class D, class M, bool kDispersed, bool kMargins = false>
+inline void trace_from_film_lanes(const LensElement* elements, size_t count, LaneGlass glass, LensRayBatch* b,
+                                  double* margin = nullptr) {
     constexpr int kWidth = D::kLanes;
     static_assert(kLensBatch % kWidth == 0, "whole groups of lanes");
     constexpr int kGroups = kLensBatch / kWidth;
@@ -177,13 +195,15 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.ox = D::load(b->ox + first), l.oy = D::load(b->oy + first), l.oz = D::load(b->oz + first);
         l.dx = D::load(b->dx + first), l.dy = D::load(b->dy + first), l.dz = D::load(b->dz + first);
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
+        l.margin = D(INFINITY);
     }
     for (size_t s = count; s-- > 0;) {
         const SurfaceScalars scalars = SurfaceScalars::of(elements[s], kSingleLanes<D>);
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
-            if constexpr (kGroups == 1)
-                cross_toward_scene_lanes_body<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
+            if constexpr (kGroups == 1 || kMargins)
+                cross_toward_scene_lanes_body<D, M, kDispersed, kMargins>(elements[s], scalars, s, glass, kWidth * g,
+                                                                          &lanes[g]);
             else
                 cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
             any_alive |= any(lanes[g].alive);
@@ -196,6 +216,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.ox.store(b->ox + first), l.oy.store(b->oy + first), l.oz.store(b->oz + first);
         l.dx.store(b->dx + first), l.dy.store(b->dy + first), l.dz.store(b->dz + first);
         l.alive.store(b->alive + first);
+        if constexpr (kMargins) l.margin.store(margin + first);
     }
 }
 

@@ -138,6 +138,12 @@ void trace_from_film_batch_single_avx2(const std::vector<LensElement>& elements,
     trace_from_film_lanes<avx2_single::F16, avx2_single::M16, true>(elements.data(), elements.size(), glass, b);
 }
 
+void trace_from_film_batch_single_margins_avx2(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                double* margin) {
+    trace_from_film_lanes<avx2_single::F16, avx2_single::M16, false, true>(elements.data(), elements.size(),
+                                                                    LaneGlass{nullptr, nullptr}, b, margin);
+}
+
 }  // namespace lc
 
 #pragma GCC pop_options

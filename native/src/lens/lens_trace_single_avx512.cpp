@@ -110,6 +110,12 @@ void trace_from_film_batch_single_avx512(const std::vector<LensElement>& element
     trace_from_film_lanes<avx512_single::F32, avx512_single::M32, true>(elements.data(), elements.size(), glass, b);
 }
 
+void trace_from_film_batch_single_margins_avx512(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                double* margin) {
+    trace_from_film_lanes<avx512_single::F32, avx512_single::M32, false, true>(elements.data(), elements.size(),
+                                                                    LaneGlass{nullptr, nullptr}, b, margin);
+}
+
 }  // namespace lc
 
 #pragma GCC pop_options

@@ -72,4 +72,10 @@ void trace_from_film_batch_single_portable(const std::vector<LensElement>& eleme
                                                                               glass, b);
 }
 
+void trace_from_film_batch_single_margins_portable(const std::vector<LensElement>& elements, LensRayBatch* b,
+                                                    double* margin) {
+    trace_from_film_lanes<portable_single::F1, portable_single::M1, false, true>(
+        elements.data(), elements.size(), LaneGlass{nullptr, nullptr}, b, margin);
+}
+
 }  // namespace lc
