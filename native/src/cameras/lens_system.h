@@ -17,6 +17,7 @@
 #include "cameras/thin_lens_bands.h"
 #include "lens/exit_pupil.h"
 #include "lens/lens_aim.h"
+#include "lens/lens_band_table.h"
 #include "lens/lens_ray_table.h"
 #include "lens/lens_reverse.h"
 #include "lens/lens_to_world.h"
@@ -110,6 +111,9 @@ struct LensSystemCamera {
     std::vector<double> band_parameter_by_nm;
     DispersionRuns band_parameter_runs;
     std::vector<LensElement> reversed_blue_elements;  // reversed_lens of the 380 nm glass: the back-trace
+    // The back-trace's shifts by look-up (lens_band_table.h); null: traced per sample.
+    std::shared_ptr<const LensBandTable> band_table;
+    static constexpr int kBandTableRadialCells = 16, kBandTableAroundCells = 32;
     bool band_rays_on = false;
     // The rays by table look-up (lens_ray_table.h) for the batch paths
     // (RGB, and spectral without dispersion: set_dispersion drops it);

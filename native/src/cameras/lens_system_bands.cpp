@@ -33,6 +33,7 @@
 #include <cmath>
 
 #include "cameras/lens_system.h"
+#include "lens/lens_band_table.h"
 
 namespace lc {
 namespace {
@@ -66,6 +67,13 @@ void LensSystemCamera::set_band_rays(bool on) {
         band_parameter_by_nm = band_parameter(elements_by_nm);
         band_parameter_runs = DispersionRuns(band_parameter_by_nm);
         reversed_blue_elements = reversed_lens(elements_by_nm.front());
+        // Not through blades: the table turns one film azimuth's values to each film point's.
+        const bool round = std::none_of(elements.begin(), elements.end(),
+                                        [](const LensElement& e) { return e.blades > 0; });
+        if (round)
+            band_table = build_lens_band_table(elements, reversed_blue_elements,
+                                               band_parameter_by_nm.front() - band_parameter_runs.reference(),
+                                               *pupil, film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
     }
 }
 
@@ -82,37 +90,56 @@ bool LensSystemCamera::trace_open_rows(const Point2f* raster_px, const Point2f* 
 
 bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
                                  const LensPencilCheck* check) const {
-    LensRayBatch leaving, back;
-    double margin_d[kLensBatch], margin_blue[kLensBatch];
+    LensRayBatch leaving;
+    double margin_d[kLensBatch];
     const bool within = trace_open_rows(raster_px, lens_sample, n, &leaving, margin_d, &out->sample_rows,
                                         out->sample_weight, out->sample_alive, check);
-    // The same rays back to the film at 380 nm.
-    mirror_for_back_trace(leaving, &back);
-    trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
+    // How the film point (mm) and the clearance move per unit of k: from the
+    // table, or traced back at 380 nm where it cannot answer.
+    double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
+    bool known[kLensBatch] = {};
+    if (band_table)
+        look_up_band_shifts(*band_table, film_placement(), raster_px, lens_sample, n, shift_x_mm, shift_y_mm, slope,
+                            known);
+    bool any_unknown = false;
+    for (int i = 0; i < n; ++i) any_unknown |= out->sample_alive[i] && !known[i];
     const double k_d = band_parameter_runs.reference(), k_blue = band_parameter_by_nm.front();
-    const double k_lowest = band_parameter_runs.lowest(), k_highest = band_parameter_runs.highest();
     const double per_k = 1.0 / (k_blue - k_d);
+    if (any_unknown) {
+        LensRayBatch back;
+        double margin_blue[kLensBatch];
+        mirror_for_back_trace(leaving, &back);
+        for (int i = 0; i < kLensBatch; ++i) back.alive[i] = back.alive[i] && i < n && !known[i];
+        trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
+        for (int i = 0; i < n; ++i) {
+            if (known[i] || !back.alive[i]) continue;  // no way back at 380 nm: its d path only (below)
+            const double t = (-film_z_mm - back.oz[i]) / back.dz[i];  // the film plane, mirrored frame
+            double x_mm, y_mm, r_mm;
+            film_point(raster_px[i], &x_mm, &y_mm, &r_mm);
+            shift_x_mm[i] = (back.ox[i] + back.dx[i] * t - x_mm) * per_k;
+            shift_y_mm[i] = (back.oy[i] + back.dy[i] * t - y_mm) * per_k;
+            slope[i] = (margin_blue[i] - margin_d[i]) * per_k;
+            known[i] = true;
+        }
+    }
+    const double k_lowest = band_parameter_runs.lowest(), k_highest = band_parameter_runs.highest();
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
     for (int i = 0; i < n; ++i) {
         out->sample_raster_px[i] = raster_px[i], out->sample_lens[i] = lens_sample[i];
         gx[i] = gy[i] = 0.0;
         k_from[i] = k_lowest, k_to[i] = k_highest;
         if (!out->sample_alive[i]) continue;
-        if (!back.alive[i]) {  // no way back at 380 nm (a miss, or total reflection): its d path only
+        if (!known[i]) {  // no way back at 380 nm (a miss, or total reflection): its d path only
             if (!(margin_d[i] > 0.0)) out->sample_alive[i] = false;
             continue;
         }
-        // Film point and clearance, each on its line in k.
-        const double t = (-film_z_mm - back.oz[i]) / back.dz[i];  // the film plane, mirrored frame
-        double x_mm, y_mm, r_mm;
-        film_point(raster_px[i], &x_mm, &y_mm, &r_mm);
         // g in raster pixels per unit of k (split_into_bands: raster x grows
         // with its first argument, raster y against its second; the film is inverted).
-        gx[i] = -(back.ox[i] + back.dx[i] * t - x_mm) * per_k / film_mm_per_px_x;
-        gy[i] = -(back.oy[i] + back.dy[i] * t - y_mm) * per_k / film_mm_per_px_y;
-        const double slope = (margin_blue[i] - margin_d[i]) * per_k;
-        if (slope > 0.0) k_from[i] = std::max(k_lowest, k_d - margin_d[i] / slope);
-        else if (slope < 0.0) k_to[i] = std::min(k_highest, k_d - margin_d[i] / slope);
+        gx[i] = -shift_x_mm[i] / film_mm_per_px_x;
+        gy[i] = -shift_y_mm[i] / film_mm_per_px_y;
+        // The clearance on its line in k: the stretch where it is positive.
+        if (slope[i] > 0.0) k_from[i] = std::max(k_lowest, k_d - margin_d[i] / slope[i]);
+        else if (slope[i] < 0.0) k_to[i] = std::min(k_highest, k_d - margin_d[i] / slope[i]);
         else if (!(margin_d[i] > 0.0)) k_to[i] = k_from[i];
         if (!(k_to[i] > k_from[i])) out->sample_alive[i] = false;  // no wavelength gets through
     }
