@@ -62,6 +62,7 @@ size_t write_band_rays(const Camera& camera, CArray<const float, -1, 2> raster_p
         const int n = int(std::min<size_t>(kCameraBatch, count - first));
         rays.clear();
         camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays);
+        if constexpr (std::is_same_v<Camera, LensSystemCamera>) camera.trace_split_rays(&rays);
         if (written + size_t(rays.whole_count + rays.size()) > room) throw std::invalid_argument("not enough room");
         CameraRayRows whole_rows, split_rows;
         BandRayWeights whole_weights, split_weights;

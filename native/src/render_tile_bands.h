@@ -112,6 +112,16 @@ class BandRayPacket {
 // start where the camera is at their sample's time: a translation of the
 // whole camera moves every wavelength's ray alike, so the bands are a still
 // camera's.
+// Cameras whose split rays are traced (the lens system) say so with
+// kPoolsSplitRays: the batcher then keeps the split samples of many batches
+// and has them traced together (trace_split_rays), a few rays a batch
+// costing a whole batch's trace otherwise.
+template <class Camera, class = void>
+struct PoolsSplitRays : std::false_type {};
+template <class Camera>
+struct PoolsSplitRays<Camera, std::void_t<decltype(Camera::kPoolsSplitRays)>>
+    : std::bool_constant<Camera::kPoolsSplitRays> {};
+
 template <class Camera>
 class BandCameraSampleBatcher {
   public:
@@ -133,7 +143,10 @@ class BandCameraSampleBatcher {
 
     void flush() {
         if (pending_ == 0) return;
-        rays_.clear();
+        // Pooled: the split rays of earlier batches stay (emit_split_rays).
+        const int first_entry = kPooled ? rays_.count : 0;
+        if (kPooled) rays_.whole_count = 0;
+        else rays_.clear();
         check_.passed(camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_, check_.active()), packet_);
         if (const int whole = rays_.whole_count; whole > 0) {
             camera_.whole_ray_rows(rays_, &rows_, &weights_);
@@ -146,13 +159,47 @@ class BandCameraSampleBatcher {
             if (moves_camera_) move_origins(motion_, whole, time_u, &rows_);
             packet_.add_whole(rows_, whole, time_u, slot, weights_);
         }
+        if constexpr (kPooled) {
+            // Each new split ray's time and pixel, its sample numbered within the pool.
+            const size_t count = size_t(rays_.count);
+            split_time_.resize(count), split_slot_.resize(count);
+            for (size_t at = size_t(first_entry); at < count; ++at) {
+                const int sample = rays_.sample[at];
+                split_time_[at] = staged_.time[sample], split_slot_[at] = staged_.slot[sample];
+                rays_.sample[at] += pooled_samples_;
+            }
+            pooled_samples_ += pending_;
+            pending_ = 0;
+            if (rays_.count >= kPoolRays) emit_split_rays();
+            return;
+        }
+        emit_split_rays();
+        pending_ = 0;
+    }
+
+    // The last batch, and the pool.
+    void finish() {
+        flush();
+        if constexpr (kPooled) emit_split_rays();
+    }
+
+  private:
+    static constexpr bool kPooled = PoolsSplitRays<Camera>::value;
+    // A pool's rays: about half of them traced, four batches' worth.
+    static constexpr int kPoolRays = 8 * kCameraBatch;
+
+    // The split samples' rays in rays_, in order, to the packet.
+    void emit_split_rays() {
+        if constexpr (kPooled) check_.passed(camera_.trace_split_rays(&rays_, check_.active()), packet_);
         const int count = rays_.size();
+        auto time_of = [&](size_t ray) { return kPooled ? split_time_[ray] : staged_.time[rays_.sample[ray]]; };
+        auto slot_of = [&](size_t ray) { return kPooled ? split_slot_[ray] : staged_.slot[rays_.sample[ray]]; };
         for (int first = 0; first < count; first += kCameraBatch) {
             const int n = std::min(kCameraBatch, count - first);
             check_.passed(camera_.band_ray_rows(rays_, first, n, &rows_, &weights_, check_.active()), packet_);
             if (moves_camera_) {
                 float time_u[kCameraBatch];
-                for (int r = 0; r < n; ++r) time_u[r] = staged_.time[rays_.sample[size_t(first + r)]];
+                for (int r = 0; r < n; ++r) time_u[r] = time_of(size_t(first + r));
                 move_origins(motion_, n, time_u, &rows_);
             }
             for (int r = 0; r < n; ++r) {
@@ -161,14 +208,12 @@ class BandCameraSampleBatcher {
                 const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
                 // A vignetted ray (finite, weight 0) still goes: it may close its sample.
                 const float weight = !weights_.used ? 1.0f : weights_.alive[r] ? weights_.weight[r] : 0.0f;
-                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], weight, staged_.time[sample], last,
-                            staged_.slot[sample]);
+                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], weight, time_of(ray), last, slot_of(ray));
             }
         }
-        pending_ = 0;
+        if constexpr (kPooled) rays_.clear(), pooled_samples_ = 0;
     }
 
-  private:
     const Camera& camera_;
     const SceneMotion& motion_;
     bool moves_camera_;
@@ -179,6 +224,9 @@ class BandCameraSampleBatcher {
     BandRayWeights weights_;
     TileCheck check_;
     int pending_ = 0;
+    std::vector<float> split_time_;  // pooled: each split ray's sample's time and pixel
+    std::vector<size_t> split_slot_;
+    int pooled_samples_ = 0;
 };
 
 template <class Camera>
@@ -224,7 +272,7 @@ RenderStats render_band_rays(const Scene& scene, const Camera& camera, const Ren
             batcher.add_pixel(x, y, samples, first, end, sums.slot(x, y));
         }
     }
-    batcher.flush();
+    batcher.finish();
     packet.flush();
     sums.finish(s, rgb);
     stats.rays_passed = packet.samples_shaded();

@@ -189,6 +189,11 @@ struct LensSystemCamera {
     bool trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
                          double* margin, CameraRayRows* rows, float* weight, bool* alive,
                          const LensPencilCheck* check) const;
+    // The split rays band_rays left to trace, all of rays' entries so far
+    // (render_tile_bands.h pools them across batches: a batch's few, traced
+    // alone, cost a whole trace of 32 lanes).
+    static constexpr bool kPoolsSplitRays = true;
+    bool trace_split_rays(BandRays* rays, const LensPencilCheck* check = nullptr) const;
     void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const;
     bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
                        const LensPencilCheck* check = nullptr) const;

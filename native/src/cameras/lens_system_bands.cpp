@@ -125,7 +125,6 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     const double k_lowest = band_parameter_runs.lowest(), k_highest = band_parameter_runs.highest();
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
     for (int i = 0; i < n; ++i) {
-        out->sample_raster_px[i] = raster_px[i], out->sample_lens[i] = lens_sample[i];
         gx[i] = gy[i] = 0.0;
         k_from[i] = k_lowest, k_to[i] = k_highest;
         if (!out->sample_alive[i]) continue;
@@ -143,7 +142,62 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
         else if (!(margin_d[i] > 0.0)) k_to[i] = k_from[i];
         if (!(k_to[i] > k_from[i])) out->sample_alive[i] = false;  // no wavelength gets through
     }
+    const int first_entry = out->count;
     split_into_bands(n, raster_px, gx, gy, band_parameter_runs, 1.0, 1.0, out, nullptr, k_from, k_to);
+    // The new split rays: their lens samples; those in their sample's own
+    // pixel its ray, the others to trace (trace_split_rays).
+    const size_t count = size_t(out->count);
+    if (out->entry_weight.size() < out->sample.size()) {
+        const size_t room = out->sample.size();
+        out->entry_ray.resize(6 * room), out->entry_weight.resize(room);
+        out->entry_alive.resize(room), out->entry_traced.resize(room);
+    }
+    for (size_t at = size_t(first_entry); at < count; ++at) {
+        const int i = out->sample[at];
+        out->lens_x_m[at] = lens_sample[i].x, out->lens_y_m[at] = lens_sample[i].y;
+        const Point2f p = out->raster_px[at];
+        const bool own = p.x == raster_px[i].x && p.y == raster_px[i].y;
+        out->entry_traced[at] = own;
+        if (!own) continue;
+        for (int a = 0; a < 3; ++a)
+            out->entry_ray[6 * at + size_t(a)] = out->sample_rows.origin[a][i],
+                                            out->entry_ray[6 * at + 3 + size_t(a)] = out->sample_rows.direction[a][i];
+        out->entry_weight[at] = out->sample_weight[i];
+        out->entry_alive[at] = out->sample_alive[i];
+    }
+    return within;
+}
+
+bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* check) const {
+    // The rays a pixel or more from their sample's, a whole batch at a time,
+    // each carrying what its sample's ray carries.
+    bool within = true;
+    const size_t count = size_t(rays->count);
+    size_t at = 0;
+    while (true) {
+        Point2f raster[kCameraBatch], lens[kCameraBatch];
+        size_t entry[kCameraBatch];
+        int m = 0;
+        for (; at < count && m < kCameraBatch; ++at) {
+            if (rays->entry_traced[at]) continue;
+            raster[m] = rays->raster_px[at], lens[m] = {rays->lens_x_m[at], rays->lens_y_m[at]};
+            entry[m++] = at;
+        }
+        if (m == 0) break;
+        LensRayBatch leaving;
+        double margin[kLensBatch];
+        CameraRayRows traced;
+        float weight[kCameraBatch];
+        bool alive[kCameraBatch];
+        within &= trace_open_rows(raster, lens, m, &leaving, margin, &traced, weight, alive, within ? check : nullptr);
+        for (int t = 0; t < m; ++t) {
+            const size_t e = entry[t];
+            for (int a = 0; a < 3; ++a)
+                rays->entry_ray[6 * e + size_t(a)] = traced.origin[a][t],
+                                         rays->entry_ray[6 * e + 3 + size_t(a)] = traced.direction[a][t];
+            rays->entry_weight[e] = weight[t], rays->entry_alive[e] = alive[t], rays->entry_traced[e] = true;
+        }
+    }
     return within;
 }
 
@@ -159,55 +213,25 @@ void LensSystemCamera::whole_ray_rows(const BandRays& rays, CameraRayRows* out, 
 }
 
 bool LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out,
-                                     BandRayWeights* weights, const LensPencilCheck* check) const {
-    // A split sample's stretch in its own pixel is its own ray (band_rays
-    // traced it); the others start a pixel or more away and are traced here,
-    // carrying what their sample's ray carries.
-    Point2f raster[kCameraBatch], lens[kCameraBatch];
-    int traced_from[kCameraBatch];
-    int m = 0;
-    for (int r = 0; r < n; ++r) {
-        const size_t entry = size_t(first + r);
-        const int i = rays.sample[entry];
-        const Point2f p = rays.raster_px[entry], own = rays.sample_raster_px[i];
-        if (p.x == own.x && p.y == own.y) {
-            for (int a = 0; a < 3; ++a)
-                out->origin[a][r] = rays.sample_rows.origin[a][i],
-                out->direction[a][r] = rays.sample_rows.direction[a][i];
-            weights->weight[r] = rays.sample_weight[i], weights->alive[r] = rays.sample_alive[i];
-            continue;
-        }
-        raster[m] = p, lens[m] = rays.sample_lens[i], traced_from[m] = r;
-        ++m;
-    }
-    bool within = true;
-    if (m > 0) {
-        LensRayBatch leaving;
-        double margin[kLensBatch];
-        CameraRayRows traced;
-        float weight[kCameraBatch];
-        bool alive[kCameraBatch];
-        within = trace_open_rows(raster, lens, m, &leaving, margin, &traced, weight, alive, check);
-        for (int t = 0; t < m; ++t) {
-            const int r = traced_from[t];
-            for (int a = 0; a < 3; ++a)
-                out->origin[a][r] = traced.origin[a][t], out->direction[a][r] = traced.direction[a][t];
-            weights->weight[r] = weight[t], weights->alive[r] = alive[t];
-        }
-    }
-    // A vignetted ray still goes to the packet (it may close its sample's
-    // value), weight 0: given a finite ray, the camera's axis.
+                                     BandRayWeights* weights, const LensPencilCheck* /*check*/) const {
+    // trace_split_rays found them all; a vignetted one still goes to the
+    // packet (it may close its sample's value), weight 0: given a finite ray,
+    // the camera's axis.
     const Vec3d origin = world_from_camera.world_from_camera_point({0.0, 0.0, 0.0});
     const Vec3d forward = world_from_camera.world_from_camera_vector({0.0, 0.0, 1.0});
     for (int r = 0; r < n; ++r) {
-        if (weights->alive[r]) continue;
-        out->origin[0][r] = float(origin.x), out->origin[1][r] = float(origin.y), out->origin[2][r] = float(origin.z);
-        out->direction[0][r] = float(forward.x), out->direction[1][r] = float(forward.y);
-        out->direction[2][r] = float(forward.z);
-        weights->weight[r] = 0.0f;
+        const size_t e = size_t(first + r);
+        const bool alive = rays.entry_alive[e];
+        const float* ray = &rays.entry_ray[6 * e];
+        out->origin[0][r] = alive ? ray[0] : float(origin.x), out->origin[1][r] = alive ? ray[1] : float(origin.y);
+        out->origin[2][r] = alive ? ray[2] : float(origin.z);
+        out->direction[0][r] = alive ? ray[3] : float(forward.x), out->direction[1][r] = alive ? ray[4] : float(forward.y);
+        out->direction[2][r] = alive ? ray[5] : float(forward.z);
+        weights->weight[r] = alive ? rays.entry_weight[e] : 0.0f;
+        weights->alive[r] = alive;
     }
     weights->used = true;
-    return within;
+    return true;
 }
 
 }  // namespace lc

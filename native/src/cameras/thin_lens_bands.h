@@ -54,13 +54,17 @@ struct BandRays {
     std::vector<double> x_edges, y_edges;  // split_into_bands' scratch
 
     // A camera whose rays may be vignetted and carry a weight (the lens
-    // system) traces every sample's own ray in band_rays; kept here, so that
-    // whole_ray_rows copies them and band_ray_rows traces a split sample's
-    // rays with its lens sample.
+    // system) traces every sample's own ray in band_rays, kept here for
+    // whole_ray_rows; and the split rays' (lens_x_m and lens_y_m then hold
+    // their lens samples): a stretch in the sample's own pixel is its ray,
+    // copied at once, the others are traced later, many samples' together
+    // (trace_split_rays: render_tile_bands.h pools the split samples).
     CameraRayRows sample_rows;
     float sample_weight[kCameraBatch];
     bool sample_alive[kCameraBatch];
-    Point2f sample_raster_px[kCameraBatch], sample_lens[kCameraBatch];
+    std::vector<float> entry_ray;  // 6 a ray: origin, direction (world, float)
+    std::vector<float> entry_weight;
+    std::vector<char> entry_alive, entry_traced;  // traced: found (false: still to trace)
 
     int size() const { return count; }
     void clear() { count = 0, whole_count = 0; }

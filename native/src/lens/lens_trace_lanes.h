@@ -171,11 +171,11 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
 // GCC left it so before it had a dispersed variant, and the RGB trace is
 // fastest that way (measured). The single-precision kernels' one group takes
 // the body inline.
-template <class D, class M, bool kDispersed>
+template <class D, class M, bool kDispersed, bool kMargins = false>
 __attribute__((noinline)) void cross_toward_scene_lanes(const LensElement& e, const SurfaceScalars& f,
                                                         size_t surface, LaneGlass glass, int first,
                                                         LaneGroup<D, M>* l) {
-    cross_toward_scene_lanes_body<D, M, kDispersed>(e, f, surface, glass, first, l);
+    cross_toward_scene_lanes_body<D, M, kDispersed, kMargins>(e, f, surface, glass, first, l);
 }
 
 // trace_from_film_batch_portable's work for the whole batch, in groups of
@@ -201,11 +201,12 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         const SurfaceScalars scalars = SurfaceScalars::of(elements[s], kSingleLanes<D>);
         bool any_alive = false;
         for (int g = 0; g < kGroups; ++g) {
-            if constexpr (kGroups == 1 || kMargins)
+            if constexpr (kGroups == 1)
                 cross_toward_scene_lanes_body<D, M, kDispersed, kMargins>(elements[s], scalars, s, glass, kWidth * g,
                                                                           &lanes[g]);
             else
-                cross_toward_scene_lanes<D, M, kDispersed>(elements[s], scalars, s, glass, kWidth * g, &lanes[g]);
+                cross_toward_scene_lanes<D, M, kDispersed, kMargins>(elements[s], scalars, s, glass, kWidth * g,
+                                                                     &lanes[g]);
             any_alive |= any(lanes[g].alive);
         }
         if (!any_alive) break;
