@@ -124,6 +124,7 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     }
     const double k_lowest = band_parameter_runs.lowest(), k_highest = band_parameter_runs.highest();
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
+    const double px_per_mm_x = 1.0 / film_mm_per_px_x, px_per_mm_y = 1.0 / film_mm_per_px_y;
     for (int i = 0; i < n; ++i) {
         gx[i] = gy[i] = 0.0;
         k_from[i] = k_lowest, k_to[i] = k_highest;
@@ -134,8 +135,8 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
         }
         // g in raster pixels per unit of k (split_into_bands: raster x grows
         // with its first argument, raster y against its second; the film is inverted).
-        gx[i] = -shift_x_mm[i] / film_mm_per_px_x;
-        gy[i] = -shift_y_mm[i] / film_mm_per_px_y;
+        gx[i] = -shift_x_mm[i] * px_per_mm_x;
+        gy[i] = -shift_y_mm[i] * px_per_mm_y;
         // The clearance on its line in k: the stretch where it is positive.
         if (slope[i] > 0.0) k_from[i] = std::max(k_lowest, k_d - margin_d[i] / slope[i]);
         else if (slope[i] < 0.0) k_to[i] = std::min(k_highest, k_d - margin_d[i] / slope[i]);
