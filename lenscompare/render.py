@@ -52,7 +52,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
            postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False, lens_mirrors: bool = False,
-           lens_rays: str | None = None, lens_bands: bool = False) -> Image:
+           lens_rays: str | None = None, lens_bands: bool = True) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters

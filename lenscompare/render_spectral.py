@@ -34,7 +34,7 @@ _FOCAL_STEP_NM = 5.0
 
 def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
                   traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
-                  lens_bands: bool = False) -> dict:
+                  lens_bands: bool = True) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default

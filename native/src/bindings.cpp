@@ -7,6 +7,7 @@
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
 
 #include <array>
 #include <cmath>
@@ -475,6 +476,9 @@ NB_MODULE(_native, m) {
              "Whether spectral renders (wavelengths not drawn) give each sample one ray carrying every wavelength "
              "whose film point stays in its pixel (cameras/lens_system_bands.cpp), instead of a ray per traced "
              "hero wavelength. After set_dispersion.")
+        .def_prop_ro("band_parameter",
+                     [](const LensSystemCamera& c) { return c.band_parameter_by_nm; },
+                     "The band rays' dispersion parameter k at every nm from 380 (empty before set_band_rays).")
         .def("carries_bands", &LensSystemCamera::carries_bands,
              "Whether spectral renders take band rays: set_band_rays(True) on a lens with dispersion.")
         .def("use_ray_table",

@@ -189,6 +189,9 @@ struct LensSystemCamera {
     bool trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
                          double* margin, CameraRayRows* rows, float* weight, bool* alive,
                          const LensPencilCheck* check) const;
+    // trace_open_rows' trace of rays aimed already (pupil area_mm2 each).
+    bool trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin, CameraRayRows* rows,
+                          float* weight, bool* alive, const LensPencilCheck* check) const;
     // The split rays band_rays left to trace, all of rays' entries so far
     // (render_tile_bands.h pools them across batches: a batch's few, traced
     // alone, cost a whole trace of 32 lanes).

@@ -31,6 +31,7 @@
 // whole against the traced wavelengths.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "cameras/lens_system.h"
 #include "lens/lens_band_table.h"
@@ -70,7 +71,7 @@ void LensSystemCamera::set_band_rays(bool on) {
         // Not through blades: the table turns one film azimuth's values to each film point's.
         const bool round = std::none_of(elements.begin(), elements.end(),
                                         [](const LensElement& e) { return e.blades > 0; });
-        if (round)
+        if (round && !std::getenv("LC_NOTABLE"))
             band_table = build_lens_band_table(elements, reversed_blue_elements,
                                                band_parameter_by_nm.front() - band_parameter_runs.reference(),
                                                *pupil, film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
@@ -80,20 +81,35 @@ void LensSystemCamera::set_band_rays(bool on) {
 bool LensSystemCamera::trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n,
                                        LensRayBatch* leaving, double* margin, CameraRayRows* rows, float* weight,
                                        bool* alive, const LensPencilCheck* check) const {
-    double area_mm2[kLensBatch], cos_theta[kLensBatch];
+    double area_mm2[kLensBatch];
     sample_batch(raster_px, lens_sample, n, leaving, area_mm2);
-    for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -leaving->dz[i];
-    trace_from_film_batch_margins(elements, leaving, margin, trace_kernel);
-    to_rows(lens_to_world(), *leaving, cos_theta, area_mm2, n, rows, weight, alive);
-    return !check || lens_rays_within(*check, *leaving, alive);
+    return trace_open_aimed(n, leaving, area_mm2, margin, rows, weight, alive, check);
+}
+
+bool LensSystemCamera::trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin,
+                                        CameraRayRows* rows, float* weight, bool* alive,
+                                        const LensPencilCheck* check) const {
+    double cos_theta[kLensBatch];
+    for (int i = 0; i < kLensBatch; ++i) cos_theta[i] = -rays->dz[i];
+    trace_from_film_batch_margins(elements, rays, margin, trace_kernel);
+    to_rows(lens_to_world(), *rays, cos_theta, area_mm2, n, rows, weight, alive);
+    return !check || lens_rays_within(*check, *rays, alive);
 }
 
 bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
                                  const LensPencilCheck* check) const {
     LensRayBatch leaving;
     double margin_d[kLensBatch];
-    const bool within = trace_open_rows(raster_px, lens_sample, n, &leaving, margin_d, &out->sample_rows,
-                                        out->sample_weight, out->sample_alive, check);
+    sample_batch(raster_px, lens_sample, n, &leaving, out->sample_area_mm2);
+    // Where each aimed ray crosses the exit-pupil plane: its split rays aim there too.
+    const double to_pupil_mm = pupil->plane_z_mm() - film_z_mm;
+    for (int i = 0; i < n; ++i) {
+        const double t = to_pupil_mm / leaving.dz[i];
+        out->sample_pupil_x_mm[i] = leaving.ox[i] + leaving.dx[i] * t;
+        out->sample_pupil_y_mm[i] = leaving.oy[i] + leaving.dy[i] * t;
+    }
+    const bool within = trace_open_aimed(n, &leaving, out->sample_area_mm2, margin_d, &out->sample_rows,
+                                         out->sample_weight, out->sample_alive, check);
     // How the film point (mm) and the clearance move per unit of k: from the
     // table, or traced back at 380 nm where it cannot answer.
     double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
@@ -150,12 +166,13 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     const size_t count = size_t(out->count);
     if (out->entry_weight.size() < out->sample.size()) {
         const size_t room = out->sample.size();
-        out->entry_ray.resize(6 * room), out->entry_weight.resize(room);
+        out->entry_ray.resize(6 * room), out->entry_weight.resize(room), out->entry_pupil.resize(3 * room);
         out->entry_alive.resize(room), out->entry_traced.resize(room);
     }
     for (size_t at = size_t(first_entry); at < count; ++at) {
         const int i = out->sample[at];
-        out->lens_x_m[at] = lens_sample[i].x, out->lens_y_m[at] = lens_sample[i].y;
+        out->entry_pupil[3 * at] = out->sample_pupil_x_mm[i], out->entry_pupil[3 * at + 1] = out->sample_pupil_y_mm[i];
+        out->entry_pupil[3 * at + 2] = out->sample_area_mm2[i];
         const Point2f p = out->raster_px[at];
         const bool own = p.x == raster_px[i].x && p.y == raster_px[i].y;
         out->entry_traced[at] = own;
@@ -170,27 +187,42 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
 }
 
 bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* check) const {
-    // The rays a pixel or more from their sample's, a whole batch at a time,
-    // each carrying what its sample's ray carries.
+    // The rays a pixel or more from their sample's, a whole batch at a time:
+    // from their own film point toward their sample's exit-pupil point (the
+    // same lens sample would aim elsewhere where the pupil's rings are
+    // narrower than a pixel), weighed by its pick's area, each carrying what
+    // its sample's ray carries.
     bool within = true;
     const size_t count = size_t(rays->count);
+    const double to_pupil_mm = pupil->plane_z_mm() - film_z_mm;
     size_t at = 0;
     while (true) {
-        Point2f raster[kCameraBatch], lens[kCameraBatch];
-        size_t entry[kCameraBatch];
+        LensRayBatch aimed;
+        double area_mm2[kLensBatch];
+        size_t entry[kLensBatch];
         int m = 0;
-        for (; at < count && m < kCameraBatch; ++at) {
+        for (; at < count && m < kLensBatch; ++at) {
             if (rays->entry_traced[at]) continue;
-            raster[m] = rays->raster_px[at], lens[m] = {rays->lens_x_m[at], rays->lens_y_m[at]};
+            double x_mm, y_mm, r_mm;
+            film_point(rays->raster_px[at], &x_mm, &y_mm, &r_mm);
+            const double tx = rays->entry_pupil[3 * at] - x_mm, ty = rays->entry_pupil[3 * at + 1] - y_mm;
+            const double inverse_length = 1.0 / std::sqrt(tx * tx + ty * ty + to_pupil_mm * to_pupil_mm);
+            aimed.ox[m] = x_mm, aimed.oy[m] = y_mm, aimed.oz[m] = film_z_mm;
+            aimed.dx[m] = tx * inverse_length, aimed.dy[m] = ty * inverse_length, aimed.dz[m] = to_pupil_mm * inverse_length;
+            aimed.alive[m] = true;
+            area_mm2[m] = rays->entry_pupil[3 * at + 2];
             entry[m++] = at;
         }
         if (m == 0) break;
-        LensRayBatch leaving;
+        for (int i = m; i < kLensBatch; ++i) {
+            aimed.ox[i] = aimed.oy[i] = 0.0, aimed.oz[i] = film_z_mm;
+            aimed.dx[i] = aimed.dy[i] = 0.0, aimed.dz[i] = -1.0, aimed.alive[i] = false, area_mm2[i] = 0.0;
+        }
         double margin[kLensBatch];
         CameraRayRows traced;
         float weight[kCameraBatch];
         bool alive[kCameraBatch];
-        within &= trace_open_rows(raster, lens, m, &leaving, margin, &traced, weight, alive, within ? check : nullptr);
+        within &= trace_open_aimed(m, &aimed, area_mm2, margin, &traced, weight, alive, within ? check : nullptr);
         for (int t = 0; t < m; ++t) {
             const size_t e = entry[t];
             for (int a = 0; a < 3; ++a)

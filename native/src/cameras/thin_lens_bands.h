@@ -55,13 +55,15 @@ struct BandRays {
 
     // A camera whose rays may be vignetted and carry a weight (the lens
     // system) traces every sample's own ray in band_rays, kept here for
-    // whole_ray_rows; and the split rays' (lens_x_m and lens_y_m then hold
-    // their lens samples): a stretch in the sample's own pixel is its ray,
-    // copied at once, the others are traced later, many samples' together
-    // (trace_split_rays: render_tile_bands.h pools the split samples).
+    // whole_ray_rows; and the split rays': a stretch in the sample's own
+    // pixel is its ray, copied at once, the others are traced later (from
+    // their film point toward the sample's exit-pupil point), many samples'
+    // together (trace_split_rays: render_tile_bands.h pools the split samples).
     CameraRayRows sample_rows;
     float sample_weight[kCameraBatch];
     bool sample_alive[kCameraBatch];
+    double sample_pupil_x_mm[kCameraBatch], sample_pupil_y_mm[kCameraBatch], sample_area_mm2[kCameraBatch];
+    std::vector<double> entry_pupil;  // 3 a ray: its sample's exit-pupil point (x, y, mm) and pick area (mm^2)
     std::vector<float> entry_ray;  // 6 a ray: origin, direction (world, float)
     std::vector<float> entry_weight;
     std::vector<char> entry_alive, entry_traced;  // traced: found (false: still to trace)
