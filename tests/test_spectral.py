@@ -101,7 +101,7 @@ def test_rgb_renders_are_unchanged_when_wavelengths_exist():
         assert not np.array_equal(wavelength, plain[2])
 
 
-@pytest.mark.parametrize("model", ["lens", "thin"])  # a ray per traced wavelength; secondaries on the hero's ray
+@pytest.mark.parametrize("model", ["lens", "thin"])  # both carry bands of the spectrum on their rays
 def test_spectral_renders_do_not_depend_on_the_thread_count(tmp_path, model):
     scene = _dispersive_showcase(tmp_path, model=model)
     one = render(scene, spp=4, spectral=True, threads=1, progress=False)
@@ -117,15 +117,20 @@ def test_fewer_traced_wavelengths_keep_the_lens_systems_colour(tmp_path, traced)
     16 spp, five seeds: within 0.21 % for 2 and 0.61 % for 1). A wrong weight
     (1/4 for 1/n) or a wrong pdf would miss by far more."""
     scene = _dispersive_showcase(tmp_path, model="lens")
-    means = {n: render(scene, spp=16, spectral=True, traced_wavelengths=n, progress=False).pixels
-             .reshape(-1, 3).mean(axis=0) for n in (traced, 4)}
+    means = {n: render(scene, spp=16, spectral=True, traced_wavelengths=n, sample_wavelengths=True,
+                       progress=False).pixels.reshape(-1, 3).mean(axis=0) for n in (traced, 4)}
     assert np.all(np.abs(means[traced] / means[4] - 1.0) < 0.01), means
 
 
-def test_the_lens_system_traces_the_hero_and_its_antipode_by_default(tmp_path):
-    # bench/bench_spectral.py: 2 traced wavelengths reach 1 % RMSE sooner than 1 or 4
-    lens = render(_dispersive_showcase(tmp_path, model="lens"), spp=1, spectral=True, progress=False)
+def test_the_lens_system_traces_the_hero_and_its_antipode_when_wavelengths_are_drawn(tmp_path):
+    # bench/bench_spectral.py: 2 traced wavelengths reach 1 % RMSE sooner than 1 or 4. By default
+    # the lens system's rays carry bands of the spectrum instead (tests/test_lens_bands.py).
+    scene = _dispersive_showcase(tmp_path, model="lens")
+    lens = render(scene, spp=1, spectral=True, sample_wavelengths=True, progress=False)
     assert lens.metadata["spectral"]["secondaries"] == "hero and antipode traced, others terminated"
+    assert lens.metadata["spectral"]["wavelengths_sampled"]
+    bands = render(scene, spp=1, spectral=True, progress=False)
+    assert bands.metadata["spectral"]["secondaries"] == "none: a ray per stretch of the spectrum landing in one pixel"
     thin = render(_dispersive_showcase(tmp_path, model="thin"), spp=1, spectral=True, sample_wavelengths=True,
                   progress=False)
     assert thin.metadata["spectral"]["secondaries"] == "on the hero's ray where it is theirs, else traced"

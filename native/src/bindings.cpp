@@ -479,6 +479,17 @@ NB_MODULE(_native, m) {
         .def_prop_ro("band_parameter",
                      [](const LensSystemCamera& c) { return c.band_parameter_by_nm; },
                      "The band rays' dispersion parameter k at every nm from 380 (empty before set_band_rays).")
+        .def("check_band_model",
+             [](const LensSystemCamera& c, int film_cells, int samples_per_cell) {
+                 if (!c.carries_bands()) throw std::invalid_argument("the camera carries no bands");
+                 if (film_cells < 1 || samples_per_cell < 1) throw std::invalid_argument("at least one sample");
+                 const BandModelCheck r = c.check_band_model(film_cells, samples_per_cell);
+                 return std::make_tuple(r.passing, r.one_way, r.film_p99_px, r.rays, r.elsewhere);
+             },
+             "film_cells"_a = 32, "samples_per_cell"_a = 8, nb::call_guard<nb::gil_scoped_release>(),
+             "The band rays' model against the trace at 400-780 nm: (rays x wavelengths passing, of those and "
+             "the rest the model passes one way only, film point error p99 in pixels, rays, rays passing at "
+             "some test wavelength but not at d).")
         .def("carries_bands", &LensSystemCamera::carries_bands,
              "Whether spectral renders take band rays: set_band_rays(True) on a lens with dispersion.")
         .def("use_ray_table",

@@ -76,6 +76,21 @@ inline void mirror_lens_rays(const Rays& in, unsigned mirror, Rays* out) {
 
 static_assert(kLensBatch == kCameraBatch, "generate_ray_batch takes the render loop's whole camera batch");
 
+// How well band_rays' model (lens_system_bands.cpp) holds for a camera:
+// rays traced back at test wavelengths against the model's film points and
+// passes (LensSystemCamera::check_band_model).
+struct BandModelCheck {
+    long passing = 0;   // rays x test wavelengths that pass the rims
+    long one_way = 0;   // of those and the rest, how many the model passes and the trace not, or the reverse
+    double film_p99_px = 0.0;  // the model's film point off the traced one, 99th percentile, pixels
+    // Rays sampled (through every surface at d, rims aside), and of those the
+    // ones passing at some test wavelength but not at d: the share of the
+    // light a region sampled around the d pupil may miss (where the pupils
+    // move apart more, behind small stops, the rays crossing outside it are
+    // never drawn).
+    long rays = 0, elsewhere = 0;
+};
+
 struct LensSystemCamera {
     Frame world_from_camera;           // origin at the entrance-pupil centre
     std::vector<LensElement> elements; // scene side first, lens frame (mm)
@@ -198,6 +213,9 @@ struct LensSystemCamera {
     static constexpr bool kPoolsSplitRays = true;
     bool trace_split_rays(BandRays* rays, const LensPencilCheck* check = nullptr) const;
     void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const;
+    // The model against the trace on film_cells^2 jittered film points,
+    // samples_per_cell lens samples each (after set_band_rays(true)).
+    BandModelCheck check_band_model(int film_cells, int samples_per_cell) const;
     bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
                        const LensPencilCheck* check = nullptr) const;
 

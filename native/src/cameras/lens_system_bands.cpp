@@ -267,4 +267,78 @@ bool LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, Cam
     return true;
 }
 
+BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_per_cell) const {
+    // Film points on a grid over the film (jittered), lens samples drawn,
+    // all fixed by a seed: each ray traced open at d and back at 380 nm
+    // (band_rays' model) and back at each test wavelength with the rims
+    // (the truth).
+    constexpr float kTestNm[] = {400.0f, 450.0f, 500.0f, 550.0f, 620.0f, 700.0f, 780.0f};
+    std::vector<std::vector<LensElement>> reversed_at;
+    for (float nm : kTestNm) reversed_at.push_back(reversed_lens(elements_by_nm[size_t(glass_row(nm))]));
+    const double k_d = band_parameter_runs.reference(), k_blue = band_parameter_by_nm.front();
+    const double per_k = 1.0 / (k_blue - k_d);
+    uint64_t state = 0x9E3779B97F4A7C15ull;
+    auto next = [&]() {  // splitmix64 to [0, 1)
+        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return float(double((z ^ (z >> 31)) >> 40) * 0x1.0p-24);
+    };
+    std::vector<Point2f> raster, lens;
+    for (int cy = 0; cy < film_cells; ++cy)
+        for (int cx = 0; cx < film_cells; ++cx)
+            for (int k = 0; k < samples_per_cell; ++k) {
+                raster.push_back({float((cx + next()) / film_cells * width_px), float((cy + next()) / film_cells * height_px)});
+                lens.push_back({next(), next()});
+            }
+    BandModelCheck out;
+    std::vector<double> film_error_px;
+    for (size_t first = 0; first < raster.size(); first += kLensBatch) {
+        const int n = int(std::min<size_t>(kLensBatch, raster.size() - first));
+        LensRayBatch leaving, back;
+        double area_mm2[kLensBatch], margin_d[kLensBatch], margin_blue[kLensBatch];
+        CameraRayRows rows;
+        float weight[kCameraBatch];
+        bool alive[kCameraBatch];
+        sample_batch(raster.data() + first, lens.data() + first, n, &leaving, area_mm2);
+        trace_open_aimed(n, &leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
+        mirror_for_back_trace(leaving, &back);
+        trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
+        bool elsewhere[kLensBatch] = {};  // passing at some test wavelength, not at d
+        for (size_t w = 0; w < std::size(kTestNm); ++w) {
+            LensRayBatch truth;
+            mirror_for_back_trace(leaving, &truth);
+            trace_from_film_batch(reversed_at[w], &truth, trace_kernel, trace_precision);
+            const double k_t = band_parameter_by_nm[size_t(glass_row(kTestNm[w]))];
+            for (int i = 0; i < n; ++i) {
+                if (!alive[i] || !back.alive[i]) continue;
+                double x_mm, y_mm, r_mm;
+                film_point(raster[first + size_t(i)], &x_mm, &y_mm, &r_mm);
+                const double slope = (margin_blue[i] - margin_d[i]) * per_k;
+                const bool model = margin_d[i] + slope * (k_t - k_d) > 0.0;
+                const bool passes = truth.alive[i];
+                elsewhere[i] |= passes && !(margin_d[i] > 0.0);
+                out.passing += int(passes);
+                out.one_way += int(model != passes);
+                if (!passes) continue;
+                const double t_blue = (-film_z_mm - back.oz[i]) / back.dz[i];
+                const double t = (-film_z_mm - truth.oz[i]) / truth.dz[i];
+                const double g = (k_t - k_d) * per_k;
+                const double mx = x_mm + (back.ox[i] + back.dx[i] * t_blue - x_mm) * g;
+                const double my = y_mm + (back.oy[i] + back.dy[i] * t_blue - y_mm) * g;
+                const double ex = (truth.ox[i] + truth.dx[i] * t - mx) / film_mm_per_px_x;
+                const double ey = (truth.oy[i] + truth.dy[i] * t - my) / film_mm_per_px_y;
+                film_error_px.push_back(std::sqrt(ex * ex + ey * ey));
+            }
+        }
+        for (int i = 0; i < n; ++i) out.rays += int(alive[i]), out.elsewhere += int(elsewhere[i]);
+    }
+    if (!film_error_px.empty()) {
+        const size_t at = size_t(0.99 * double(film_error_px.size() - 1));
+        std::nth_element(film_error_px.begin(), film_error_px.begin() + std::ptrdiff_t(at), film_error_px.end());
+        out.film_p99_px = film_error_px[at];
+    }
+    return out;
+}
+
 }  // namespace lc

@@ -30,7 +30,7 @@ namespace lc {
 // group of lanes: each division here occupies the divider the lanes' square
 // roots and divisions wait for. The same values as the scalar trace's.
 struct SurfaceScalars {
-    double four_c, radius_mm, semi2_mm2, inverse_semi2_per_mm2, eta, eta2;
+    double four_c, radius_mm, semi2_mm2, eta, eta2;
     bool refracts, direct_near_root;
 
     // single: for the single-precision trace, which always divides (its
@@ -41,7 +41,6 @@ struct SurfaceScalars {
         f.four_c = 4.0 * e.curvature_per_mm;
         f.radius_mm = e.curvature_per_mm != 0.0 ? 1.0 / e.curvature_per_mm : 0.0;
         f.semi2_mm2 = e.semi_aperture_mm * e.semi_aperture_mm;
-        f.inverse_semi2_per_mm2 = f.semi2_mm2 > 0.0 ? 1.0 / f.semi2_mm2 : 0.0;
         f.direct_near_root = !single && lc::direct_near_root(e.curvature_per_mm);
         f.refracts = !(e.is_stop || e.n_scene_side == e.n_film_side);
         f.eta = f.refracts ? e.n_film_side / e.n_scene_side : 1.0;
@@ -127,7 +126,8 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
     const M hit = ok;
     if constexpr (kMargins) {
         auto least = [](D a, D b) { return select(a < b, a, b); };
-        D margin = (D(f.semi2_mm2) - mul_add(py, py, px * px)) * D(f.inverse_semi2_per_mm2);
+        const D inverse_semi2(f.semi2_mm2 > 0.0 ? 1.0 / f.semi2_mm2 : 0.0);
+        D margin = (D(f.semi2_mm2) - mul_add(py, py, px * px)) * inverse_semi2;
         for (int k = 0; k < e.blades; ++k)
             margin = least(margin, (D(e.apothem_mm) - mul_add(py, D(e.edge_normal_y[size_t(k)]),
                                                                 px * D(e.edge_normal_x[size_t(k)]))) *
@@ -195,7 +195,7 @@ inline void trace_from_film_lanes(const LensElement* elements, size_t count, Lan
         l.ox = D::load(b->ox + first), l.oy = D::load(b->oy + first), l.oz = D::load(b->oz + first);
         l.dx = D::load(b->dx + first), l.dy = D::load(b->dy + first), l.dz = D::load(b->dz + first);
         l.alive = M::load(b->alive + first) & (l.dz < D(0.0));
-        l.margin = D(INFINITY);
+        if constexpr (kMargins) l.margin = D(INFINITY);
     }
     for (size_t s = count; s-- > 0;) {
         const SurfaceScalars scalars = SurfaceScalars::of(elements[s], kSingleLanes<D>);
