@@ -31,7 +31,6 @@
 // whole against the traced wavelengths.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "cameras/lens_system.h"
 #include "lens/lens_band_table.h"
@@ -64,18 +63,17 @@ std::vector<double> band_parameter(const std::vector<std::vector<LensElement>>& 
 
 void LensSystemCamera::set_band_rays(bool on) {
     band_rays_on = on;
-    if (on && disperses() && band_parameter_by_nm.empty()) {
-        band_parameter_by_nm = band_parameter(elements_by_nm);
-        band_parameter_runs = DispersionRuns(band_parameter_by_nm);
-        reversed_blue_elements = reversed_lens(elements_by_nm.front());
-        // Not through blades: the table turns one film azimuth's values to each film point's.
-        const bool round = std::none_of(elements.begin(), elements.end(),
-                                        [](const LensElement& e) { return e.blades > 0; });
-        if (round && !std::getenv("LC_NOTABLE"))
-            band_table = build_lens_band_table(elements, reversed_blue_elements,
-                                               band_parameter_by_nm.front() - band_parameter_runs.reference(),
-                                               *pupil, film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
-    }
+    if (!on || !disperses() || !band_parameter_by_nm.empty()) return;
+    band_parameter_by_nm = band_parameter(elements_by_nm);
+    band_parameter_runs = DispersionRuns(band_parameter_by_nm);
+    reversed_blue_elements = reversed_lens(elements_by_nm.front());
+    // Not through blades: the table turns one film azimuth's values to each film point's.
+    const bool round =
+        std::none_of(elements.begin(), elements.end(), [](const LensElement& e) { return e.blades > 0; });
+    if (round)
+        band_table = build_lens_band_table(elements, reversed_blue_elements,
+                                           band_parameter_by_nm.front() - band_parameter_runs.reference(), *pupil,
+                                           film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
 }
 
 bool LensSystemCamera::trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n,
