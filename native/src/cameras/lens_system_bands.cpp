@@ -52,7 +52,8 @@ std::vector<double> band_parameter(const std::vector<std::vector<LensElement>>& 
         const double spread = f[e].n_film_side - c[e].n_film_side;
         if (!(std::fabs(spread) > 1e-12)) continue;
         ++glasses;
-        for (size_t row = 0; row < by_nm.size(); ++row) k[row] += (by_nm[row][e].n_film_side - d[e].n_film_side) / spread;
+        for (size_t row = 0; row < by_nm.size(); ++row)
+            k[row] += (by_nm[row][e].n_film_side - d[e].n_film_side) / spread;
     }
     if (glasses == 0) return {};
     for (double& v : k) v /= glasses;
@@ -206,7 +207,8 @@ bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* c
             const double tx = rays->entry_pupil[3 * at] - x_mm, ty = rays->entry_pupil[3 * at + 1] - y_mm;
             const double inverse_length = 1.0 / std::sqrt(tx * tx + ty * ty + to_pupil_mm * to_pupil_mm);
             aimed.ox[m] = x_mm, aimed.oy[m] = y_mm, aimed.oz[m] = film_z_mm;
-            aimed.dx[m] = tx * inverse_length, aimed.dy[m] = ty * inverse_length, aimed.dz[m] = to_pupil_mm * inverse_length;
+            aimed.dx[m] = tx * inverse_length, aimed.dy[m] = ty * inverse_length;
+            aimed.dz[m] = to_pupil_mm * inverse_length;
             aimed.alive[m] = true;
             area_mm2[m] = rays->entry_pupil[3 * at + 2];
             entry[m++] = at;
@@ -256,7 +258,8 @@ bool LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, Cam
         const float* ray = &rays.entry_ray[6 * e];
         out->origin[0][r] = alive ? ray[0] : float(origin.x), out->origin[1][r] = alive ? ray[1] : float(origin.y);
         out->origin[2][r] = alive ? ray[2] : float(origin.z);
-        out->direction[0][r] = alive ? ray[3] : float(forward.x), out->direction[1][r] = alive ? ray[4] : float(forward.y);
+        out->direction[0][r] = alive ? ray[3] : float(forward.x);
+        out->direction[1][r] = alive ? ray[4] : float(forward.y);
         out->direction[2][r] = alive ? ray[5] : float(forward.z);
         weights->weight[r] = alive ? rays.entry_weight[e] : 0.0f;
         weights->alive[r] = alive;
@@ -286,7 +289,8 @@ BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_pe
     for (int cy = 0; cy < film_cells; ++cy)
         for (int cx = 0; cx < film_cells; ++cx)
             for (int k = 0; k < samples_per_cell; ++k) {
-                raster.push_back({float((cx + next()) / film_cells * width_px), float((cy + next()) / film_cells * height_px)});
+                raster.push_back({float((cx + next()) / film_cells * width_px),
+                                  float((cy + next()) / film_cells * height_px)});
                 lens.push_back({next(), next()});
             }
     BandModelCheck out;
