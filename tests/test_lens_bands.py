@@ -24,7 +24,8 @@ LENSES = Path(__file__).parent / "data" / "lenses"
 
 def _scene(tmp_path, base: str, *, lens: str = "dgauss_abbe.dat", resolution=(72, 48), f_number=None,
            wide_open=False, camera_key=""):
-    text = (SCENES / base).read_text().replace('model = "thin"', f'model = "lens"\nlens = "{LENSES / lens}"\n{camera_key}')
+    lens_keys = f'model = "lens"\nlens = "{LENSES / lens}"\n{camera_key}'
+    text = (SCENES / base).read_text().replace('model = "thin"', lens_keys)
     text = text.replace("focal_length_mm = 50.0\n", "")
     text = re.sub(r"resolution = \[\d+, \d+\]", f"resolution = [{resolution[0]}, {resolution[1]}]", text)
     if f_number is not None:
