@@ -62,9 +62,10 @@ DOT_DIAMETER_PX = 3.0
 """Each dot's geometric image diameter on the measuring film, pixels (centroids of smaller dots alias)."""
 SPP = 256
 """Samples per pixel of the dot chart. Wide open the spots are large and their centroids noisy:
-landscape.125mm at f/10.4 on dot_grid read -6.8 % of the chief ray at the corner with 64 spp (seed 15),
--2.1 to +2.5 % with 256 spp over seeds 1-3 (0.7 field: -3.7 to -1.2 %); at f/32, 64 spp, seeds 1-3
-and 15: 0.7 field -7 to +3 %, corner -2 to +1 %. 256 spp costs four times 64's (about 1.6 s a camera)."""
+with hero wavelengths drawn, landscape.125mm at f/10.4 on dot_grid read -6.8 % of the chief ray at the
+corner with 64 spp (seed 15), -2.4 to +2.6 % with 256 spp over seeds 1-3 and 15 (0.7 field: -2.8 to
+-0.7 %), about 1.7 s a camera; since session 45 the lens system's rays carry bands of the spectrum
+(no wavelength drawn): corner -0.7 to +0.1 %, 0.7 field -2.4 to -0.8 %, about 3.5 s a camera."""
 SEED = 15
 DISK_FILM_PX = 64
 """The longitudinal-colour render's square film, pixels; it spans DISK_FILM_SPAN disks."""
