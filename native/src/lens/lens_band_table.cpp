@@ -1,7 +1,5 @@
 #include "lens/lens_band_table.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -53,26 +51,12 @@ std::shared_ptr<const LensBandTable> build_lens_band_table(const std::vector<Len
                                                            double k_per_blue, const ExitPupil& pupil,
                                                            double film_z_mm, int radial_cells, int around_cells) {
     auto table = std::make_shared<LensBandTable>();
-    table->rings = kPupilSegments;
-    table->radial_cells = radial_cells, table->around_cells = around_cells;
-    table->rings_per_mm = pupil.segments_per_mm();
-    table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(table->around_nodes()));
+    static_cast<LensTableGrid&>(*table) = LensTableGrid(pupil, radial_cells, around_cells);
+    table->nodes.resize(table->node_count());
     const AimPlanes planes{film_z_mm, pupil.plane_z_mm()};
-    // Each node on its own: the same table whatever the threads.
-    tbb::parallel_for(0, kPupilSegments, [&](int ring) {
-        for (int end = 0; end < 2; ++end) {
-            const double film_r_mm = double(ring + end) / table->rings_per_mm;
-            for (int i = 0; i <= radial_cells; ++i)
-                for (int j = 0; j < table->around_nodes(); ++j) {
-                    float* out = table->nodes[table->node_index(ring, i, j)].end[end];
-                    if (pupil.segment(ring).empty) {
-                        std::fill(out, out + 4, std::numeric_limits<float>::quiet_NaN());
-                        continue;
-                    }
-                    trace_band_node(elements, blue_reversed, k_per_blue, pupil, planes, ring, film_r_mm,
-                                    double(i) / radial_cells, float(j) / float(around_cells), out);
-                }
-        }
+    table->for_each_node(pupil, [&](int ring, int end, double film_r_mm, double s, float u, size_t node) {
+        trace_band_node(elements, blue_reversed, k_per_blue, pupil, planes, ring, film_r_mm, s, u,
+                        table->nodes[node].end[end]);
     });
     return table;
 }
@@ -80,34 +64,12 @@ std::shared_ptr<const LensBandTable> build_lens_band_table(const std::vector<Len
 void look_up_band_shifts(const LensBandTable& table, FilmPlacement film, const Point2f* raster_px,
                          const Point2f* lens_sample, int n, double* shift_x_mm, double* shift_y_mm, double* slope,
                          bool* valid) {
-    const int last_ring = table.rings - 1;
+    TableCellLanes cells;  // as look_up_lens_rays
+    find_table_cells(table, film, raster_px, lens_sample, n, &cells);
     const int around_nodes = table.around_nodes();
-    const int ring_nodes = (table.radial_cells + 1) * around_nodes;
-    const int last_radial = table.radial_cells - 1, last_around = around_nodes - 2;
-    const float rings_per_mm = float(table.rings_per_mm);
-    const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
-    // As look_up_lens_rays: the ring and cell, u.y folded onto its half, in
-    // plain lane loops that GCC vectorises; the corners a lane at a time.
-    float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
-    float y_sign[kLensBatch];
-    int first_node[kLensBatch];
-    for (int i = 0; i < n; ++i) {
-        x[i] = (film.centre_x_px - raster_px[i].x) * film.mm_per_px_x;
-        y[i] = (raster_px[i].y - film.centre_y_px) * film.mm_per_px_y;
-        r[i] = std::sqrt(x[i] * x[i] + y[i] * y[i]);
-        const float ring_at = r[i] * rings_per_mm;
-        const int ring = std::min(int(ring_at), last_ring);
-        fr[i] = std::min(ring_at - float(ring), 1.0f);
-        const float radial_at = std::sqrt(lens_sample[i].x) * radial_cells;
-        const int radial = std::min(int(radial_at), last_radial);
-        fs[i] = radial_at - float(radial);
-        const float uy = lens_sample[i].y;
-        y_sign[i] = 1.0f - 2.0f * float(uy > 0.5f);
-        const float around_at = std::min(uy, 1.0f - uy) * around_cells;
-        const int around = std::min(int(around_at), last_around);
-        fu[i] = around_at - float(around);
-        first_node[i] = ring * ring_nodes + radial * around_nodes + around;
-    }
+    const float *fr = cells.fr, *fs = cells.fs, *fu = cells.fu, *y_sign = cells.y_sign;
+    const float *x = cells.x, *y = cells.y, *r = cells.r;
+    const int* first_node = cells.first_node;
     float gx[kLensBatch], gy[kLensBatch], dm[kLensBatch];
     const BandTableNode* nodes = table.nodes.data();
     for (int i = 0; i < n; ++i) {

@@ -35,21 +35,14 @@ enum BandTableValue : int {
 
 // One node: its values at the ring's inner and outer film radius (NaN
 // throughout where a trace failed: a sample in a cell touching it is
-// back-traced instead).
+// back-traced instead; 0 on rings outside the image circle, whose samples
+// the lens blocks).
 struct alignas(32) BandTableNode {
     float end[2][4];
 };
 
-struct LensBandTable {
-    int rings = 0;
-    int radial_cells = 0, around_cells = 0;  // as the lens-ray table's (around_cells even)
-    double rings_per_mm = 0.0;
+struct LensBandTable : LensTableGrid {
     std::vector<BandTableNode> nodes;  // [ring][radial][around, u.y from 0 to 1/2]
-
-    int around_nodes() const { return around_cells / 2 + 1; }
-    size_t node_index(int ring, int radial, int around) const {
-        return (size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_nodes()) + size_t(around);
-    }
 };
 
 // elements at d (the camera's), blue_reversed the lens at 380 nm mirrored

@@ -1,7 +1,5 @@
 #include "lens/lens_ray_table.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -63,22 +61,11 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
                                                          const ExitPupil& pupil, double film_z_mm,
                                                          int radial_cells, int around_cells) {
     auto table = std::make_shared<LensRayTable>();
-    table->rings = kPupilSegments;
-    table->radial_cells = radial_cells, table->around_cells = around_cells;
-    table->rings_per_mm = pupil.segments_per_mm();
-    table->nodes.resize(size_t(kPupilSegments) * size_t(radial_cells + 1) * size_t(table->around_nodes()));
+    static_cast<LensTableGrid&>(*table) = LensTableGrid(pupil, radial_cells, around_cells);
+    table->nodes.resize(table->node_count());
     const AimPlanes planes{film_z_mm, pupil.plane_z_mm()};
-    // Each node on its own: the same table whatever the threads.
-    tbb::parallel_for(0, kPupilSegments, [&](int ring) {
-        if (pupil.segment(ring).empty) return;
-        for (int end = 0; end < 2; ++end) {
-            const double film_r_mm = double(ring + end) / table->rings_per_mm;
-            for (int i = 0; i <= radial_cells; ++i)
-                for (int j = 0; j < table->around_nodes(); ++j) {
-                    trace_node(elements, pupil, planes, ring, film_r_mm, double(i) / radial_cells,
-                               float(j) / float(around_cells), table->node(ring, i, j)->end[end]);
-                }
-        }
+    table->for_each_node(pupil, [&](int ring, int end, double film_r_mm, double s, float u, size_t node) {
+        trace_node(elements, pupil, planes, ring, film_r_mm, s, u, table->nodes[node].end[end]);
     });
     return table;
 }
@@ -128,44 +115,12 @@ __attribute__((always_inline)) inline void transpose8(const Float8* lane, Float8
 LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
                                         const Point2f* lens_sample, int n, LensRaysF* out, bool* exact) {
     static_assert(kLensBatch % 8 == 0 && kTableValues == 8, "whole 8 x 8 transposes");
-    const int last_ring = table.rings - 1;
     const int around_nodes = table.around_nodes();
-    const int ring_nodes = (table.radial_cells + 1) * around_nodes;
-    const int last_radial = table.radial_cells - 1, last_around = around_nodes - 2;
-    const float rings_per_mm = float(table.rings_per_mm);
-    const float radial_cells = float(table.radial_cells), around_cells = float(table.around_cells);
-    // Plain lane loops, which GCC vectorises (float lanes).
-    float px[kLensBatch], py[kLensBatch], ux[kLensBatch], uy[kLensBatch];
-    if (n == kLensBatch) {  // the common whole batch: a straight copy, which vectorises
-        for (int i = 0; i < kLensBatch; ++i)
-            px[i] = raster_px[i].x, py[i] = raster_px[i].y, ux[i] = lens_sample[i].x, uy[i] = lens_sample[i].y;
-    } else {
-        for (int i = 0; i < kLensBatch; ++i) {
-            const int k = i < n ? i : 0;
-            px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
-        }
-    }
-    float x[kLensBatch], y[kLensBatch], r[kLensBatch], fr[kLensBatch], fs[kLensBatch], fu[kLensBatch];
-    float y_sign[kLensBatch];  // -1: u.y past 1/2, read at 1 - u.y and turned over in y
-    int first_node[kLensBatch];
-    for (int i = 0; i < kLensBatch; ++i) {
-        x[i] = (film.centre_x_px - px[i]) * film.mm_per_px_x, y[i] = (py[i] - film.centre_y_px) * film.mm_per_px_y;
-        r[i] = std::sqrt(x[i] * x[i] + y[i] * y[i]);
-        const float ring_at = r[i] * rings_per_mm;
-        const int ring = std::min(int(ring_at), last_ring);
-        const float ring_fraction = ring_at - float(ring);
-        fr[i] = ring_fraction < 1.0f ? ring_fraction : 1.0f;
-        const float radial_at = std::sqrt(ux[i]) * radial_cells;
-        const int radial = std::min(int(radial_at), last_radial);
-        fs[i] = radial_at - float(radial);
-        // u.y itself up to 1/2, else 1 - u.y (exact past 1/2); min and a
-        // product rather than a condition, so that GCC vectorises the loop.
-        y_sign[i] = 1.0f - 2.0f * float(uy[i] > 0.5f);
-        const float around_at = std::min(uy[i], 1.0f - uy[i]) * around_cells;
-        const int around = std::min(int(around_at), last_around);
-        fu[i] = around_at - float(around);
-        first_node[i] = ring * ring_nodes + radial * around_nodes + around;
-    }
+    TableCellLanes cells;
+    find_table_cells(table, film, raster_px, lens_sample, n, &cells);
+    const float *fr = cells.fr, *fs = cells.fs, *fu = cells.fu, *y_sign = cells.y_sign;
+    const float *x = cells.x, *y = cells.y, *r = cells.r;
+    const int* first_node = cells.first_node;
     // Each lane's four corners, eight values at once; then eight lanes'
     // values turned value by value. The batch's cache lines asked for first,
     // all together, so that their misses overlap.

@@ -27,6 +27,10 @@
 // changes) is measured against the exact trace (tests/test_lens_ray_table.py).
 #pragma once
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -59,17 +63,34 @@ struct alignas(64) LensTableNode {
     float end[2][kTableValues];
 };
 
-struct LensRayTable {
+// The grid a table's nodes sit on (this table's, and lens_band_table.h's):
+// per exit-pupil ring, both of its ends x radial x around, half the pupil.
+struct LensTableGrid {
     int rings = 0;                 // the exit pupil's
     int radial_cells = 0, around_cells = 0;  // around_cells over the whole of u.y (even)
     double rings_per_mm = 0.0;
-    std::vector<LensTableNode> nodes;  // [ring][radial][around, u.y from 0 to 1/2]
+
+    LensTableGrid() = default;
+    LensTableGrid(const ExitPupil& pupil, int radial, int around)
+        : rings(kPupilSegments), radial_cells(radial), around_cells(around), rings_per_mm(pupil.segments_per_mm()) {}
 
     // Nodes around a ring's half pupil: u.y = j / around_cells for j up to half.
     int around_nodes() const { return around_cells / 2 + 1; }
+    size_t node_count() const { return size_t(rings) * size_t(radial_cells + 1) * size_t(around_nodes()); }
     size_t node_index(int ring, int radial, int around) const {
         return (size_t(ring) * size_t(radial_cells + 1) + size_t(radial)) * size_t(around_nodes()) + size_t(around);
     }
+
+    // Calls node(ring, end, film radius mm, sqrt(u.x), u.y, node index) for
+    // every node of the rings the pupil covers, rings in parallel: each node
+    // on its own, so the same table whatever the threads.
+    template <class Node>
+    void for_each_node(const ExitPupil& pupil, Node node) const;
+};
+
+struct LensRayTable : LensTableGrid {
+    std::vector<LensTableNode> nodes;  // [ring][radial][around, u.y from 0 to 1/2]
+
     const LensTableNode* node(int ring, int radial, int around) const { return &nodes[node_index(ring, radial, around)]; }
     LensTableNode* node(int ring, int radial, int around) { return &nodes[node_index(ring, radial, around)]; }
 };
@@ -104,8 +125,78 @@ struct LensRaysF {
     bool alive[kLensBatch];
 };
 
+// Where each lane of a batch reads a table's grid: its film point (lens
+// frame, mm) and radius, the first of its cell's corners, and how far into
+// the cell (ring, radial, around) it lies; y_sign -1 where u.y is past 1/2 (read at
+// 1 - u.y, the y values turned over). Samples [0, n), the rest as sample 0.
+struct alignas(64) TableCellLanes {
+    alignas(64) float x[kLensBatch];
+    alignas(64) float y[kLensBatch];
+    alignas(64) float r[kLensBatch];
+    alignas(64) float fr[kLensBatch];
+    alignas(64) float fs[kLensBatch];
+    alignas(64) float fu[kLensBatch];
+    alignas(64) float y_sign[kLensBatch];
+    alignas(64) int first_node[kLensBatch];
+};
+// (Inline in each look-up, so that it is built for the look-up's instruction set.)
+__attribute__((always_inline)) inline void find_table_cells(const LensTableGrid& grid, FilmPlacement film,
+                                                            const Point2f* raster_px, const Point2f* lens_sample,
+                                                            int n, TableCellLanes* out) {
+    const int last_ring = grid.rings - 1;
+    const int around_nodes = grid.around_nodes();
+    const int ring_nodes = (grid.radial_cells + 1) * around_nodes;
+    const int last_radial = grid.radial_cells - 1, last_around = around_nodes - 2;
+    const float rings_per_mm = float(grid.rings_per_mm);
+    const float radial_cells = float(grid.radial_cells), around_cells = float(grid.around_cells);
+    // Plain lane loops, which GCC vectorises (float lanes).
+    float px[kLensBatch], py[kLensBatch], ux[kLensBatch], uy[kLensBatch];
+    if (n == kLensBatch) {  // the common whole batch: a straight copy, which vectorises
+        for (int i = 0; i < kLensBatch; ++i)
+            px[i] = raster_px[i].x, py[i] = raster_px[i].y, ux[i] = lens_sample[i].x, uy[i] = lens_sample[i].y;
+    } else {
+        for (int i = 0; i < kLensBatch; ++i) {
+            const int k = i < n ? i : 0;
+            px[i] = raster_px[k].x, py[i] = raster_px[k].y, ux[i] = lens_sample[k].x, uy[i] = lens_sample[k].y;
+        }
+    }
+    for (int i = 0; i < kLensBatch; ++i) {
+        const float x = (film.centre_x_px - px[i]) * film.mm_per_px_x, y = (py[i] - film.centre_y_px) * film.mm_per_px_y;
+        out->x[i] = x, out->y[i] = y;
+        out->r[i] = std::sqrt(x * x + y * y);
+        const float ring_at = out->r[i] * rings_per_mm;
+        const int ring = std::min(int(ring_at), last_ring);
+        const float ring_fraction = ring_at - float(ring);
+        out->fr[i] = ring_fraction < 1.0f ? ring_fraction : 1.0f;
+        const float radial_at = std::sqrt(ux[i]) * radial_cells;
+        const int radial = std::min(int(radial_at), last_radial);
+        out->fs[i] = radial_at - float(radial);
+        // u.y itself up to 1/2, else 1 - u.y (exact past 1/2); min and a
+        // product rather than a condition, so that GCC vectorises the loop.
+        out->y_sign[i] = 1.0f - 2.0f * float(uy[i] > 0.5f);
+        const float around_at = std::min(uy[i], 1.0f - uy[i]) * around_cells;
+        const int around = std::min(int(around_at), last_around);
+        out->fu[i] = around_at - float(around);
+        out->first_node[i] = ring * ring_nodes + radial * around_nodes + around;
+    }
+}
+
 void look_up_lens_rays(const LensRayTable& table, FilmPlacement film, const Point2f* raster_px,
                        const Point2f* lens_sample, int n, LensRaysF* out, bool* exact);
+
+template <class Node>
+void LensTableGrid::for_each_node(const ExitPupil& pupil, Node node) const {
+    tbb::parallel_for(0, rings, [&](int ring) {
+        if (pupil.segment(ring).empty) return;
+        for (int end = 0; end < 2; ++end) {
+            const double film_r_mm = double(ring + end) / rings_per_mm;
+            for (int i = 0; i <= radial_cells; ++i)
+                for (int j = 0; j < around_nodes(); ++j)
+                    node(ring, end, film_r_mm, double(i) / radial_cells, float(j) / float(around_cells),
+                         node_index(ring, i, j));
+        }
+    });
+}
 
 // The unclipped trace's margin (see above): false when the ray misses a
 // surface, is totally reflected or turns back; otherwise the ray left the
