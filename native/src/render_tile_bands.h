@@ -105,13 +105,6 @@ class BandRayPacket {
     uint64_t samples_shaded_ = 0;
 };
 
-// Samples waiting for the camera, a batch at a time: the camera splits them
-// into their rays (band_rays), and the rays go to the packet in float, the
-// whole samples' at once (whole_ray_rows), the split samples' a camera
-// batch's worth at a time (band_ray_rows). A moving camera's rays
-// start where the camera is at their sample's time: a translation of the
-// whole camera moves every wavelength's ray alike, so the bands are a still
-// camera's.
 // Cameras whose split rays are traced (the lens system) say so with
 // kPoolsSplitRays: the batcher then keeps the split samples of many batches
 // and has them traced together (trace_split_rays), a few rays a batch
@@ -122,6 +115,13 @@ template <class Camera>
 struct PoolsSplitRays<Camera, std::void_t<decltype(Camera::kPoolsSplitRays)>>
     : std::bool_constant<Camera::kPoolsSplitRays> {};
 
+// Samples waiting for the camera, a batch at a time: the camera splits them
+// into their rays (band_rays), and the rays go to the packet in float, the
+// whole samples' at once (whole_ray_rows), the split samples' a camera
+// batch's worth at a time (band_ray_rows). A moving camera's rays
+// start where the camera is at their sample's time: a translation of the
+// whole camera moves every wavelength's ray alike, so the bands are a still
+// camera's.
 template <class Camera>
 class BandCameraSampleBatcher {
   public:

@@ -185,6 +185,7 @@ struct LensSystemCamera {
         for (const std::vector<LensElement>& row : elements_by_nm) reversed_by_nm.push_back(reversed_lens(row));
         reversed_elements = reversed_lens(elements);
         reversed_dispersion = LensDispersion::of(reversed_by_nm);
+        band_parameter_by_nm.clear(), band_table = nullptr, band_rays_on = false;  // set_band_rays builds them
     }
 
     // Band rays (lens_system_bands.cpp, render_tile_bands.h): one ray per
@@ -196,15 +197,12 @@ struct LensSystemCamera {
     const std::vector<double>& band_focus_table() const { return band_parameter_by_nm; }
     bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
                    const LensPencilCheck* check = nullptr) const;
-    // band_rays' trace: samples [0, n) aimed and traced at the d line with
-    // the rims stopping none, margin (kLensBatch) each ray's least rim
-    // clearance (lens_trace.h, trace_from_film_batch_margins); rows, weight
-    // and alive as generate_weighted_ray_rows', alive where the ray got
-    // through every surface (whatever its margin).
-    bool trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
-                         double* margin, CameraRayRows* rows, float* weight, bool* alive,
-                         const LensPencilCheck* check) const;
-    // trace_open_rows' trace of rays aimed already (pupil area_mm2 each).
+    // The band rays' trace: lanes [0, n) of rays, aimed (pupil area_mm2
+    // each), traced at the d line with the rims stopping none, margin
+    // (kLensBatch) each ray's least rim clearance (lens_trace.h,
+    // trace_from_film_batch_margins); rows, weight and alive as
+    // generate_weighted_ray_rows', alive where the ray got through every
+    // surface (whatever its margin). With check, whether all lie within its pencil.
     bool trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin, CameraRayRows* rows,
                           float* weight, bool* alive, const LensPencilCheck* check) const;
     // The split rays band_rays left to trace, all of rays' entries so far

@@ -77,14 +77,6 @@ void LensSystemCamera::set_band_rays(bool on) {
                                            film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
 }
 
-bool LensSystemCamera::trace_open_rows(const Point2f* raster_px, const Point2f* lens_sample, int n,
-                                       LensRayBatch* leaving, double* margin, CameraRayRows* rows, float* weight,
-                                       bool* alive, const LensPencilCheck* check) const {
-    double area_mm2[kLensBatch];
-    sample_batch(raster_px, lens_sample, n, leaving, area_mm2);
-    return trace_open_aimed(n, leaving, area_mm2, margin, rows, weight, alive, check);
-}
-
 bool LensSystemCamera::trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin,
                                         CameraRayRows* rows, float* weight, bool* alive,
                                         const LensPencilCheck* check) const {
@@ -160,13 +152,14 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     }
     const int first_entry = out->count;
     split_into_bands(n, raster_px, gx, gy, band_parameter_runs, 1.0, 1.0, out, nullptr, k_from, k_to);
-    // The new split rays: their lens samples; those in their sample's own
-    // pixel its ray, the others to trace (trace_split_rays).
+    // The new split rays: their sample's exit-pupil point and pick area;
+    // those in their sample's own pixel are its ray, the others are still
+    // to trace (trace_split_rays).
     const size_t count = size_t(out->count);
     if (out->entry_weight.size() < out->sample.size()) {
         const size_t room = out->sample.size();
         out->entry_ray.resize(6 * room), out->entry_weight.resize(room), out->entry_pupil.resize(3 * room);
-        out->entry_alive.resize(room), out->entry_traced.resize(room);
+        out->entry_alive.resize(room), out->entry_found.resize(room);
     }
     for (size_t at = size_t(first_entry); at < count; ++at) {
         const int i = out->sample[at];
@@ -174,7 +167,7 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
         out->entry_pupil[3 * at + 2] = out->sample_area_mm2[i];
         const Point2f p = out->raster_px[at];
         const bool own = p.x == raster_px[i].x && p.y == raster_px[i].y;
-        out->entry_traced[at] = own;
+        out->entry_found[at] = own;
         if (!own) continue;
         for (int a = 0; a < 3; ++a)
             out->entry_ray[6 * at + size_t(a)] = out->sample_rows.origin[a][i],
@@ -201,7 +194,7 @@ bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* c
         size_t entry[kLensBatch];
         int m = 0;
         for (; at < count && m < kLensBatch; ++at) {
-            if (rays->entry_traced[at]) continue;
+            if (rays->entry_found[at]) continue;
             double x_mm, y_mm, r_mm;
             film_point(rays->raster_px[at], &x_mm, &y_mm, &r_mm);
             const double tx = rays->entry_pupil[3 * at] - x_mm, ty = rays->entry_pupil[3 * at + 1] - y_mm;
@@ -228,7 +221,7 @@ bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* c
             for (int a = 0; a < 3; ++a)
                 rays->entry_ray[6 * e + size_t(a)] = traced.origin[a][t],
                                          rays->entry_ray[6 * e + 3 + size_t(a)] = traced.direction[a][t];
-            rays->entry_weight[e] = weight[t], rays->entry_alive[e] = alive[t], rays->entry_traced[e] = true;
+            rays->entry_weight[e] = weight[t], rays->entry_alive[e] = alive[t], rays->entry_found[e] = true;
         }
     }
     return within;
