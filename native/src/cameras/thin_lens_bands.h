@@ -66,7 +66,7 @@ struct BandRays {
     std::vector<double> entry_pupil;  // 3 a ray: its sample's exit-pupil point (x, y, mm) and pick area (mm^2)
     std::vector<float> entry_ray;  // 6 a ray: origin, direction (world, float)
     std::vector<float> entry_weight;
-    std::vector<char> entry_alive, entry_found;  // traced: found (false: still to trace)
+    std::vector<char> entry_alive, entry_found;  // found: its ray is in entry_ray (false: still to trace)
 
     int size() const { return count; }
     void clear() { count = 0, whole_count = 0; }
