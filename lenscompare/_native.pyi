@@ -139,6 +139,20 @@ class LensSystemCamera:
     @property
     def uses_ray_table(self) -> bool: ...
 
+    def set_band_rays(self, on: bool) -> None:
+        """Spectral renders (wavelengths not drawn) give each sample one ray carrying every wavelength whose film
+        point stays in its pixel (native/src/cameras/lens_system_bands.cpp). After set_dispersion."""
+
+    def carries_bands(self) -> bool: ...
+
+    @property
+    def band_parameter(self) -> list[float]:
+        """The band rays' dispersion parameter k at every nm from 380 to 780 (empty before set_band_rays)."""
+
+    def check_band_model(self, film_cells: int = 32, samples_per_cell: int = 8) -> tuple[int, int, float, int, int]:
+        """The band model against rays traced back at 400-780 nm: (rays x wavelengths passing, passing one way
+        only, film point error p99 in pixels, rays, rays passing at some wavelength but not at d)."""
+
 class CompositeCamera:
     """Composite: a thin lens at the entrance pupil with radial distortion and illumination tables traced
     once through a lens system."""
