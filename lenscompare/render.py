@@ -101,10 +101,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         count that reaches a given noise soonest for the model).
     sample_wavelengths : bool, optional
         Spectral renders through a camera that does not disperse, or through a
-        dispersive thin or thick lens: draw hero wavelengths as the lens system
-        does, instead of integrating the film's response over the wavelengths
+        dispersive thin or thick lens or lens system: draw hero wavelengths,
+        instead of integrating the film's response over the wavelengths
         exactly (the default: over the whole spectrum, or over each ray's band
-        of wavelengths for the dispersive thin and thick lens;
+        of wavelengths for the dispersive cameras;
         :mod:`lenscompare.render_spectral`). For comparing the two.
     postfilter_per_pixel_spp : bool, optional
         ``postfilter`` (not adaptive) only: fewer pinhole samples where a
@@ -133,6 +133,13 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         (``metadata["lens_rays"]`` says which and the measured error).
         Spectral renders through a lens with dispersion trace each
         wavelength through its glass whatever the setting.
+    lens_bands : bool, optional
+        Spectral renders through a dispersive ``lens``: each sample's ray
+        carries every wavelength whose film point stays in its pixel (the
+        default; ``native/src/cameras/lens_system_bands.cpp``), where the
+        band model passes its per-camera check (``metadata["spectral"]
+        ["lens_bands"]`` says whether, with the figures); False, or a
+        refused check, draws hero wavelengths instead.
     postfilter_uniform_pass : bool, optional
         ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
         as before the refined pass (a reference for bench/bench_postfilter.py).

@@ -38,7 +38,8 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
-    for the model). ``sample_wavelengths``: draw hero wavelengths even when
+    for the model). ``lens_bands``: a dispersive lens system's rays carry bands
+    of the spectrum where the model passes its check (:func:`_lens_band_check`). ``sample_wavelengths``: draw hero wavelengths even when
     the camera does not disperse; by default such a render integrates the
     film's response over the wavelengths exactly instead (every ray then
     carries the whole spectrum, and with direct light only each path's
@@ -62,7 +63,8 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     disperses = _set_dispersion(native_camera, scene, camera)
     # A dispersive thin or thick lens integrates each ray's band of wavelengths
     # (native/src/render_tile_bands.h; a moving camera's band rays shift with
-    # their sample's time) unless asked to draw them.
+    # their sample's time) unless asked to draw them; so does a dispersive lens
+    # system whose band model passes its check (below).
     band_check = None
     if disperses and camera.model == "lens" and lens_bands and not sample_wavelengths:
         band_check = _lens_band_check(native_camera)
