@@ -39,7 +39,8 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
     for the model). ``lens_bands``: a dispersive lens system's rays carry bands
-    of the spectrum where the model passes its check (:func:`_lens_band_check`). ``sample_wavelengths``: draw hero wavelengths even when
+    of the spectrum where the model passes its check (:func:`_lens_band_check`).
+    ``sample_wavelengths``: draw hero wavelengths even when
     the camera does not disperse; by default such a render integrates the
     film's response over the wavelengths exactly instead (every ray then
     carries the whole spectrum, and with direct light only each path's
