@@ -108,10 +108,11 @@ def test_moving_camera_gives_the_moving_objects_streak(model, extra):
 
 
 
-@pytest.mark.parametrize("model, sample_wavelengths", [("thin", False), ("thin", True), ("lens", False)])
+@pytest.mark.parametrize("model, sample_wavelengths",
+                         [("thin", False), ("thin", True), ("lens", False), ("lens", True)])
 def test_a_moving_camera_through_a_dispersive_lens_gives_the_moving_objects_streak(model, sample_wavelengths):
-    """Spectral renders through a lens with Abbe numbers (the thin lens's band
-    rays and its drawn wavelengths; the lens system's two traced wavelengths):
+    """Spectral renders through a lens with Abbe numbers (band rays and drawn
+    wavelengths, the lens system's two traced, through either camera):
     the camera at -v gives the streak of the object at +v, each ray's origin
     moved where the camera is at its time."""
     lens = str(Path(__file__).parent / "data" / "lenses" / "dgauss_abbe.dat")
