@@ -210,12 +210,19 @@ struct LensSystemCamera {
     // alone, cost a whole trace of 32 lanes).
     static constexpr bool kPoolsSplitRays = true;
     bool trace_split_rays(BandRays* rays, const LensPencilCheck* check = nullptr) const;
+    // band_rays' back-trace at 380 nm, traced (where the band table cannot
+    // answer; and check_band_model's): lanes [0, n) of leaving (the open
+    // trace at d, margin_d its clearances) with which[i] set: the film
+    // point's shift (mm) and the clearance's slope per unit of k, known[i]
+    // set where the ray got back through the lens (the others untouched).
+    void trace_band_shifts(const LensRayBatch& leaving, const Point2f* raster_px, int n, const double* margin_d,
+                           const bool* which, double* shift_x_mm, double* shift_y_mm, double* slope,
+                           bool* known) const;
     void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const;
     // The model against the trace on film_cells^2 jittered film points,
     // samples_per_cell lens samples each (after set_band_rays(true)).
     BandModelCheck check_band_model(int film_cells, int samples_per_cell) const;
-    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
-                       const LensPencilCheck* check = nullptr) const;
+    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights) const;
 
     // Where on the film the rays of leaving came from at lane i's glass row
     // (row[i], of elements_by_nm): each traced back through the glass at that
@@ -232,10 +239,8 @@ struct LensSystemCamera {
                               trace_precision);
         for (int i = 0; i < kLensBatch; ++i) {
             alive[i] = back.alive[i];
-            // The film plane at -film_z_mm in the mirrored frame.
-            const double t = alive[i] ? (-film_z_mm - back.oz[i]) / back.dz[i] : 0.0;
-            film_x_mm[i] = alive[i] ? back.ox[i] + back.dx[i] * t : 0.0;
-            film_y_mm[i] = alive[i] ? back.oy[i] + back.dy[i] * t : 0.0;
+            film_x_mm[i] = film_y_mm[i] = 0.0;
+            if (alive[i]) back_traced_film_point(back, i, film_z_mm, &film_x_mm[i], &film_y_mm[i]);
         }
     }
 

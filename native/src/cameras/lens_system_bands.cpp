@@ -10,9 +10,9 @@
 // point at λ is taken on the line through the two: x + g (k(λ) - k_d),
 // g = (x' - x) / (k_380 - k_d). As for the thin lens, each λ's film point
 // wrapped back into the pixel is then uniform over it, and where it was
-// wrapped by o pixels its ray is taken as the d-line ray from x - o with the
-// same lens sample: split_into_bands walks the segment, a ray per stretch of
-// the spectrum landing in one pixel.
+// wrapped by o pixels its ray is taken as the d-line ray from x - o aimed at
+// the sample's own exit-pupil point (trace_split_rays): split_into_bands
+// walks the segment, a ray per stretch of the spectrum landing in one pixel.
 //
 // Which wavelengths a ray carries: both traces let every ray through the
 // rims and keep its least clearance (rim^2 - height^2) / rim^2, at d and at
@@ -108,27 +108,11 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     if (band_table)
         look_up_band_shifts(*band_table, film_placement(), raster_px, lens_sample, n, shift_x_mm, shift_y_mm, slope,
                             known);
-    bool any_unknown = false;
-    for (int i = 0; i < n; ++i) any_unknown |= out->sample_alive[i] && !known[i];
-    const double k_d = band_parameter_runs.reference(), k_blue = band_parameter_by_nm.front();
-    const double per_k = 1.0 / (k_blue - k_d);
-    if (any_unknown) {
-        LensRayBatch back;
-        double margin_blue[kLensBatch];
-        mirror_for_back_trace(leaving, &back);
-        for (int i = 0; i < kLensBatch; ++i) back.alive[i] = back.alive[i] && i < n && !known[i];
-        trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
-        for (int i = 0; i < n; ++i) {
-            if (known[i] || !back.alive[i]) continue;  // no way back at 380 nm: its d path only (below)
-            const double t = (-film_z_mm - back.oz[i]) / back.dz[i];  // the film plane, mirrored frame
-            double x_mm, y_mm, r_mm;
-            film_point(raster_px[i], &x_mm, &y_mm, &r_mm);
-            shift_x_mm[i] = (back.ox[i] + back.dx[i] * t - x_mm) * per_k;
-            shift_y_mm[i] = (back.oy[i] + back.dy[i] * t - y_mm) * per_k;
-            slope[i] = (margin_blue[i] - margin_d[i]) * per_k;
-            known[i] = true;
-        }
-    }
+    bool unknown[kLensBatch] = {}, any_unknown = false;
+    for (int i = 0; i < n; ++i) unknown[i] = out->sample_alive[i] && !known[i], any_unknown |= unknown[i];
+    if (any_unknown)  // a ray with no way back at 380 nm stays unknown: its d path only (below)
+        trace_band_shifts(leaving, raster_px, n, margin_d, unknown, shift_x_mm, shift_y_mm, slope, known);
+    const double k_d = band_parameter_runs.reference();
     const double k_lowest = band_parameter_runs.lowest(), k_highest = band_parameter_runs.highest();
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
     const double px_per_mm_x = 1.0 / film_mm_per_px_x, px_per_mm_y = 1.0 / film_mm_per_px_y;
@@ -176,6 +160,26 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
         out->entry_alive[at] = out->sample_alive[i];
     }
     return within;
+}
+
+void LensSystemCamera::trace_band_shifts(const LensRayBatch& leaving, const Point2f* raster_px, int n,
+                                         const double* margin_d, const bool* which, double* shift_x_mm,
+                                         double* shift_y_mm, double* slope, bool* known) const {
+    LensRayBatch back;
+    double margin_blue[kLensBatch];
+    mirror_for_back_trace(leaving, &back);
+    for (int i = 0; i < kLensBatch; ++i) back.alive[i] = back.alive[i] && i < n && which[i];
+    trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
+    const double per_k = 1.0 / (band_parameter_by_nm.front() - band_parameter_runs.reference());
+    for (int i = 0; i < n; ++i) {
+        if (!back.alive[i]) continue;
+        double x_mm, y_mm, r_mm, blue_x_mm, blue_y_mm;
+        film_point(raster_px[i], &x_mm, &y_mm, &r_mm);
+        back_traced_film_point(back, i, film_z_mm, &blue_x_mm, &blue_y_mm);
+        shift_x_mm[i] = (blue_x_mm - x_mm) * per_k, shift_y_mm[i] = (blue_y_mm - y_mm) * per_k;
+        slope[i] = (margin_blue[i] - margin_d[i]) * per_k;
+        known[i] = true;
+    }
 }
 
 bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* check) const {
@@ -238,8 +242,8 @@ void LensSystemCamera::whole_ray_rows(const BandRays& rays, CameraRayRows* out, 
     weights->used = true;
 }
 
-bool LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out,
-                                     BandRayWeights* weights, const LensPencilCheck* /*check*/) const {
+void LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out,
+                                     BandRayWeights* weights) const {
     // trace_split_rays found them all; a vignetted one still goes to the
     // packet (it may close its sample's value), weight 0: given a finite ray,
     // the camera's axis.
@@ -258,19 +262,15 @@ bool LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, Cam
         weights->alive[r] = alive;
     }
     weights->used = true;
-    return true;
 }
 
 BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_per_cell) const {
     // Film points on a grid over the film (jittered), lens samples drawn,
     // all fixed by a seed: each ray traced open at d and back at 380 nm
-    // (band_rays' model) and back at each test wavelength with the rims
-    // (the truth).
+    // (band_rays' model, as its cells without the table) and back at each
+    // test wavelength with the rims (film_points_from: the truth).
     constexpr float kTestNm[] = {400.0f, 450.0f, 500.0f, 550.0f, 620.0f, 700.0f, 780.0f};
-    std::vector<std::vector<LensElement>> reversed_at;
-    for (float nm : kTestNm) reversed_at.push_back(reversed_lens(elements_by_nm[size_t(glass_row(nm))]));
-    const double k_d = band_parameter_runs.reference(), k_blue = band_parameter_by_nm.front();
-    const double per_k = 1.0 / (k_blue - k_d);
+    const double k_d = band_parameter_runs.reference();
     uint64_t state = 0x9E3779B97F4A7C15ull;
     auto next = [&]() {  // splitmix64 to [0, 1)
         uint64_t z = (state += 0x9E3779B97F4A7C15ull);
@@ -290,39 +290,35 @@ BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_pe
     std::vector<double> film_error_px;
     for (size_t first = 0; first < raster.size(); first += kLensBatch) {
         const int n = int(std::min<size_t>(kLensBatch, raster.size() - first));
-        LensRayBatch leaving, back;
-        double area_mm2[kLensBatch], margin_d[kLensBatch], margin_blue[kLensBatch];
+        const Point2f* batch_raster = raster.data() + first;
+        LensRayBatch leaving;
+        double area_mm2[kLensBatch], margin_d[kLensBatch];
+        double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
         CameraRayRows rows;
         float weight[kCameraBatch];
-        bool alive[kCameraBatch];
-        sample_batch(raster.data() + first, lens.data() + first, n, &leaving, area_mm2);
+        bool alive[kCameraBatch], known[kLensBatch] = {};
+        sample_batch(batch_raster, lens.data() + first, n, &leaving, area_mm2);
         trace_open_aimed(n, &leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
-        mirror_for_back_trace(leaving, &back);
-        trace_from_film_batch_margins(reversed_blue_elements, &back, margin_blue, trace_kernel);
+        trace_band_shifts(leaving, batch_raster, n, margin_d, alive, shift_x_mm, shift_y_mm, slope, known);
         bool elsewhere[kLensBatch] = {};  // passing at some test wavelength, not at d
-        for (size_t w = 0; w < std::size(kTestNm); ++w) {
-            LensRayBatch truth;
-            mirror_for_back_trace(leaving, &truth);
-            trace_from_film_batch(reversed_at[w], &truth, trace_kernel, trace_precision);
-            const double k_t = band_parameter_by_nm[size_t(glass_row(kTestNm[w]))];
+        for (float nm : kTestNm) {
+            int32_t row[kLensBatch];
+            std::fill_n(row, kLensBatch, glass_row(nm));
+            double truth_x_mm[kLensBatch], truth_y_mm[kLensBatch];
+            bool passes[kLensBatch];
+            film_points_from(leaving, row, truth_x_mm, truth_y_mm, passes);
+            const double dk = band_parameter_by_nm[size_t(row[0])] - k_d;
             for (int i = 0; i < n; ++i) {
-                if (!alive[i] || !back.alive[i]) continue;
+                if (!alive[i] || !known[i]) continue;
+                const bool model = margin_d[i] + slope[i] * dk > 0.0;
+                elsewhere[i] |= passes[i] && !(margin_d[i] > 0.0);
+                out.passing += int(passes[i]);
+                out.one_way += int(model != passes[i]);
+                if (!passes[i]) continue;
                 double x_mm, y_mm, r_mm;
-                film_point(raster[first + size_t(i)], &x_mm, &y_mm, &r_mm);
-                const double slope = (margin_blue[i] - margin_d[i]) * per_k;
-                const bool model = margin_d[i] + slope * (k_t - k_d) > 0.0;
-                const bool passes = truth.alive[i];
-                elsewhere[i] |= passes && !(margin_d[i] > 0.0);
-                out.passing += int(passes);
-                out.one_way += int(model != passes);
-                if (!passes) continue;
-                const double t_blue = (-film_z_mm - back.oz[i]) / back.dz[i];
-                const double t = (-film_z_mm - truth.oz[i]) / truth.dz[i];
-                const double g = (k_t - k_d) * per_k;
-                const double mx = x_mm + (back.ox[i] + back.dx[i] * t_blue - x_mm) * g;
-                const double my = y_mm + (back.oy[i] + back.dy[i] * t_blue - y_mm) * g;
-                const double ex = (truth.ox[i] + truth.dx[i] * t - mx) / film_mm_per_px_x;
-                const double ey = (truth.oy[i] + truth.dy[i] * t - my) / film_mm_per_px_y;
+                film_point(batch_raster[i], &x_mm, &y_mm, &r_mm);
+                const double ex = (truth_x_mm[i] - (x_mm + shift_x_mm[i] * dk)) / film_mm_per_px_x;
+                const double ey = (truth_y_mm[i] - (y_mm + shift_y_mm[i] * dk)) / film_mm_per_px_y;
                 film_error_px.push_back(std::sqrt(ex * ex + ey * ey));
             }
         }

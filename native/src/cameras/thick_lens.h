@@ -57,9 +57,8 @@ struct ThickLensCamera {
     void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const {
         at_front_principal_plane.whole_ray_rows(rays, out, weights);
     }
-    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
-                       const LensPencilCheck* check = nullptr) const {
-        return at_front_principal_plane.band_ray_rows(rays, first, n, out, weights, check);
+    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights) const {
+        at_front_principal_plane.band_ray_rows(rays, first, n, out, weights);
     }
     void generate_shared_ray_rows(const Point2f* raster_px, const Point2f* lens_sample, const HeroWavelengths* w,
                                   int n, CameraRayRows* rows, bool (*own)[kCameraBatch]) const {

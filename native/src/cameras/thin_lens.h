@@ -69,14 +69,12 @@ struct ThinLensCamera {
 
     // The split samples' rays [first, first + n) of band_rays' (n <=
     // kCameraBatch) in float, as whole_ray_rows'.
-    bool band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights,
-                       const LensPencilCheck* /*check*/ = nullptr) const {
+    void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights) const {
         float screen_x[kCameraBatch], screen_y[kCameraBatch];
         screen_points_lanes(n, film, rays.raster_px.data() + first, screen_x, screen_y);
         thin_lens_rays_lanes(n, screen_x, screen_y, rays.lens_x_m.data() + first, rays.lens_y_m.data() + first,
                              dispersion_runs.reference(), FrameF::of(world_from_camera), out);
         weights->used = false;
-        return true;
     }
 
     MaybeRay generate_ray(Point2f raster_px, Point2f lens_sample) const {

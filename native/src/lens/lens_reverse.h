@@ -40,4 +40,11 @@ inline void mirror_for_back_trace(const LensRayBatch& leaving, LensRayBatch* bac
     }
 }
 
+// Where lane i of a back-trace's result (the mirrored frame) meets the film
+// plane, the film at film_z_mm in the lens frame: x and y, lens frame.
+inline void back_traced_film_point(const LensRayBatch& back, int i, double film_z_mm, double* x_mm, double* y_mm) {
+    const double t = (-film_z_mm - back.oz[i]) / back.dz[i];
+    *x_mm = back.ox[i] + back.dx[i] * t, *y_mm = back.oy[i] + back.dy[i] * t;
+}
+
 }  // namespace lc
