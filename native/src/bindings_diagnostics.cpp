@@ -376,6 +376,30 @@ void bind_lens(nb::module_& m) {
           "(cameras/lens_system_bands.cpp): each ray's sample, ray (float, widened), band of the dispersion "
           "parameter [k_lo, k_hi) and weight (0: vignetted); returns the ray count.");
 
+    m.def("lens_band_shifts",
+          [](const LensSystemCamera& camera, CArray<const float, -1, 2> raster_px, CArray<const float, -1, 2> lens,
+             bool from_table, CArray<double, -1, 3> out, CArray<bool, -1> known) {
+              if (!camera.carries_bands()) throw std::invalid_argument("the camera carries no bands");
+              const size_t count = raster_px.shape(0);
+              if (lens.shape(0) != count || out.shape(0) != count || known.shape(0) != count)
+                  throw std::invalid_argument("as many lens samples and rows out as film points");
+              for (size_t first = 0; first < count; first += kLensBatch) {
+                  const int n = int(std::min<size_t>(kLensBatch, count - first));
+                  double sx[kLensBatch], sy[kLensBatch], slope[kLensBatch];
+                  bool ok[kLensBatch];
+                  camera.band_shifts(points(raster_px) + first, points(lens) + first, n, from_table, sx, sy, slope, ok);
+                  for (int i = 0; i < n; ++i) {
+                      const size_t r = first + size_t(i);
+                      out(r, 0) = sx[i], out(r, 1) = sy[i], out(r, 2) = slope[i], known(r) = ok[i];
+                  }
+              }
+          },
+          "camera"_a, "raster_px"_a, "lens"_a, "from_table"_a, "out"_a, "known"_a,
+          nb::call_guard<nb::gil_scoped_release>(),
+          "A dispersive lens system's band rays' film shift per unit of the dispersion parameter (mm, lens frame) "
+          "and clearance slope, per sample (out: x, y, slope), from the band table or traced back at 380 nm; "
+          "known false where that source cannot answer or the ray is blocked at d.");
+
     m.def("focus_band_map",
           [](CArray<const double, -1, 3> basis, CArray<const double, -1, 3> film,
              std::vector<std::array<float, 3>> light_intensities, std::vector<double> inverse_focus_per_m_by_nm,

@@ -222,6 +222,12 @@ struct LensSystemCamera {
     // The model against the trace on film_cells^2 jittered film points,
     // samples_per_cell lens samples each (after set_band_rays(true)).
     BandModelCheck check_band_model(int film_cells, int samples_per_cell) const;
+    // Lanes [0, n) (n <= kLensBatch): band_rays' film shift per unit of k
+    // (mm, lens frame) and clearance slope, from the band table (from_table)
+    // or traced back at 380 nm; known false where the source cannot answer
+    // or the ray is blocked at d (the diagnostics' measure of the table).
+    void band_shifts(const Point2f* raster_px, const Point2f* lens_sample, int n, bool from_table,
+                     double* shift_x_mm, double* shift_y_mm, double* slope, bool* known) const;
     void band_ray_rows(const BandRays& rays, int first, int n, CameraRayRows* out, BandRayWeights* weights) const;
 
     // Where on the film the rays of leaving came from at lane i's glass row

@@ -264,6 +264,26 @@ void LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, Cam
     weights->used = true;
 }
 
+void LensSystemCamera::band_shifts(const Point2f* raster_px, const Point2f* lens_sample, int n, bool from_table,
+                                   double* shift_x_mm, double* shift_y_mm, double* slope, bool* known) const {
+    LensRayBatch leaving;
+    double area_mm2[kLensBatch], margin_d[kLensBatch];
+    CameraRayRows rows;
+    float weight[kCameraBatch];
+    bool alive[kCameraBatch];
+    std::fill_n(known, n, false);
+    sample_batch(raster_px, lens_sample, n, &leaving, area_mm2);
+    trace_open_aimed(n, &leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
+    if (from_table) {
+        if (band_table)
+            look_up_band_shifts(*band_table, film_placement(), raster_px, lens_sample, n, shift_x_mm, shift_y_mm,
+                                slope, known);
+    } else {
+        trace_band_shifts(leaving, raster_px, n, margin_d, alive, shift_x_mm, shift_y_mm, slope, known);
+    }
+    for (int i = 0; i < n; ++i) known[i] = known[i] && alive[i];
+}
+
 BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_per_cell) const {
     // Film points on a grid over the film (jittered), lens samples drawn,
     // all fixed by a seed: each ray traced open at d and back at 380 nm
