@@ -167,7 +167,7 @@ def test_the_band_table_answers_as_the_trace_back_at_380_nm(tmp_path, lens):
     scene = _scene(tmp_path, "showcase.toml", lens=lens, resolution=(360, 240), wide_open=True)
     native = _band_camera(scene)
     k = np.asarray(native.band_parameter)
-    k_d = np.interp(587.56, np.arange(380, 381 + len(k) - 1), k)
+    k_d = np.interp(587.56, 380 + np.arange(len(k)), k)
     dk = k[0] - k_d
     rng = np.random.default_rng(5)
     n = 16_000
