@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cpu_kernels.h"
 #include "lens/lens_aim.h"
 
 namespace lc {
@@ -61,9 +62,9 @@ std::shared_ptr<const LensBandTable> build_lens_band_table(const std::vector<Len
     return table;
 }
 
-void look_up_band_shifts(const LensBandTable& table, FilmPlacement film, const Point2f* raster_px,
-                         const Point2f* lens_sample, int n, double* shift_x_mm, double* shift_y_mm, double* slope,
-                         bool* valid) {
+LC_BUILT_PER_ISA void look_up_band_shifts(const LensBandTable& table, FilmPlacement film, const Point2f* raster_px,
+                                          const Point2f* lens_sample, int n, double* shift_x_mm, double* shift_y_mm,
+                                          double* slope, bool* valid) {
     TableCellLanes cells;  // as look_up_lens_rays
     find_table_cells(table, film, raster_px, lens_sample, n, &cells);
     const int around_nodes = table.around_nodes();
@@ -72,6 +73,13 @@ void look_up_band_shifts(const LensBandTable& table, FilmPlacement film, const P
     const int* first_node = cells.first_node;
     float gx[kLensBatch], gy[kLensBatch], dm[kLensBatch];
     const BandTableNode* nodes = table.nodes.data();
+    // The batch's cache lines asked for first, all together, so that their
+    // misses overlap (the table, 0.6 MB, is more than this CPU's L2).
+    for (int i = 0; i < n; ++i) {
+        const BandTableNode* n00 = nodes + first_node[i];
+        __builtin_prefetch(n00), __builtin_prefetch(n00 + 1);
+        __builtin_prefetch(n00 + around_nodes), __builtin_prefetch(n00 + around_nodes + 1);
+    }
     for (int i = 0; i < n; ++i) {
         const BandTableNode* n00 = nodes + first_node[i];
         const Float4 f_r = Float4{} + fr[i], f_u = Float4{} + fu[i], f_s = Float4{} + fs[i];
