@@ -10,21 +10,24 @@ and 0.52-0.535 of its samples/s), so a step that counts well is timed too.
 
 Each configuration is rendered twice under valgrind's callgrind, one thread, at
 --spp and at 1 spp, and the difference divided by the samples it added: the
-set-up (camera, tables, checks, Python) drops out. Prints one JSON object:
-instructions a sample per configuration, and RGB's count over spectral's (the
-spectral ÷ RGB samples/s were time to follow it). With --top N
-and a module built with symbols (pip install -e . -Ccmake.define.LENSCOMPARE_SYMBOLS=ON
--Cinstall.strip=false), each configuration's N functions with the most
-instructions a sample (callgrind_annotate).
+set-up (camera, tables, checks, Python) drops out. A configuration is a model
+and options joined by commas: "lens", "lens,spectral" (its rays carrying
+bands), "lens,table" (lens_rays = "table"), "lens,mirrors", "pinhole", "thin".
+Prints one JSON object: instructions a sample per configuration and the first
+configuration's count over each one's (what the samples/s ratio would be, were
+time to follow the count). With --top N and a module built with symbols (pip
+install -e . -Ccmake.define.LENSCOMPARE_SYMBOLS=ON -Cinstall.strip=false), each
+configuration's N functions with the most instructions a sample.
 
-Configurations: showcase.toml through tests/data/lenses/dgauss_abbe.dat (the
-dispersive Double Gauss of issue 15), the lens system in RGB and spectral (its
-rays carrying bands), unless --model or --lens say otherwise.
+The scene: showcase.toml, the lens system through tests/data/lenses/dgauss_abbe.dat
+(the dispersive Double Gauss of issue 15) unless --lens says otherwise.
 
 Needs valgrind (apt-get install valgrind); not part of make bench.
 
-Usage: python bench/count_instructions.py [--spp 32] [--resolution 180 120] [--model lens]
+Usage: python bench/count_instructions.py [CONFIG ...] [--spp 32] [--resolution 180 120]
        [--lens PATH] [--top 20]
+  e.g. python bench/count_instructions.py lens lens,spectral      (issue 15's ratio; the default)
+       python bench/count_instructions.py pinhole lens,table      (issue 20's)
 """
 
 from __future__ import annotations
@@ -44,22 +47,35 @@ SCENE = ROOT / "reference_scenes" / "showcase.toml"
 DISPERSIVE_LENS = ROOT / "tests" / "data" / "lenses" / "dgauss_abbe.dat"
 
 
+OPTIONS = ("spectral", "table", "mirrors")
+
+
+def _parse_config(text: str) -> tuple[str, set]:
+    model, *options = text.split(",")
+    if model not in ("pinhole", "thin", "thick", "lens") or not set(options) <= set(OPTIONS):
+        print(f"count_instructions.py: {text!r}: a model (pinhole, thin, thick, lens) and options "
+              f"from {', '.join(OPTIONS)}, joined by commas", file=sys.stderr)
+        sys.exit(2)
+    return model, set(options)
+
+
 def _render_once(args) -> None:
     """The child: one render, nothing printed (run under callgrind)."""
     from lenscompare.render import render
     from lenscompare.scene import load_scene
 
+    model, options = _parse_config(args.configs[0])
     scene = load_scene(SCENE).with_camera(resolution=tuple(args.resolution))
-    if args.model == "lens":
+    if model == "lens":
         scene = scene.with_camera(lens=str(args.lens), focal_length_mm=None)
-    render(scene, model=args.model, threads=1, progress=False, spp=args.child_spp, spectral=args.spectral)
+    render(scene, model=model, threads=1, progress=False, spp=args.child_spp, spectral="spectral" in options,
+           lens_rays="table" if "table" in options else None, lens_mirrors="mirrors" in options)
 
 
-def _callgrind(args, *, spectral: bool, spp: int, out: Path) -> int:
+def _callgrind(args, config: str, *, spp: int, out: Path) -> int:
     """Total instructions of one child render, its callgrind file written to out."""
-    command = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", sys.executable, __file__,
-               "--child-spp", str(spp), "--model", args.model, "--lens", str(args.lens),
-               "--resolution", *map(str, args.resolution)] + (["--spectral"] if spectral else [])
+    command = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", sys.executable, __file__, config,
+               "--child-spp", str(spp), "--lens", str(args.lens), "--resolution", *map(str, args.resolution)]
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    env={**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"})
     for line in out.read_text(errors="replace").splitlines():
@@ -77,7 +93,7 @@ def _by_function(path: Path) -> dict:
         match = re.match(r"\s*([\d,]+) \([^)]*\)\s+(.*)", line)
         if not match or "PROGRAM TOTALS" in line:
             continue
-        name = re.sub(r"\s*\[.*$", "", match.group(2))
+        name = re.sub(r"\s*\[.*$", "", match.group(2)).replace("(anonymous namespace)", "{anonymous}")
         name = re.sub(r"^(\?\?\?|[^\s:]+):(?!:)", "", name, count=1).split("(")[0]
         counts[name] = counts.get(name, 0) + int(match.group(1).replace(",", ""))
     return counts
@@ -85,14 +101,15 @@ def _by_function(path: Path) -> dict:
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("configs", nargs="*", default=["lens", "lens,spectral"])
     parser.add_argument("--spp", type=int, default=32)
     parser.add_argument("--resolution", type=int, nargs=2, default=(180, 120))
-    parser.add_argument("--model", default="lens", choices=("pinhole", "thin", "thick", "lens"))
     parser.add_argument("--lens", type=Path, default=DISPERSIVE_LENS)
     parser.add_argument("--top", type=int, default=0, help="list each configuration's N costliest functions")
-    parser.add_argument("--spectral", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--child-spp", type=int, default=0, help=argparse.SUPPRESS)
     args = parser.parse_args()
+    for config in args.configs:
+        _parse_config(config)
     if args.child_spp:
         _render_once(args)
         return
@@ -100,22 +117,22 @@ def main():
         print("count_instructions.py: valgrind not found (apt-get install valgrind)", file=sys.stderr)
         sys.exit(2)
     added_samples = args.resolution[0] * args.resolution[1] * (args.spp - 1)
-    result = {"scene": SCENE.name, "model": args.model, "lens": args.lens.name if args.model == "lens" else None,
-              "resolution": list(args.resolution), "spp": args.spp, "instructions_per_sample": {}}
+    result = {"scene": SCENE.name, "lens": args.lens.name, "resolution": list(args.resolution), "spp": args.spp,
+              "instructions_per_sample": {}}
     with tempfile.TemporaryDirectory() as scratch:
-        for spectral in (False, True):
-            name = "spectral" if spectral else "rgb"
-            full, setup = (Path(scratch) / f"{name}_{spp}.out" for spp in (args.spp, 1))
-            per_sample = (_callgrind(args, spectral=spectral, spp=args.spp, out=full)
-                          - _callgrind(args, spectral=spectral, spp=1, out=setup)) / added_samples
-            result["instructions_per_sample"][name] = round(per_sample, 1)
+        for index, config in enumerate(args.configs):
+            full, setup = (Path(scratch) / f"{index}_{spp}.out" for spp in (args.spp, 1))
+            per_sample = (_callgrind(args, config, spp=args.spp, out=full)
+                          - _callgrind(args, config, spp=1, out=setup)) / added_samples
+            result["instructions_per_sample"][config] = round(per_sample, 1)
             if args.top:
                 a, b = _by_function(full), _by_function(setup)
                 rows = sorted(((a.get(k, 0) - b.get(k, 0)) / added_samples, k) for k in set(a) | set(b))
-                result.setdefault("top_functions", {})[name] = [[round(v, 1), k] for v, k in rows[::-1][:args.top]]
+                result.setdefault("top_functions", {})[config] = [[round(v, 1), k] for v, k in rows[::-1][:args.top]]
     counts = result["instructions_per_sample"]
-    # What spectral ÷ RGB samples/s would be if time followed the count.
-    result["spectral_over_rgb_by_count"] = round(counts["rgb"] / counts["spectral"], 4)
+    first = args.configs[0]
+    # What each samples/s ratio to the first configuration would be, were time to follow the count.
+    result["count_ratio_to_first"] = {config: round(counts[first] / counts[config], 4) for config in args.configs}
     print(json.dumps(result, indent=1))
 
 
