@@ -205,6 +205,10 @@ struct LensSystemCamera {
     // surface (whatever its margin). With check, whether all lie within its pencil.
     bool trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin, CameraRayRows* rows,
                           float* weight, bool* alive, const LensPencilCheck* check) const;
+    // Samples [0, n) picked and traced so (leaving: the rays leaving the
+    // lens), for the band model's measures (check_band_model, band_shifts).
+    void trace_open_from(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
+                         double* margin_d, bool* alive) const;
     // The split rays band_rays left to trace, all of rays' entries so far
     // (render_tile_bands.h pools them across batches: a batch's few, traced
     // alone, cost a whole trace of 32 lanes).

@@ -34,6 +34,7 @@
 
 #include "cameras/lens_system.h"
 #include "lens/lens_band_table.h"
+#include "rng.h"
 
 namespace lc {
 namespace {
@@ -264,16 +265,22 @@ void LensSystemCamera::band_ray_rows(const BandRays& rays, int first, int n, Cam
     weights->used = true;
 }
 
+void LensSystemCamera::trace_open_from(const Point2f* raster_px, const Point2f* lens_sample, int n,
+                                       LensRayBatch* leaving, double* margin_d, bool* alive) const {
+    double area_mm2[kLensBatch];
+    CameraRayRows rows;
+    float weight[kCameraBatch];
+    sample_batch(raster_px, lens_sample, n, leaving, area_mm2);
+    trace_open_aimed(n, leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
+}
+
 void LensSystemCamera::band_shifts(const Point2f* raster_px, const Point2f* lens_sample, int n, bool from_table,
                                    double* shift_x_mm, double* shift_y_mm, double* slope, bool* known) const {
     LensRayBatch leaving;
-    double area_mm2[kLensBatch], margin_d[kLensBatch];
-    CameraRayRows rows;
-    float weight[kCameraBatch];
+    double margin_d[kLensBatch];
     bool alive[kCameraBatch];
     std::fill_n(known, n, false);
-    sample_batch(raster_px, lens_sample, n, &leaving, area_mm2);
-    trace_open_aimed(n, &leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
+    trace_open_from(raster_px, lens_sample, n, &leaving, margin_d, alive);
     if (from_table) {
         if (band_table)
             look_up_band_shifts(*band_table, film_placement(), raster_px, lens_sample, n, shift_x_mm, shift_y_mm,
@@ -292,11 +299,8 @@ BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_pe
     constexpr float kTestNm[] = {400.0f, 450.0f, 500.0f, 550.0f, 620.0f, 700.0f, 780.0f};
     const double k_d = band_parameter_runs.reference();
     uint64_t state = 0x9E3779B97F4A7C15ull;
-    auto next = [&]() {  // splitmix64 to [0, 1)
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return float(double((z ^ (z >> 31)) >> 40) * 0x1.0p-24);
+    auto next = [&]() {  // SplitMix64 to [0, 1)
+        return float(double(mix64(state += 0x9E3779B97F4A7C15ull) >> 40) * 0x1.0p-24);
     };
     std::vector<Point2f> raster, lens;
     for (int cy = 0; cy < film_cells; ++cy)
@@ -312,13 +316,10 @@ BandModelCheck LensSystemCamera::check_band_model(int film_cells, int samples_pe
         const int n = int(std::min<size_t>(kLensBatch, raster.size() - first));
         const Point2f* batch_raster = raster.data() + first;
         LensRayBatch leaving;
-        double area_mm2[kLensBatch], margin_d[kLensBatch];
+        double margin_d[kLensBatch];
         double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
-        CameraRayRows rows;
-        float weight[kCameraBatch];
         bool alive[kCameraBatch], known[kLensBatch] = {};
-        sample_batch(batch_raster, lens.data() + first, n, &leaving, area_mm2);
-        trace_open_aimed(n, &leaving, area_mm2, margin_d, &rows, weight, alive, nullptr);
+        trace_open_from(batch_raster, lens.data() + first, n, &leaving, margin_d, alive);
         trace_band_shifts(leaving, batch_raster, n, margin_d, alive, shift_x_mm, shift_y_mm, slope, known);
         bool elsewhere[kLensBatch] = {};  // passing at some test wavelength, not at d
         for (float nm : kTestNm) {
