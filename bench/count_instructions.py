@@ -22,10 +22,17 @@ configuration's N functions with the most instructions a sample.
 The scene: showcase.toml, the lens system through tests/data/lenses/dgauss_abbe.dat
 (the dispersive Double Gauss of issue 15) unless --lens says otherwise.
 
+With --events, each configuration is run under cachegrind instead, with its
+cache and branch simulation, and the JSON gains per sample what costs time
+beside the instructions: first-level data-cache misses (reads and writes) and
+mispredicted branches (conditional and indirect), as cachegrind's model
+counts them (a 32 KB 8-way L1 and one last level: it says where the misses
+are, not what they cost). The set-up is subtracted the same way.
+
 Needs valgrind (apt-get install valgrind); not part of make bench.
 
 Usage: python bench/count_instructions.py [CONFIG ...] [--spp 32] [--resolution 180 120]
-       [--lens PATH] [--top 20]
+       [--lens PATH] [--top 20] [--events]
   e.g. python bench/count_instructions.py lens lens,spectral      (issue 15's ratio; the default)
        python bench/count_instructions.py pinhole lens,table      (issue 20's)
 """
@@ -72,16 +79,29 @@ def _render_once(args) -> None:
            lens_rays="table" if "table" in options else None, lens_mirrors="mirrors" in options)
 
 
-def _callgrind(args, config: str, *, spp: int, out: Path) -> int:
-    """Total instructions of one child render, its callgrind file written to out."""
-    command = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", sys.executable, __file__, config,
-               "--child-spp", str(spp), "--lens", str(args.lens), "--resolution", *map(str, args.resolution)]
+# cachegrind's events (--events) and the names they go by in the JSON.
+EVENTS = {"Ir": "instructions", "D1mr": "l1_read_misses", "D1mw": "l1_write_misses",
+          "Bcm": "conditional_branch_misses", "Bim": "indirect_branch_misses"}
+
+
+def _valgrind(args, config: str, *, spp: int, out: Path) -> dict:
+    """Totals of one child render by event name (callgrind: instructions
+    only; --events: cachegrind's), its output file written to out."""
+    tool = (["--tool=cachegrind", "--cache-sim=yes", "--branch-sim=yes", f"--cachegrind-out-file={out}"]
+            if args.events else ["--tool=callgrind", f"--callgrind-out-file={out}"])
+    command = ["valgrind", *tool, sys.executable, __file__, config, "--child-spp", str(spp), "--lens", str(args.lens),
+               "--resolution", *map(str, args.resolution)]
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                   env={**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"})
+                   # A fixed hash seed: Python's set-up then runs the same instructions in both renders
+                   # (with a random one the count a sample moved by about 1 % between runs, session 47).
+                   env={**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "PYTHONHASHSEED": "0"})
+    names = ["Ir"]
     for line in out.read_text(errors="replace").splitlines():
+        if line.startswith("events:"):
+            names = line.split()[1:]
         if line.startswith("summary:") or line.startswith("totals:"):
-            return int(line.split()[1])
-    raise RuntimeError(f"{out}: no instruction total")
+            return dict(zip(names, map(int, line.split()[1:])))
+    raise RuntimeError(f"{out}: no totals")
 
 
 def _by_function(path: Path) -> dict:
@@ -106,10 +126,16 @@ def main():
     parser.add_argument("--resolution", type=int, nargs=2, default=(180, 120))
     parser.add_argument("--lens", type=Path, default=DISPERSIVE_LENS)
     parser.add_argument("--top", type=int, default=0, help="list each configuration's N costliest functions")
+    parser.add_argument("--events", action="store_true",
+                        help="cachegrind: cache misses and mispredicted branches a sample too")
     parser.add_argument("--child-spp", type=int, default=0, help=argparse.SUPPRESS)
     args = parser.parse_args()
     for config in args.configs:
         _parse_config(config)
+    if args.top and args.events:
+        print("count_instructions.py: --top reads callgrind's files, --events cachegrind's: one at a time",
+              file=sys.stderr)
+        sys.exit(2)
     if args.child_spp:
         _render_once(args)
         return
@@ -122,9 +148,13 @@ def main():
     with tempfile.TemporaryDirectory() as scratch:
         for index, config in enumerate(args.configs):
             full, setup = (Path(scratch) / f"{index}_{spp}.out" for spp in (args.spp, 1))
-            per_sample = (_callgrind(args, config, spp=args.spp, out=full)
-                          - _callgrind(args, config, spp=1, out=setup)) / added_samples
-            result["instructions_per_sample"][config] = round(per_sample, 1)
+            totals, setup_totals = (_valgrind(args, config, spp=spp, out=path)
+                                    for spp, path in ((args.spp, full), (1, setup)))
+            per_sample = {event: (totals[event] - setup_totals[event]) / added_samples for event in totals}
+            result["instructions_per_sample"][config] = round(per_sample["Ir"], 1)
+            if args.events:
+                result.setdefault("events_per_sample", {})[config] = {
+                    name: round(per_sample[event], 3) for event, name in EVENTS.items()}
             if args.top:
                 a, b = _by_function(full), _by_function(setup)
                 rows = sorted(((a.get(k, 0) - b.get(k, 0)) / added_samples, k) for k in set(a) | set(b))
