@@ -67,7 +67,7 @@ def _parse_config(text: str) -> tuple[str, set]:
 
 
 def _render_once(args) -> None:
-    """The child: one render, nothing printed (run under callgrind)."""
+    """The child: one render, nothing printed (run under valgrind)."""
     from lenscompare.render import render
     from lenscompare.scene import load_scene
 
@@ -147,9 +147,9 @@ def main():
               "instructions_per_sample": {}}
     with tempfile.TemporaryDirectory() as scratch:
         for index, config in enumerate(args.configs):
-            full, setup = (Path(scratch) / f"{index}_{spp}.out" for spp in (args.spp, 1))
-            totals, setup_totals = (_valgrind(args, config, spp=spp, out=path)
-                                    for spp, path in ((args.spp, full), (1, setup)))
+            full, setup = Path(scratch) / f"{index}_full.out", Path(scratch) / f"{index}_setup.out"
+            totals = _valgrind(args, config, spp=args.spp, out=full)
+            setup_totals = _valgrind(args, config, spp=1, out=setup)
             per_sample = {event: (totals[event] - setup_totals[event]) / added_samples for event in totals}
             result["instructions_per_sample"][config] = round(per_sample["Ir"], 1)
             if args.events:

@@ -73,13 +73,7 @@ LC_BUILT_PER_ISA void look_up_band_shifts(const LensBandTable& table, FilmPlacem
     const int* first_node = cells.first_node;
     float gx[kLensBatch], gy[kLensBatch], dm[kLensBatch];
     const BandTableNode* nodes = table.nodes.data();
-    // The batch's cache lines asked for first, all together, so that their
-    // misses overlap (the table, 0.6 MB, is more than this CPU's L2).
-    for (int i = 0; i < n; ++i) {
-        const BandTableNode* n00 = nodes + first_node[i];
-        __builtin_prefetch(n00), __builtin_prefetch(n00 + 1);
-        __builtin_prefetch(n00 + around_nodes), __builtin_prefetch(n00 + around_nodes + 1);
-    }
+    prefetch_table_cells(nodes, cells, n, around_nodes);  // the table, 0.6 MB, is more than this CPU's L2
     for (int i = 0; i < n; ++i) {
         const BandTableNode* n00 = nodes + first_node[i];
         const Float4 f_r = Float4{} + fr[i], f_u = Float4{} + fu[i], f_s = Float4{} + fs[i];

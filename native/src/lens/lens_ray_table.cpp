@@ -122,15 +122,10 @@ LC_BUILT_PER_ISA void look_up_lens_rays(const LensRayTable& table, FilmPlacement
     const float *x = cells.x, *y = cells.y, *r = cells.r;
     const int* first_node = cells.first_node;
     // Each lane's four corners, eight values at once; then eight lanes'
-    // values turned value by value. The batch's cache lines asked for first,
-    // all together, so that their misses overlap.
+    // values turned value by value. The batch's cache lines asked for first.
     alignas(32) float values[kTableValues][kLensBatch];
     const LensTableNode* nodes = table.nodes.data();
-    for (int i = 0; i < kLensBatch; ++i) {
-        const LensTableNode* n00 = nodes + first_node[i];
-        __builtin_prefetch(n00), __builtin_prefetch(n00 + 1);
-        __builtin_prefetch(n00 + around_nodes), __builtin_prefetch(n00 + around_nodes + 1);
-    }
+    prefetch_table_cells(nodes, cells, kLensBatch, around_nodes);
     for (int group = 0; group < kLensBatch; group += 8) {
         Float8 lane[8], by_value[8];
         for (int k = 0; k < 8; ++k) {
