@@ -476,6 +476,11 @@ NB_MODULE(_native, m) {
              "Whether spectral renders (wavelengths not drawn) give each sample one ray carrying every wavelength "
              "whose film point stays in its pixel (cameras/lens_system_bands.cpp), instead of a ray per traced "
              "hero wavelength. After set_dispersion.")
+        .def_rw("band_roulette", &LensSystemCamera::band_roulette_on,
+                "Whether a band render's split samples trace their ray a pixel away only with a probability "
+                "(Russian roulette, BandRoulette in spectral_bands.h; on by default).")
+        .def_prop_ro_static("band_roulette_gain", [](nb::handle) { return BandRoulette::kGain; },
+                            "The roulette's gain: the probability is it times the band's share of white, at most 1.")
         .def_prop_ro("band_parameter",
                      [](const LensSystemCamera& c) { return c.band_parameter_by_nm; },
                      "The band rays' dispersion parameter k at every nm from 380 (empty before set_band_rays).")

@@ -35,7 +35,7 @@ class BandRayPacket {
   public:
     BandRayPacket(const Scene& scene, TileAccumulator& sums, const FocusBandIntegrals& integrals,
                   const DispersionRuns& runs)
-        : scene_(scene), sums_(sums), whole_(scene, sums, true), bands_{&integrals, &runs, k_lo_, k_hi_} {}
+        : scene_(scene), sums_(sums), whole_(scene, sums, true), bands_{&integrals, &runs, k_lo_, k_hi_, whole_part_} {}
 
     void cull_by(const CameraPencil& pencil) {
         scene_.camera_candidates(pencil, &batch_);
@@ -52,11 +52,13 @@ class BandRayPacket {
     }
 
     // Queues row i of rows carrying the wavelengths of planes of focus
-    // [k_lo, k_hi) (the lens system: of its dispersion parameter), its
-    // radiance scaled by weight; last: its sample's last ray.
-    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, float weight, float time_u, bool last,
-             size_t slot) {
+    // [k_lo, k_hi) (the lens system: of its dispersion parameter) plus
+    // whole_part times the whole spectrum (BandRoulette), its radiance
+    // scaled by weight; last: its sample's last ray.
+    void add(const CameraRayRows& rows, int i, double k_lo, double k_hi, float whole_part, float weight,
+             float time_u, bool last, size_t slot) {
         const int j = batch_.count;
+        whole_part_[j] = whole_part;
         batch_.set(j, rows, i);
         batch_.time[j] = time_u;
         weight_[j] = weight;
@@ -72,6 +74,7 @@ class BandRayPacket {
     }
 
     uint64_t samples_shaded() const { return samples_shaded_ + whole_.rays_shaded(); }
+    const FocusBandIntegrals& integrals() const { return *bands_.integrals; }
 
   private:
     void flush_bands() {
@@ -96,6 +99,7 @@ class BandRayPacket {
     RayBatch batch_;
     double k_lo_[kPacketSize], k_hi_[kPacketSize];
     float weight_[kPacketSize];
+    float whole_part_[kPacketSize];
     RayFocusBands bands_;  // batch_'s bands: k_lo_ and k_hi_
     bool last_[kPacketSize];
     size_t slot_[kPacketSize];
@@ -126,7 +130,11 @@ template <class Camera>
 class BandCameraSampleBatcher {
   public:
     BandCameraSampleBatcher(const Camera& camera, const SceneMotion& motion, BandRayPacket& packet)
-        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet) {}
+        : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet),
+          roulette_{&packet.integrals()} {
+        if constexpr (kPooled)
+            if (camera.band_roulette_on) rays_.roulette = &roulette_;
+    }
 
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
         for (int i = first; i < end;) {
@@ -208,7 +216,8 @@ class BandCameraSampleBatcher {
                 const bool last = int(ray) + 1 == count || rays_.sample[ray + 1] != sample;
                 // A vignetted ray (finite, weight 0) still goes: it may close its sample.
                 const float weight = !weights_.used ? 1.0f : weights_.alive[r] ? weights_.weight[r] : 0.0f;
-                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], weight, time_of(ray), last, slot_of(ray));
+                packet_.add(rows_, r, rays_.k_lo[ray], rays_.k_hi[ray], rays_.entry_whole_part[ray],
+                            weight * rays_.entry_scale[ray], time_of(ray), last, slot_of(ray));
             }
         }
         if constexpr (kPooled) rays_.clear(), pooled_samples_ = 0;
@@ -227,6 +236,7 @@ class BandCameraSampleBatcher {
     std::vector<float> split_time_;  // pooled: each split ray's sample's time and pixel
     std::vector<size_t> split_slot_;
     int pooled_samples_ = 0;
+    BandRoulette roulette_;  // the lens system's (kPooled)
 };
 
 template <class Camera>

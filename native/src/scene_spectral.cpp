@@ -104,7 +104,9 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
             if (start[0][i] == 0.0f && start[1][i] == 0.0f && start[2][i] == 0.0f) continue;  // no light of its own
             float mapped[3];
             bands->integrals->apply(0, lo[i], hi[i], start[0][i], start[1][i], start[2][i], mapped);
-            rgb[0][i] = mapped[0], rgb[1][i] = mapped[1], rgb[2][i] = mapped[2];
+            const float t = bands->whole_part[i];
+            rgb[0][i] = mapped[0] + t * rgb[0][i], rgb[1][i] = mapped[1] + t * rgb[1][i];
+            rgb[2][i] = mapped[2] + t * rgb[2][i];
         }
     // A monochromatic emitter is its line alone: the part of its band the ray carries.
     if (spectra.any_line())
@@ -115,7 +117,7 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
                 if (bands) {
                     WavelengthBand band;
                     bands->runs->band_of(bands->k_lo[i], bands->k_hi[i], &band);
-                    line = Vec3f{};
+                    line = line * bands->whole_part[i];
                     const float from = spectra.line_nm[m] - spectra.line_half_width_nm;
                     const float to = spectra.line_nm[m] + spectra.line_half_width_nm;
                     for (int r = 0; r < band.count; ++r)
@@ -140,7 +142,10 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
                     float mapped[3];
                     bands->integrals->apply(1 + int(l), lo[i], hi[i], albedo[0][i], albedo[1][i], albedo[2][i],
                                             mapped);
-                    surface.albedo[0][i] = mapped[0], surface.albedo[1][i] = mapped[1], surface.albedo[2][i] = mapped[2];
+                    const float t = bands->whole_part[i];
+                    surface.albedo[0][i] = mapped[0] + t * surface.albedo[0][i];
+                    surface.albedo[1][i] = mapped[1] + t * surface.albedo[1][i];
+                    surface.albedo[2][i] = mapped[2] + t * surface.albedo[2][i];
                 }
             add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
         }

@@ -117,6 +117,28 @@ FocusBandIntegrals::FocusBandIntegrals(const SpectralTables& t, const std::vecto
         }
         for (int e = 0; e < 9; ++e) whole_[size_t(table)].e[e % 3][e / 3] = float(whole[size_t(table) * 9 + size_t(e)]);
     }
+    build_white_shares();
+}
+
+void FocusBandIntegrals::build_white_shares() {
+    const double lowest = breaks_.front(), highest = breaks_.back();
+    share_steps_per_k_ = double(kShareSteps) / (highest - lowest);
+    float whole[3];
+    apply(0, end_at(lowest), end_at(highest), 1.0f, 1.0f, 1.0f, whole);
+    share_below_.resize(size_t(kShareSteps) + 1), share_above_.resize(size_t(kShareSteps) + 1);
+    for (int step = 0; step <= kShareSteps; ++step) {
+        const End at = end_at(lowest + double(step) / share_steps_per_k_);
+        float below[3], above[3];
+        apply(0, end_at(lowest), at, 1.0f, 1.0f, 1.0f, below);
+        apply(0, at, end_at(highest), 1.0f, 1.0f, 1.0f, above);
+        float most_below = 0.0f, most_above = 0.0f;
+        for (int c = 0; c < 3; ++c) {
+            if (!(whole[c] > 0.0f)) continue;
+            most_below = std::max(most_below, below[c] / whole[c]);
+            most_above = std::max(most_above, above[c] / whole[c]);
+        }
+        share_below_[size_t(step)] = most_below, share_above_[size_t(step)] = most_above;
+    }
 }
 
 }  // namespace lc

@@ -130,6 +130,9 @@ struct LensSystemCamera {
     std::shared_ptr<const LensBandTable> band_table;
     static constexpr int kBandTableRadialCells = 16, kBandTableAroundCells = 32;
     bool band_rays_on = false;
+    // Russian roulette on a split sample's ray a pixel away (BandRoulette,
+    // spectral_bands.h); off: every split sample traced whole.
+    bool band_roulette_on = true;
     // The rays by table look-up (lens_ray_table.h) for the batch paths
     // (RGB, and spectral without dispersion: set_dispersion drops it);
     // null: every sample traced.

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#include "rng.h"
 
 namespace lc {
 namespace {
@@ -24,6 +27,15 @@ int crossings(double x, double g, double k_ref, double k_lowest, double k_highes
         return -1;
     }
     return 0;
+}
+
+// A uniform number in [0, 1) for a sample's roulette (BandRoulette), hashed
+// from its film point's bits: the same for any thread count, and as free of
+// its geometry as a hash is.
+float roulette_uniform(Point2f raster_px) {
+    uint32_t x, y;
+    std::memcpy(&x, &raster_px.x, sizeof x), std::memcpy(&y, &raster_px.y, sizeof y);
+    return float(mix64((uint64_t(x) << 32) | y) >> 40) * 0x1.0p-24f;
 }
 
 }  // namespace
@@ -76,13 +88,15 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
         const double below = k_lowest - k_ref, above = k_highest - k_ref;
         const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
         const double pixel_x = std::floor(x), pixel_y = std::floor(y);
-        auto emit_one = [&](double cell_x, double cell_y, double k_from, double k_to) {
+        auto emit_one = [&](double cell_x, double cell_y, double k_from, double k_to, float scale = 1.0f,
+                            float whole_part = 0.0f) {
             if (!(k_to > k_from)) return;  // a corner: no wavelength lands there
             const size_t at = size_t(out->count++);
             out->sample[at] = i;
             out->raster_px[at] = {float(x - (cell_x - pixel_x)), float(y - (cell_y - pixel_y))};
             out->lens_x_m[at] = float(lens_x_m[i]), out->lens_y_m[at] = float(lens_y_m[i]);
             out->k_lo[at] = k_from, out->k_hi[at] = k_to;
+            out->entry_scale[at] = scale, out->entry_whole_part[at] = whole_part;
         };
         const double x_from = std::floor(x + gx * below), x_to = std::floor(x + gx * above);
         const double y_from = std::floor(y + gy * below), y_to = std::floor(y + gy * above);
@@ -96,6 +110,23 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
             const double kx = edge_k(x_from, x_to, x, gx), ky = edge_k(y_from, y_to, y, gy);
             const double k_first = std::min(kx, ky), k_second = std::max(kx, ky);
             const bool x_first = kx <= ky;
+            // Split once, over the whole spectrum: roulette on the ray a pixel away.
+            if (out->roulette && k_second == k_highest && k_first > k_lowest && k_first < k_highest &&
+                k_lowest == k_all_lowest && k_highest == k_all_highest) {
+                const double far_x = x_first ? x_to : x_from, far_y = x_first ? y_from : y_to;
+                const bool own_below = x_from == pixel_x && y_from == pixel_y;
+                const float q = out->roulette->probability(k_first, !own_below);
+                if (!(roulette_uniform(raster_px[i]) < q)) {  // shaded whole
+                    const int w = out->whole_count++;
+                    out->whole_sample[w] = i, out->whole_raster_px[w] = raster_px[i];
+                    out->whole_lens_x_m[w] = float(lens_x_m[i]), out->whole_lens_y_m[w] = float(lens_y_m[i]);
+                    continue;
+                }
+                const float scale = 1.0f / q;
+                emit_one(x_from, y_from, k_lowest, k_first, scale, own_below ? q - 1.0f : 0.0f);
+                emit_one(far_x, far_y, k_first, k_highest, scale, own_below ? 0.0f : q - 1.0f);
+                continue;
+            }
             emit_one(x_from, y_from, k_lowest, k_first);
             if (x_first) emit_one(x_to, y_from, k_first, k_second);
             else emit_one(x_from, y_to, k_first, k_second);

@@ -52,6 +52,11 @@ struct BandRays {
     std::vector<float> lens_x_m, lens_y_m;
     std::vector<double> k_lo, k_hi;
     std::vector<double> x_edges, y_edges;  // split_into_bands' scratch
+    // Each ray's weight's factor and its whole-spectrum part (its map is its
+    // band's plus entry_whole_part times the whole's): 1 and 0 but where
+    // roulette (set: the lens system's render) kept a split sample (BandRoulette).
+    std::vector<float> entry_scale, entry_whole_part;
+    const BandRoulette* roulette = nullptr;
 
     // A camera whose rays may be vignetted and carry a weight (the lens
     // system) traces every sample's own ray in band_rays, kept here for
@@ -76,7 +81,7 @@ struct BandRays {
         if (sample.size() >= needed) return;
         const size_t grown = std::max(needed, 2 * sample.size());
         sample.resize(grown), raster_px.resize(grown), lens_x_m.resize(grown), lens_y_m.resize(grown);
-        k_lo.resize(grown), k_hi.resize(grown);
+        k_lo.resize(grown), k_hi.resize(grown), entry_scale.resize(grown), entry_whole_part.resize(grown);
     }
 };
 
