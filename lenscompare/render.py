@@ -52,7 +52,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
            postfilter_per_pixel_spp: bool = False,
            postfilter_uniform_pass: bool = False, lens_mirrors: bool = False,
-           lens_rays: str | None = None, lens_bands: bool = True, lens_band_roulette: bool = True) -> Image:
+           lens_rays: str | None = None, lens_bands: bool = True, band_roulette: bool = True) -> Image:
     """Render ``scene`` with the native tracer.
 
     Parameters
@@ -140,12 +140,14 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         band model passes its per-camera check (``metadata["spectral"]
         ["lens_bands"]`` says whether, with the figures); False, or a
         refused check, draws hero wavelengths instead.
-    lens_band_roulette : bool, optional
-        With ``lens_bands``: a sample whose wavelengths land in two pixels
-        traces its ray from the other pixel only with a probability (Russian
+    band_roulette : bool, optional
+        Spectral renders whose rays carry bands (a dispersive thin, thick or
+        ``lens`` model): a sample whose wavelengths land in two pixels traces
+        its ray from the other pixel only with a probability (Russian
         roulette on the difference that pixel makes, weighed to stay
         unbiased; ``native/src/spectral_bands.h``, ``BandRoulette``): faster
-        for about 3 % more variance on ``showcase``. False traces every one.
+        for a few per cent more variance on ``showcase``. False traces every
+        one (``metadata["spectral"]["band_roulette_gain"]`` is then None).
     postfilter_uniform_pass : bool, optional
         ``postfilter`` only: draw min(spp, 16) film samples in every pixel,
         as before the refined pass (a reference for bench/bench_postfilter.py).
@@ -209,7 +211,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths,
-                                   lens_bands=lens_bands, lens_band_roulette=lens_band_roulette)
+                                   lens_bands=lens_bands, band_roulette=band_roulette)
                      if settings.spectral else None)
     lens_rays_info = None
     if settings.lens_rays == "table" and hasattr(native_camera, "use_ray_table"):

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _native
 from .lenses import paraxial_data
 from .scene import EmissiveMaterial, Scene
 from .spectral import LINE_WIDTH_NM, basis_table, film_table, line_radiance, wavelength_distribution, wavelengths_nm
@@ -34,14 +35,14 @@ _FOCAL_STEP_NM = 5.0
 
 def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
                   traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
-                  lens_bands: bool = True, lens_band_roulette: bool = True) -> dict:
+                  lens_bands: bool = True, band_roulette: bool = True) -> dict:
     """Turn ``native_scene`` spectral and give ``native_camera`` its lens's dispersion.
 
     ``traced_wavelengths``: see :func:`traced_wavelengths_for` (None: its default
     for the model). ``lens_bands``: a dispersive lens system's rays carry bands
-    of the spectrum where the model passes its check (:func:`_lens_band_check`);
-    ``lens_band_roulette``: with Russian roulette on their split samples' rays
-    a pixel away (native/src/spectral_bands.h, BandRoulette).
+    of the spectrum where the model passes its check (:func:`_lens_band_check`).
+    ``band_roulette``: where rays carry bands, Russian roulette on the split
+    samples' rays a pixel away (native/src/spectral_bands.h, BandRoulette).
     ``sample_wavelengths``: draw hero wavelengths even when
     the camera does not disperse; by default such a render integrates the
     film's response over the wavelengths exactly instead (every ray then
@@ -71,12 +72,11 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
     band_check = None
     if disperses and camera.model == "lens" and lens_bands and not sample_wavelengths:
         band_check = _lens_band_check(native_camera)
-        native_camera.band_roulette = lens_band_roulette
-        if band_check["used"]:
-            band_check["roulette_gain"] = native_camera.band_roulette_gain if lens_band_roulette else None
     bands = (disperses and not sample_wavelengths and camera.model in ("thin", "thick", "lens")
              and native_camera.carries_bands())
     sampled = (disperses or sample_wavelengths) and not bands
+    if bands:
+        native_camera.band_roulette = band_roulette
     wavelengths = ("hero wavelengths (Wilkie et al. 2014)" if sampled
                    else "integrated exactly over each ray's band of wavelengths" if bands
                    else "integrated exactly (the camera does not disperse)")
@@ -87,6 +87,8 @@ def make_spectral(native_scene, native_camera, scene: Scene, camera, *,
             "secondaries": ("none: a ray per stretch of the spectrum landing in one pixel" if bands
                             else _secondaries(traced, camera.model) if disperses
                             else "shared ray" if sampled else "none: integrated")}
+    if bands:
+        info["band_roulette_gain"] = float(_native.BAND_ROULETTE_GAIN) if band_roulette else None
     if band_check is not None:
         info["lens_bands"] = band_check
     return info

@@ -138,27 +138,31 @@ def test_band_renders_do_not_depend_on_the_thread_count_with_split_samples_poole
     assert np.array_equal(one.pixels, two.pixels)
 
 
-def test_roulette_on_split_samples_keeps_the_image_and_adds_little_noise(tmp_path):
+@pytest.mark.parametrize("model", ["lens", "thin"])
+def test_roulette_on_split_samples_keeps_the_image_and_adds_little_noise(tmp_path, model):
     """Russian roulette on a split sample's ray a pixel away (BandRoulette in
     native/src/spectral_bands.h), against every split sample traced, the same
-    seed (the same samples; only the split samples' estimate differs): the
-    channel means within 0.05 % (unbiased; measured 0.001-0.008 %), and the
-    per-pixel RMS of the difference under 0.3 of one render's own noise (the
-    variance it adds: measured 0.17, about 3 %). With the two rays' whole-
+    seed (the same samples; only the split samples' estimate differs), for the
+    lens system and the thin lens derived from it: the channel means within
+    0.05 % (unbiased; measured 0.001-0.008 %), and the per-pixel RMS of the
+    difference under 0.4 of one render's own noise (the variance it adds:
+    measured 0.17 and 0.27, about 3 and 7 %). With the two rays' whole-
     spectrum parts swapped (an estimator biased at edges and weighed by 1 / q)
-    the difference was 2.2 times the noise and the means 0.11 % apart."""
+    the lens system's difference was 2.2 times the noise and its means 0.11 %
+    apart."""
     scene = _scene(tmp_path, "showcase.toml", resolution=(120, 80))
 
     def pixels(seed, roulette):
-        image = render(scene, spp=64, seed=seed, spectral=True, progress=False, lens_band_roulette=roulette)
-        assert image.metadata["spectral"]["lens_bands"]["roulette_gain"] == (0.75 if roulette else None)
+        image = render(scene, model=model, spp=64, seed=seed, spectral=True, progress=False,
+                       band_roulette=roulette)
+        assert image.metadata["spectral"]["band_roulette_gain"] == (0.75 if roulette else None)
         return image.pixels
 
     on, off, other_seed = pixels(1, True), pixels(1, False), pixels(2, False)
     ratio = on.reshape(-1, 3).mean(axis=0) / off.reshape(-1, 3).mean(axis=0)
     assert np.all(np.abs(ratio - 1.0) < 5e-4), ratio
     noise = np.sqrt(np.mean((off - other_seed) ** 2) / 2.0)
-    assert np.sqrt(np.mean((on - off) ** 2)) < 0.3 * noise
+    assert np.sqrt(np.mean((on - off) ** 2)) < 0.4 * noise
 
 
 @pytest.mark.parametrize("lens, used", [("dgauss_abbe.dat", True), ("cooke_triplet.abbe.dat", True),

@@ -311,6 +311,7 @@ NB_MODULE(_native, m) {
     m.attr("SAMPLER_REGULAR") = int(SamplerKind::Regular);
     m.attr("SAMPLER_POISSON") = int(SamplerKind::Poisson);
     m.attr("SAMPLER_SOBOL") = int(SamplerKind::Sobol);
+    m.attr("BAND_ROULETTE_GAIN") = BandRoulette::kGain;
     m.def("prepare_poisson_patterns", &prepare_poisson_patterns, "spp"_a, nb::call_guard<nb::gil_scoped_release>(),
           "Make the poisson sampler's patterns for spp now, kept for the process (otherwise on first use).");
     m.attr("DISK_POLAR") = int(DiskMapping::Polar);
@@ -392,7 +393,10 @@ NB_MODULE(_native, m) {
              "inverse_focus_per_m"_a, "1 / (plane of focus at λ), 1/m, every nm from 380 to 780.")
         .def("carries_bands", &ThinLensCamera::carries_bands,
              "Whether a spectral render's rays each carry a band of wavelengths, integrated (a lens that "
-             "disperses, its plane of focus turning back at most 3 times).");
+             "disperses, its plane of focus turning back at most 3 times).")
+        .def_rw("band_roulette", &ThinLensCamera::band_roulette_on,
+                "Whether a band render's split samples trace their ray a pixel away only with a probability "
+                "(Russian roulette: BandRoulette in spectral_bands.h; on by default).");
 
     nb::class_<ThickLensCamera>(m, "ThickLensCamera",
                                 "Thick lens: in object space the thin lens at its front principal plane H.")
@@ -406,7 +410,11 @@ NB_MODULE(_native, m) {
                  self.at_front_principal_plane.set_dispersion(inverse_focus_table(inverse_focus_per_m));
              },
              "inverse_focus_per_m"_a, "1 / (plane of focus at λ from H), 1/m, every nm from 380 to 780.")
-        .def("carries_bands", &ThickLensCamera::carries_bands, "As the thin lens's at H.");
+        .def("carries_bands", &ThickLensCamera::carries_bands, "As the thin lens's at H.")
+        .def_prop_rw(
+            "band_roulette", [](const ThickLensCamera& c) { return c.band_roulette(); },
+            [](ThickLensCamera& c, bool on) { c.at_front_principal_plane.band_roulette_on = on; },
+            "As the thin lens's at H.");
 
     nb::class_<LensSystemCamera>(m, "LensSystemCamera",
                                  "Full lens system: film samples traced through every surface (lens frame in mm).")
@@ -476,11 +484,7 @@ NB_MODULE(_native, m) {
              "Whether spectral renders (wavelengths not drawn) give each sample one ray carrying every wavelength "
              "whose film point stays in its pixel (cameras/lens_system_bands.cpp), instead of a ray per traced "
              "hero wavelength. After set_dispersion.")
-        .def_rw("band_roulette", &LensSystemCamera::band_roulette_on,
-                "Whether a band render's split samples trace their ray a pixel away only with a probability "
-                "(Russian roulette, BandRoulette in spectral_bands.h; on by default).")
-        .def_prop_ro_static("band_roulette_gain", [](nb::handle) { return BandRoulette::kGain; },
-                            "The roulette's gain: the probability is it times the band's share of white, at most 1.")
+        .def_rw("band_roulette", &LensSystemCamera::band_roulette_on, "As ThinLensCamera's.")
         .def_prop_ro("band_parameter",
                      [](const LensSystemCamera& c) { return c.band_parameter_by_nm; },
                      "The band rays' dispersion parameter k at every nm from 380 (empty before set_band_rays).")

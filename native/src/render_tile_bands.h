@@ -132,8 +132,7 @@ class BandCameraSampleBatcher {
     BandCameraSampleBatcher(const Camera& camera, const SceneMotion& motion, BandRayPacket& packet)
         : camera_(camera), motion_(motion), moves_camera_(motion.moves_camera()), packet_(packet),
           roulette_{&packet.integrals()} {
-        if constexpr (kPooled)
-            if (camera.band_roulette_on) rays_.roulette = &roulette_;
+        if (camera.band_roulette()) rays_.roulette = &roulette_;
     }
 
     void add_pixel(int x, int y, const PixelSamples& samples, int first, int end, size_t slot) {
@@ -236,7 +235,7 @@ class BandCameraSampleBatcher {
     std::vector<float> split_time_;  // pooled: each split ray's sample's time and pixel
     std::vector<size_t> split_slot_;
     int pooled_samples_ = 0;
-    BandRoulette roulette_;  // the lens system's (kPooled)
+    BandRoulette roulette_;
 };
 
 template <class Camera>

@@ -130,9 +130,7 @@ struct LensSystemCamera {
     std::shared_ptr<const LensBandTable> band_table;
     static constexpr int kBandTableRadialCells = 16, kBandTableAroundCells = 32;
     bool band_rays_on = false;
-    // Russian roulette on a split sample's ray a pixel away (BandRoulette,
-    // spectral_bands.h); off: every split sample traced whole.
-    bool band_roulette_on = true;
+    bool band_roulette_on = true;  // as ThinLensCamera's
     // The rays by table look-up (lens_ray_table.h) for the batch paths
     // (RGB, and spectral without dispersion: set_dispersion drops it);
     // null: every sample traced.
@@ -196,6 +194,7 @@ struct LensSystemCamera {
     // on: whether spectral renders take them (a lens with dispersion only).
     void set_band_rays(bool on);
     bool carries_bands() const { return band_rays_on && disperses() && band_parameter_runs.fits(); }
+    bool band_roulette() const { return band_roulette_on; }
     const DispersionRuns& band_runs() const { return band_parameter_runs; }
     const std::vector<double>& band_focus_table() const { return band_parameter_by_nm; }
     bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,

@@ -48,6 +48,7 @@ struct ThickLensCamera {
         at_front_principal_plane.generate_rays_sharing(raster_px, lens_sample, nm, out, shares);
     }
     bool carries_bands() const { return at_front_principal_plane.carries_bands(); }
+    bool band_roulette() const { return at_front_principal_plane.band_roulette(); }
     const DispersionRuns& band_runs() const { return at_front_principal_plane.band_runs(); }
     const std::vector<double>& band_focus_table() const { return at_front_principal_plane.band_focus_table(); }
     bool band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,

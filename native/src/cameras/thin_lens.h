@@ -42,6 +42,10 @@ struct ThinLensCamera {
     // render_tile_bands.h): a lens that disperses, its plane of focus turning
     // back at most kMaxBandRuns - 1 times over the spectrum.
     bool carries_bands() const { return disperses() && dispersion_runs.fits(); }
+    // Russian roulette on a split sample's ray a pixel away (BandRoulette,
+    // spectral_bands.h); off: every split sample's rays traced.
+    bool band_roulette_on = true;
+    bool band_roulette() const { return band_roulette_on; }
     const DispersionRuns& band_runs() const { return dispersion_runs; }
     // The table the bands' integrals are read over (Scene::focus_band_integrals).
     const std::vector<double>& band_focus_table() const { return inverse_focus_per_m_by_nm; }
