@@ -146,22 +146,23 @@ class FocusBandIntegrals {
     double share_steps_per_k_ = 0.0;
 };
 
-// Russian roulette on the ray a pixel away of a split sample of a lens
-// system's band render (cameras/lens_system_bands.cpp: the ray is traced
-// through the lens and the scene; its share of a split sample's cost is most
-// of the band render's premium over RGB). A sample split once, its own ray
+// Russian roulette on the ray a pixel away of a split sample of a band
+// render (render_tile_bands.h; through the lens system that ray is traced
+// through the lens and the scene, and such rays were about a fifth of the
+// band render's time, session 47). A sample split once, its own ray
 // carrying band A and the ray a pixel away band B of the whole spectrum W
 // (maps M_A + M_B = W), is worth M_A c_own + M_B c_away =
 // W c_own + M_B (c_away - c_own): its own ray's colour through the whole
 // spectrum, corrected by the difference the other pixel makes in band B.
 // With probability q the correction is traced and weighed 1 / q, else the
 // sample is shaded whole from its own ray: the same value on average, and
-// the difference is zero wherever both rays see the same colour (all but a
-// pixel's edges). Traced, the own ray's map is (M_A + (q - 1) W) / q and the
+// the difference is zero wherever both rays see the same colour (all but
+// the image's edges). Traced, the own ray's map is (M_A + (q - 1) W) / q and the
 // other's M_B / q (BandRays' entry_scale and entry_whole_part). q is
 // kGain times the most a channel of white's response lies in band B, at
-// most 1 (the variance a sample adds goes as (1 / q - 1) |M_B|^2, the time
-// it saves as 1 - q): a band at the spectrum's dim ends is rarely traced.
+// most 1 (the variance a sample adds is (1 / q - 1) |M_B (c_away - c_own)|^2,
+// the time it saves goes as 1 - q): a band at the spectrum's dim ends is
+// rarely traced.
 struct BandRoulette {
     // Showcase 180x120 through dgauss_abbe.dat, 64 spp, against no roulette
     // (session 48): gain 1 took 0.889 of the render time (best of 15 renders)

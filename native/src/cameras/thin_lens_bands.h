@@ -53,8 +53,9 @@ struct BandRays {
     std::vector<double> k_lo, k_hi;
     std::vector<double> x_edges, y_edges;  // split_into_bands' scratch
     // Each ray's weight's factor and its whole-spectrum part (its map is its
-    // band's plus entry_whole_part times the whole's): 1 and 0 but where
-    // roulette (set: the lens system's render) kept a split sample (BandRoulette).
+    // band's plus entry_whole_part times the whole's): 1 and 0 but where the
+    // roulette (set unless the camera's band_roulette is off) kept a split
+    // sample (BandRoulette, spectral_bands.h).
     std::vector<float> entry_scale, entry_whole_part;
     const BandRoulette* roulette = nullptr;
 
