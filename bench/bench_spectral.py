@@ -17,6 +17,9 @@ Prints one JSON object (issue 15's goals):
   over RGB (goal <= 2), by default and for 1, 2 and 4 traced wavelengths;
   and the same for the thin lens derived from it, and for the thin lens of
   the file (integrated and drawn wavelengths);
+- what the band roulette (render(band_roulette=...), on by default) does to the
+  lens system's and the dispersive thin lens's samples/s, variance and time
+  to 1 %, with over without;
 - whether each goal is met, for the default (and the time goal for the thin lens derived
   from the dispersive prescription too).
 
@@ -51,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from lenscompare import _native
 from lenscompare.render import render
 from lenscompare.render_spectral import traced_wavelengths_for
 from lenscompare.scene import load_scene
@@ -119,10 +123,12 @@ def main():
     showcase = load_scene(SCENE).with_camera(resolution=tuple(args.resolution))
     lens_scene = showcase.with_camera(lens=str(DISPERSIVE_LENS), focal_length_mm=None)
 
-    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0, sampled=False, mirrored=False):
+    def runner(scene, model, spectral, traced=None, spp=args.spp, seed=0, sampled=False, mirrored=False,
+               roulette=True):
         return lambda **kw: render(scene, model=model, spectral=spectral, traced_wavelengths=traced,
                                    sample_wavelengths=sampled, threads=args.threads, progress=False,
-                                   lens_mirrors=mirrored, **{"spp": spp, "seed": seed, **kw})
+                                   lens_mirrors=mirrored, band_roulette=roulette,
+                                   **{"spp": spp, "seed": seed, **kw})
 
     counts = (1, 2, 4)
     default = traced_wavelengths_for("lens")
@@ -132,8 +138,10 @@ def main():
         "thin_spectral_sampled": runner(showcase, "thin", True, sampled=True),
         "thin_dispersive_rgb": runner(lens_scene, "thin", False),
         "thin_dispersive_spectral": runner(lens_scene, "thin", True),
+        "thin_dispersive_spectral_no_roulette": runner(lens_scene, "thin", True, roulette=False),
         "lens_rgb": runner(lens_scene, "lens", False),
         "lens_spectral_bands": runner(lens_scene, "lens", True),
+        "lens_spectral_bands_no_roulette": runner(lens_scene, "lens", True, roulette=False),
         **{f"lens_spectral_{n}": runner(lens_scene, "lens", True, n, sampled=True) for n in counts},
         # render(lens_mirrors=True) on both sides: a quarter of the samples traced, the rest reflected
         "lens_rgb_mirrored": runner(lens_scene, "lens", False, mirrored=True),
@@ -146,9 +154,11 @@ def main():
     noise = {
         "rgb": noise_of(runner(lens_scene, "lens", False)),
         "spectral_bands": noise_of(runner(lens_scene, "lens", True)),
+        "spectral_bands_no_roulette": noise_of(runner(lens_scene, "lens", True, roulette=False)),
         **{f"spectral_{n}": noise_of(runner(lens_scene, "lens", True, n, sampled=True)) for n in counts},
         "thin_rgb": noise_of(runner(lens_scene, "thin", False)),
         "thin_spectral": noise_of(runner(lens_scene, "thin", True)),
+        "thin_spectral_no_roulette": noise_of(runner(lens_scene, "thin", True, roulette=False)),
         "showcase_thin_rgb": noise_of(runner(showcase, "thin", False)),
         "showcase_thin_spectral": noise_of(runner(showcase, "thin", True)),
         "showcase_thin_spectral_sampled": noise_of(runner(showcase, "thin", True, sampled=True)),
@@ -161,6 +171,13 @@ def main():
         drifts (four runs of session 35: 1.54-3.11x for the dispersive thin lens)."""
         variance_ratio = (noise[spectral_noise]["relative_rmse"] / noise[rgb_noise]["relative_rmse"]) ** 2
         return variance_ratio * sps[rgb_sps] / sps[spectral_sps]
+
+    def roulette_effect(with_noise, without_noise, with_sps, without_sps):
+        """What the band roulette does (render(band_roulette=...)): samples/s and variance with it
+        over without, and so the time to 1 % (both from the alternated rounds and seed pairs)."""
+        variance = (noise[with_noise]["relative_rmse"] / noise[without_noise]["relative_rmse"]) ** 2
+        speed = sps[with_sps] / sps[without_sps]
+        return {"samples_per_second": speed, "variance": variance, "time_to_1_percent": variance / speed}
 
     rgb_time = noise["rgb"]["seconds_to_1_percent"]
     lens_over_rgb = {n: sps[f"lens_spectral_{n}"] / sps["lens_rgb"] for n in counts}
@@ -206,6 +223,13 @@ def main():
             "lens_bands": alternated("spectral_bands", "rgb", "lens_spectral_bands", "lens_rgb"),
             **{f"lens_{n}_traced": alternated(f"spectral_{n}", "rgb", f"lens_spectral_{n}", "lens_rgb")
                for n in counts},
+        },
+        "band_roulette_with_over_without": {
+            "gain": float(_native.BAND_ROULETTE_GAIN),
+            "lens": roulette_effect("spectral_bands", "spectral_bands_no_roulette", "lens_spectral_bands",
+                                    "lens_spectral_bands_no_roulette"),
+            "thin_dispersive": roulette_effect("thin_spectral", "thin_spectral_no_roulette",
+                                               "thin_dispersive_spectral", "thin_dispersive_spectral_no_roulette"),
         },
         "goal_spectral_over_rgb_time_to_1_percent": 2.0,
         "goals_met": {"thin_spectral_over_rgb": thin_over_rgb >= 0.8,
