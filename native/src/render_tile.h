@@ -274,6 +274,23 @@ class RayPacket {
         }
     }
 
+    // As add_rows for rays rows[at[r]], r in [0, n), each with the time,
+    // pixel, aliveness and weight of its index in rows: some rows of a
+    // camera batch (a band render's whole samples, render_tile_bands.h)
+    // without first gathering them into rows of their own.
+    void add_rows_at(const CameraRayRows& rows, const int* at, int n, const float* time_u, const size_t* slot,
+                     const bool* alive, const float* weight) {
+        for (int r = 0; r < n; ++r) {
+            const int i = at[r], j = batch_.count;
+            batch_.set(j, rows, i);
+            batch_.time[j] = time_u[i];
+            weight_[j] = weight[i];
+            slot_[j] = slot[i];
+            batch_.count += int(alive[i]);  // as add_rows: written whether alive or not
+            if (batch_.count == kPacketSize) flush();
+        }
+    }
+
     // Shades the queued rays and adds each one's radiance to its pixel, in queue order.
     void flush() {
         if (batch_.count == 0) return;

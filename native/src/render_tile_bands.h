@@ -50,6 +50,12 @@ class BandRayPacket {
         if (weights.used) whole_.add_rows(rows, n, time_u, slot, weights.alive, weights.weight);
         else whole_.add_rows(rows, n, time_u, slot);
     }
+    // Queues rows[at[r]], r in [0, n), as whole samples' rays, each with
+    // the time, pixel, aliveness and weight of its index.
+    void add_whole_at(const CameraRayRows& rows, const int* at, int n, const float* time_u, const size_t* slot,
+                      const bool* alive, const float* weight) {
+        whole_.add_rows_at(rows, at, n, time_u, slot, alive, weight);
+    }
 
     // Queues row i of rows carrying the wavelengths of planes of focus
     // [k_lo, k_hi) (the lens system: of its dispersion parameter) plus
@@ -119,6 +125,17 @@ template <class Camera>
 struct PoolsSplitRays<Camera, std::void_t<decltype(Camera::kPoolsSplitRays)>>
     : std::bool_constant<Camera::kPoolsSplitRays> {};
 
+// Cameras whose whole samples' rays are their samples' own rays as band_rays
+// traced them (the lens system: BandRays::sample_rows) say so with
+// kWholeRaysInSampleRows: the batcher then queues those rows where they are
+// (a gather of every whole sample's row was 2 % of a band render, perf,
+// session 49).
+template <class Camera, class = void>
+struct WholeRaysInSampleRows : std::false_type {};
+template <class Camera>
+struct WholeRaysInSampleRows<Camera, std::void_t<decltype(Camera::kWholeRaysInSampleRows)>>
+    : std::bool_constant<Camera::kWholeRaysInSampleRows> {};
+
 // Samples waiting for the camera, a batch at a time: the camera splits them
 // into their rays (band_rays), and the rays go to the packet in float, the
 // whole samples' at once (whole_ray_rows), the split samples' a camera
@@ -155,7 +172,10 @@ class BandCameraSampleBatcher {
         if (kPooled) rays_.whole_count = 0;
         else rays_.clear();
         check_.passed(camera_.band_rays(staged_.raster_px, staged_.lens, pending_, &rays_, check_.active()), packet_);
-        if (const int whole = rays_.whole_count; whole > 0) {
+        if (const int whole = rays_.whole_count; whole > 0 && kWholeInSampleRows && !moves_camera_) {
+            packet_.add_whole_at(rays_.sample_rows, rays_.whole_sample, whole, staged_.time, staged_.slot,
+                                 rays_.sample_alive, rays_.sample_weight);
+        } else if (whole > 0) {
             camera_.whole_ray_rows(rays_, &rows_, &weights_);
             float time_u[kCameraBatch];
             size_t slot[kCameraBatch];
@@ -192,6 +212,7 @@ class BandCameraSampleBatcher {
 
   private:
     static constexpr bool kPooled = PoolsSplitRays<Camera>::value;
+    static constexpr bool kWholeInSampleRows = WholeRaysInSampleRows<Camera>::value;
     // A pool's rays: about half of them traced, four batches' worth.
     static constexpr int kPoolRays = 8 * kCameraBatch;
 

@@ -224,6 +224,8 @@ struct LensSystemCamera {
     void trace_band_shifts(const LensRayBatch& leaving, const Point2f* raster_px, int n, const double* margin_d,
                            const bool* which, double* shift_x_mm, double* shift_y_mm, double* slope,
                            bool* known) const;
+    // The whole samples' rays: their own rays, rays.sample_rows (or gathered, for a moving camera).
+    static constexpr bool kWholeRaysInSampleRows = true;
     void whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const;
     // The model against the trace on film_cells^2 jittered film points,
     // samples_per_cell lens samples each (after set_band_rays(true)).
