@@ -154,6 +154,9 @@ bool LensSystemCamera::trace_open_aimed(int n, LensRayBatch* rays, const double*
 
 bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_sample, int n, BandRays* out,
                                  const LensPencilCheck* check) const {
+    // The band table's cells first: their cache misses then overlap the trace.
+    TableCellLanes cells;
+    if (band_table) locate_band_cells(*band_table, film_placement(), raster_px, lens_sample, n, &cells);
     LensRayBatch leaving;
     double margin_d[kLensBatch];
     sample_batch(raster_px, lens_sample, n, &leaving, out->sample_area_mm2);
@@ -170,9 +173,7 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     // table, or traced back at 380 nm where it cannot answer.
     double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
     bool known[kLensBatch] = {};
-    if (band_table)
-        look_up_band_shifts(*band_table, film_placement(), raster_px, lens_sample, n, shift_x_mm, shift_y_mm, slope,
-                            known);
+    if (band_table) look_up_band_shifts(*band_table, cells, n, shift_x_mm, shift_y_mm, slope, known);
     bool unknown[kLensBatch] = {}, any_unknown = false;
     for (int i = 0; i < n; ++i) unknown[i] = out->sample_alive[i] && !known[i], any_unknown |= unknown[i];
     if (any_unknown)  // a ray with no way back at 380 nm stays unknown: its d path only (below)

@@ -59,4 +59,12 @@ void look_up_band_shifts(const LensBandTable& table, FilmPlacement film, const P
                          const Point2f* lens_sample, int n, double* shift_x_mm, double* shift_y_mm, double* slope,
                          bool* valid);
 
+// The same in two steps, so that other work can hide the table's cache
+// misses between them: where lanes [0, n) read the table, their cells'
+// cache lines asked for (prefetched); then the values.
+void locate_band_cells(const LensBandTable& table, FilmPlacement film, const Point2f* raster_px,
+                       const Point2f* lens_sample, int n, TableCellLanes* cells);
+void look_up_band_shifts(const LensBandTable& table, const TableCellLanes& cells, int n, double* shift_x_mm,
+                         double* shift_y_mm, double* slope, bool* valid);
+
 }  // namespace lc
