@@ -35,6 +35,7 @@
 
 #include "cameras/lens_system.h"
 #include "cpu_kernels.h"
+#include "double_lanes.h"
 #include "lens/lens_band_table.h"
 #include "rng.h"
 
@@ -63,31 +64,6 @@ std::vector<double> band_parameter(const std::vector<std::vector<LensElement>>& 
     return k;
 }
 
-// Four lanes of doubles and their masks (GCC's vector extension: all ones
-// where true), for clearance_stretches.
-typedef double Double4 __attribute__((vector_size(32)));
-typedef long long Mask4 __attribute__((vector_size(32)));
-
-// Lanes [first, first + 4) of values, those at or past n read as 0.
-inline Double4 lanes_of(const double* values, int first, int n) {
-    Double4 v{};
-    if (first + 4 <= n) std::memcpy(&v, values + first, sizeof v);
-    else
-        for (int l = 0; first + l < n; ++l) v[l] = values[first + l];
-    return v;
-}
-// Lanes [first, first + 4) of v into out, those before n.
-inline void store_lanes(Double4 v, int first, int n, double* out) {
-    if (first + 4 <= n) std::memcpy(out + first, &v, sizeof v);
-    else
-        for (int l = 0; first + l < n; ++l) out[first + l] = v[l];
-}
-inline Mask4 lanes_of(const bool* values, int first, int n) {
-    Mask4 v{};
-    for (int l = 0; l < 4 && first + l < n; ++l) v[l] = -static_cast<long long>(values[first + l]);
-    return v;
-}
-
 // Each sample's g, in raster pixels per unit of k (split_into_bands: raster
 // x grows with its first argument, raster y against its second; the film is
 // inverted), and the stretch [k_from, k_to) of k its rays carry: where the
@@ -97,7 +73,7 @@ inline Mask4 lanes_of(const bool* values, int first, int n) {
 // time without branches, built per instruction set: written per sample, with
 // a branch on the slope's sign and a division in each, it was a tenth of a
 // band render's time (perf, session 49, Zen 4), and GCC would not vectorise
-// it (bools beside doubles). The same IEEE operations as per sample.
+// it (double_lanes.h). The same IEEE operations as per sample.
 LC_BUILT_PER_ISA void clearance_stretches(int n, const bool* known, const double* shift_x_mm,
                                           const double* shift_y_mm, const double* slope, const double* margin_d,
                                           double px_per_mm_x, double px_per_mm_y, const DispersionRuns& runs,
@@ -121,7 +97,7 @@ LC_BUILT_PER_ISA void clearance_stretches(int n, const bool* known, const double
         const Mask4 now_alive = was_alive & ((is_known & (to > from)) | (~is_known & open));
         store_lanes(lane_gx, first, n, gx), store_lanes(lane_gy, first, n, gy);
         store_lanes(lane_from, first, n, k_from), store_lanes(lane_to, first, n, k_to);
-        for (int l = 0; l < 4 && first + l < n; ++l) alive[first + l] = now_alive[l] != 0;
+        store_lanes(now_alive, first, n, alive);
     }
 }
 

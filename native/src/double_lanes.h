@@ -1,0 +1,44 @@
+// Four lanes of doubles and their masks (GCC's vector extension: a mask is
+// all ones where true), for lane loops GCC will not vectorise written per
+// sample: bools beside doubles, or a comparison it may not evaluate
+// unconditionally (-ftrapping-math). Built in a function compiled per
+// instruction set (LC_BUILT_PER_ISA), they take its widest registers. The
+// operations are IEEE's, so a lane gives the bits the per-sample code did.
+#pragma once
+
+#include <cstring>
+
+namespace lc {
+
+typedef double Double4 __attribute__((vector_size(32)));
+typedef long long Mask4 __attribute__((vector_size(32)));
+
+// Lanes [first, first + 4) of values, those at or past n read as 0.
+inline Double4 lanes_of(const double* values, int first, int n) {
+    Double4 v{};
+    if (first + 4 <= n) std::memcpy(&v, values + first, sizeof v);
+    else
+        for (int l = 0; first + l < n; ++l) v[l] = values[first + l];
+    return v;
+}
+
+// Lanes [first, first + 4) of values (false at or past n) as a mask.
+inline Mask4 lanes_of(const bool* values, int first, int n) {
+    Mask4 v{};
+    for (int l = 0; l < 4 && first + l < n; ++l) v[l] = -static_cast<long long>(values[first + l]);
+    return v;
+}
+
+// Lanes [first, first + 4) of v into out, those before n.
+inline void store_lanes(Double4 v, int first, int n, double* out) {
+    if (first + 4 <= n) std::memcpy(out + first, &v, sizeof v);
+    else
+        for (int l = 0; first + l < n; ++l) out[first + l] = v[l];
+}
+
+// Lanes [first, first + 4) of mask m into out as bools, those before n.
+inline void store_lanes(Mask4 m, int first, int n, bool* out) {
+    for (int l = 0; l < 4 && first + l < n; ++l) out[first + l] = m[l] != 0;
+}
+
+}  // namespace lc
