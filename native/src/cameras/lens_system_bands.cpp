@@ -31,7 +31,6 @@
 // whole against the traced wavelengths.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "cameras/lens_system.h"
 #include "cpu_kernels.h"
