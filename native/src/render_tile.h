@@ -260,16 +260,7 @@ class RayPacket {
                 i += kPacketSize;
                 continue;
             }
-            // Written whether alive or not, the count moving only for a live
-            // ray (a vignetted one contributes nothing; the next overwrites
-            // it): no branch on the vignetting for the predictor to miss.
-            const int j = batch_.count;
-            batch_.set(j, rows, i);
-            batch_.time[j] = time_u[i];
-            weight_[j] = weight ? weight[i] : 1.0f;
-            slot_[j] = slot[i];
-            batch_.count += alive ? int(alive[i]) : 1;
-            if (batch_.count == kPacketSize) flush();
+            queue_row(rows, i, time_u[i], weight ? weight[i] : 1.0f, slot[i], alive ? alive[i] : true);
             ++i;
         }
     }
@@ -281,13 +272,8 @@ class RayPacket {
     void add_rows_at(const CameraRayRows& rows, const int* at, int n, const float* time_u, const size_t* slot,
                      const bool* alive, const float* weight) {
         for (int r = 0; r < n; ++r) {
-            const int i = at[r], j = batch_.count;
-            batch_.set(j, rows, i);
-            batch_.time[j] = time_u[i];
-            weight_[j] = weight[i];
-            slot_[j] = slot[i];
-            batch_.count += int(alive[i]);  // as add_rows: written whether alive or not
-            if (batch_.count == kPacketSize) flush();
+            const int i = at[r];
+            queue_row(rows, i, time_u[i], weight[i], slot[i], alive[i]);
         }
     }
 
@@ -304,6 +290,20 @@ class RayPacket {
     uint64_t rays_shaded() const { return rays_shaded_; }
 
   private:
+    // Row i of rows into the queue, written whether alive or not, the count
+    // moving only for a live ray (a vignetted one contributes nothing; the
+    // next overwrites it): no branch on the vignetting for the predictor to miss.
+    __attribute__((always_inline)) void queue_row(const CameraRayRows& rows, int i, float time_u, float weight,
+                                                  size_t slot, bool alive) {
+        const int j = batch_.count;
+        batch_.set(j, rows, i);
+        batch_.time[j] = time_u;
+        weight_[j] = weight;
+        slot_[j] = slot;
+        batch_.count += int(alive);
+        if (batch_.count == kPacketSize) flush();
+    }
+
     const Scene& scene_;
     TileAccumulator& sums_;
     bool integrate_wavelengths_;
