@@ -71,11 +71,15 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
                     (k_to[i] == k_all_highest)) |
                    !(k_to[i] > k_from[i]);
     }
+    // Sample i as whole sample w.
+    auto write_whole = [&](int w, int i) {
+        out->whole_sample[w] = i, out->whole_raster_px[w] = raster_px[i];
+        out->whole_lens_x_m[w] = float(lens_x_m[i]), out->whole_lens_y_m[w] = float(lens_y_m[i]);
+    };
     int split[kCameraBatch];
     int whole_count = 0, split_count = 0;
     for (int i = 0; i < n; ++i) {
-        out->whole_sample[whole_count] = i, out->whole_raster_px[whole_count] = raster_px[i];
-        out->whole_lens_x_m[whole_count] = float(lens_x_m[i]), out->whole_lens_y_m[whole_count] = float(lens_y_m[i]);
+        write_whole(whole_count, i);
         whole_count += int(whole[i]);
         split[split_count] = i;
         split_count += int(!whole[i]);
@@ -117,9 +121,7 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
                 const bool own_below = x_from == pixel_x && y_from == pixel_y;
                 const float q = out->roulette->probability(k_first, !own_below);
                 if (!(roulette_uniform(raster_px[i]) < q)) {  // shaded whole
-                    const int w = out->whole_count++;
-                    out->whole_sample[w] = i, out->whole_raster_px[w] = raster_px[i];
-                    out->whole_lens_x_m[w] = float(lens_x_m[i]), out->whole_lens_y_m[w] = float(lens_y_m[i]);
+                    write_whole(out->whole_count++, i);
                     continue;
                 }
                 const float scale = 1.0f / q;
