@@ -125,14 +125,14 @@ inline void cross_toward_scene_lanes_body(const LensElement& e, const SurfaceSca
     const D px = mul_add(l->dx, t, l->ox), py = mul_add(l->dy, t, l->oy), pz = mul_add(l->dz, t, l->oz);
     const M hit = ok;
     if constexpr (kMargins) {
-        auto least = [](D a, D b) { return select(a < b, a, b); };
+        // min(a, b): a < b ? a : b (the instruction's, and the C++ ternary's, NaN and all)
         const D inverse_semi2(f.semi2_mm2 > 0.0 ? 1.0 / f.semi2_mm2 : 0.0);
         D margin = (D(f.semi2_mm2) - mul_add(py, py, px * px)) * inverse_semi2;
         for (int k = 0; k < e.blades; ++k)
-            margin = least(margin, (D(e.apothem_mm) - mul_add(py, D(e.edge_normal_y[size_t(k)]),
-                                                                px * D(e.edge_normal_x[size_t(k)]))) *
-                                       D(1.0 / e.apothem_mm));
-        l->margin = select(hit, least(l->margin, margin), l->margin);
+            margin = min(margin, (D(e.apothem_mm) - mul_add(py, D(e.edge_normal_y[size_t(k)]),
+                                                              px * D(e.edge_normal_x[size_t(k)]))) *
+                                     D(1.0 / e.apothem_mm));
+        l->margin = min_where(hit, l->margin, margin);
     } else {
         ok = ok & not_greater(mul_add(py, py, px * px), D(f.semi2_mm2));
         for (int k = 0; k < e.blades; ++k)

@@ -90,6 +90,8 @@ inline F16 copysign(F16 magnitude, F16 sign) {
 }
 // a > b ? a : b, as the C++ ternary
 inline F16 max(F16 a, F16 b) { LC_EACH(_mm256_max_ps(a.r[k], b.r[k])); }
+// a < b ? a : b, as the C++ ternary
+inline F16 min(F16 a, F16 b) { LC_EACH(_mm256_min_ps(a.r[k], b.r[k])); }
 
 template <int kPredicate>
 inline M16 compare(F16 a, F16 b) {
@@ -120,6 +122,8 @@ inline bool any(M16 m) {
 }
 // m ? a : b
 inline F16 select(M16 m, F16 a, F16 b) { LC_EACH(_mm256_blendv_ps(b.r[k], a.r[k], m.r[k])); }
+// m ? min(a, b) : a
+inline F16 min_where(M16 m, F16 a, F16 b) { return select(m, min(a, b), a); }
 
 #undef LC_EACH
 

@@ -75,6 +75,8 @@ inline F32 mul_add(F32 a, F32 b, F32 c) {
 }
 // a > b ? a : b, as the C++ ternary
 inline F32 max(F32 a, F32 b) { return {_mm512_max_ps(a.lo, b.lo), _mm512_max_ps(a.hi, b.hi)}; }
+// a < b ? a : b, as the C++ ternary
+inline F32 min(F32 a, F32 b) { return {_mm512_min_ps(a.lo, b.lo), _mm512_min_ps(a.hi, b.hi)}; }
 
 template <int kPredicate>
 inline M32 compare(F32 a, F32 b) {
@@ -92,6 +94,10 @@ inline bool any(M32 m) { return (m.lo | m.hi) != 0; }
 // m ? a : b
 inline F32 select(M32 m, F32 a, F32 b) {
     return {_mm512_mask_blend_ps(m.lo, b.lo, a.lo), _mm512_mask_blend_ps(m.hi, b.hi, a.hi)};
+}
+// m ? min(a, b) : a, in one masked instruction
+inline F32 min_where(M32 m, F32 a, F32 b) {
+    return {_mm512_mask_min_ps(a.lo, m.lo, a.lo, b.lo), _mm512_mask_min_ps(a.hi, m.hi, a.hi, b.hi)};
 }
 
 }  // namespace lc::avx512_single

@@ -43,6 +43,8 @@ inline F1 mul_add(F1 a, F1 b, F1 c) { return F1::of(std::fma(a.v, b.v, c.v)); }
 inline F1 copysign(F1 magnitude, F1 sign) { return F1::of(std::copysign(magnitude.v, sign.v)); }
 // a > b ? a : b, as the SIMD max instruction
 inline F1 max(F1 a, F1 b) { return F1::of(a.v > b.v ? a.v : b.v); }
+// a < b ? a : b, as the SIMD min instruction
+inline F1 min(F1 a, F1 b) { return F1::of(a.v < b.v ? a.v : b.v); }
 
 inline M1 operator<(F1 a, F1 b) { return {a.v < b.v}; }
 inline M1 operator>(F1 a, F1 b) { return {a.v > b.v}; }
@@ -55,6 +57,8 @@ inline M1 operator|(M1 a, M1 b) { return {a.v || b.v}; }
 inline bool any(M1 m) { return m.v; }
 // m ? a : b
 inline F1 select(M1 m, F1 a, F1 b) { return m.v ? a : b; }
+// m ? min(a, b) : a
+inline F1 min_where(M1 m, F1 a, F1 b) { return m.v ? min(a, b) : a; }
 
 }  // namespace lc::portable_single
 
