@@ -72,8 +72,11 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
                    !(k_to[i] > k_from[i]);
     }
     // Sample i as whole sample w.
+    const bool whole_points = out->whole_points;
     auto write_whole = [&](int w, int i) {
-        out->whole_sample[w] = i, out->whole_raster_px[w] = raster_px[i];
+        out->whole_sample[w] = i;
+        if (!whole_points) return;
+        out->whole_raster_px[w] = raster_px[i];
         out->whole_lens_x_m[w] = float(lens_x_m[i]), out->whole_lens_y_m[w] = float(lens_y_m[i]);
     };
     int split[kCameraBatch];

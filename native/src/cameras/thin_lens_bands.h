@@ -45,6 +45,9 @@ struct BandRays {
     int whole_sample[kCameraBatch];
     Point2f whole_raster_px[kCameraBatch];
     float whole_lens_x_m[kCameraBatch], whole_lens_y_m[kCameraBatch];
+    // Whether whole_raster_px and whole_lens_* are written: not for a camera
+    // that keeps its whole samples' rays as traced (the lens system: sample_rows).
+    bool whole_points = true;
 
     int count = 0;
     std::vector<int> sample;
