@@ -12,6 +12,7 @@ namespace lc {
 
 typedef double Double4 __attribute__((vector_size(32)));
 typedef long long Mask4 __attribute__((vector_size(32)));
+typedef signed char Byte4 __attribute__((vector_size(4)));  // four bools' bytes
 
 // Lanes [first, first + 4) of values, those at or past n read as 0.
 inline Double4 lanes_of(const double* values, int first, int n) {
@@ -22,10 +23,17 @@ inline Double4 lanes_of(const double* values, int first, int n) {
     return v;
 }
 
-// Lanes [first, first + 4) of values (false at or past n) as a mask.
+// Lanes [first, first + 4) of values (false at or past n) as a mask: four
+// whole lanes widened at once (a bool is one byte, 0 or 1), where a lane at
+// a time was a third of clearance_stretches' instructions (callgrind).
 inline Mask4 lanes_of(const bool* values, int first, int n) {
+    if (first + 4 <= n) {
+        Byte4 bytes;
+        std::memcpy(&bytes, values + first, sizeof bytes);
+        return -__builtin_convertvector(bytes, Mask4);
+    }
     Mask4 v{};
-    for (int l = 0; l < 4 && first + l < n; ++l) v[l] = -static_cast<long long>(values[first + l]);
+    for (int l = 0; first + l < n; ++l) v[l] = -static_cast<long long>(values[first + l]);
     return v;
 }
 
@@ -36,9 +44,15 @@ inline void store_lanes(Double4 v, int first, int n, double* out) {
         for (int l = 0; first + l < n; ++l) out[first + l] = v[l];
 }
 
-// Lanes [first, first + 4) of mask m into out as bools, those before n.
+// Lanes [first, first + 4) of mask m (each lane all ones or none) into out
+// as bools, those before n.
 inline void store_lanes(Mask4 m, int first, int n, bool* out) {
-    for (int l = 0; l < 4 && first + l < n; ++l) out[first + l] = m[l] != 0;
+    if (first + 4 <= n) {
+        const Byte4 bytes = __builtin_convertvector(-m, Byte4);
+        std::memcpy(out + first, &bytes, sizeof bytes);
+        return;
+    }
+    for (int l = 0; first + l < n; ++l) out[first + l] = m[l] != 0;
 }
 
 }  // namespace lc

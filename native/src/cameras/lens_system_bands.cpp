@@ -100,6 +100,18 @@ LC_BUILT_PER_ISA void clearance_stretches(int n, const bool* known, const double
     }
 }
 
+// Where each of rays [0, n) crosses the plane to_pupil_mm from the film (its
+// origins'): built per instruction set, where baseline x86-64 divides two
+// samples at a time (callgrind: 5.5 instructions a sample, now 2).
+LC_BUILT_PER_ISA void pupil_points(int n, const LensRayBatch& rays, double to_pupil_mm, double* x_mm,
+                                   double* y_mm) {
+    for (int i = 0; i < n; ++i) {
+        const double t = to_pupil_mm / rays.dz[i];
+        x_mm[i] = rays.ox[i] + rays.dx[i] * t;
+        y_mm[i] = rays.oy[i] + rays.dy[i] * t;
+    }
+}
+
 }  // namespace
 
 void LensSystemCamera::set_band_rays(bool on) {
@@ -136,12 +148,7 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     double margin_d[kLensBatch];
     sample_batch(raster_px, lens_sample, n, &leaving, out->sample_area_mm2);
     // Where each aimed ray crosses the exit-pupil plane: its split rays aim there too.
-    const double to_pupil_mm = pupil->plane_z_mm() - film_z_mm;
-    for (int i = 0; i < n; ++i) {
-        const double t = to_pupil_mm / leaving.dz[i];
-        out->sample_pupil_x_mm[i] = leaving.ox[i] + leaving.dx[i] * t;
-        out->sample_pupil_y_mm[i] = leaving.oy[i] + leaving.dy[i] * t;
-    }
+    pupil_points(n, leaving, pupil->plane_z_mm() - film_z_mm, out->sample_pupil_x_mm, out->sample_pupil_y_mm);
     const bool within = trace_open_aimed(n, &leaving, out->sample_area_mm2, margin_d, &out->sample_rows,
                                          out->sample_weight, out->sample_alive, check);
     // How the film point (mm) and the clearance move per unit of k: from the
@@ -149,9 +156,13 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
     bool known[kLensBatch] = {};
     if (band_table) look_up_band_shifts(*band_table, cells, n, shift_x_mm, shift_y_mm, slope, known);
-    bool unknown[kLensBatch] = {}, any_unknown = false;
-    for (int i = 0; i < n; ++i) unknown[i] = out->sample_alive[i] && !known[i], any_unknown |= unknown[i];
-    if (any_unknown)  // a ray with no way back at 380 nm stays unknown: its d path only (below)
+    // Alive and not known, counted: bytes compared and summed, a loop GCC
+    // vectorises (with && and a bool's |= it was 9 instructions a sample).
+    bool unknown[kLensBatch] = {};
+    int unknown_count = 0;
+    for (int i = 0; i < n; ++i) unknown[i] = out->sample_alive[i] > known[i];
+    for (int i = 0; i < n; ++i) unknown_count += unknown[i];
+    if (unknown_count > 0)  // a ray with no way back at 380 nm stays unknown: its d path only (below)
         trace_band_shifts(leaving, raster_px, n, margin_d, unknown, shift_x_mm, shift_y_mm, slope, known);
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
     clearance_stretches(n, known, shift_x_mm, shift_y_mm, slope, margin_d, 1.0 / film_mm_per_px_x,
