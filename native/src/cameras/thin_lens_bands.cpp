@@ -117,11 +117,13 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
             const double kx = edge_k(x_from, x_to, x, gx), ky = edge_k(y_from, y_to, y, gy);
             const double k_first = std::min(kx, ky), k_second = std::max(kx, ky);
             const bool x_first = kx <= ky;
-            // Split once, over the whole spectrum: roulette on the ray a pixel away.
-            if (out->roulette && k_second == k_highest && k_first > k_lowest && k_first < k_highest &&
-                k_lowest == k_all_lowest && k_highest == k_all_highest) {
+            // Split once, over the whole spectrum: roulette on the ray a pixel away. (The tests
+            // joined by & rather than &&, one branch for all: callgrind 70.8 -> 70.3 a sample.)
+            const bool once_over_all = (k_second == k_highest) & (k_first > k_lowest) & (k_first < k_highest) &
+                                       (k_lowest == k_all_lowest) & (k_highest == k_all_highest);
+            if (out->roulette && once_over_all) {
                 const double far_x = x_first ? x_to : x_from, far_y = x_first ? y_from : y_to;
-                const bool own_below = x_from == pixel_x && y_from == pixel_y;
+                const bool own_below = (x_from == pixel_x) & (y_from == pixel_y);
                 const float q = out->roulette->probability(k_first, !own_below);
                 if (!(roulette_uniform(raster_px[i]) < q)) {  // shaded whole
                     write_whole(out->whole_count++, i);
