@@ -9,8 +9,9 @@ Prints one JSON object (issue 15's goals):
   plane of focus per wavelength);
 - samples/s of the lens system (that Double Gauss), spectral over RGB
   (goal >= 0.6; each render's best round, and the median over the rounds of
-  the ratio of the two renders side by side in each), as it renders by default (each ray carrying bands of the
-  spectrum: native/src/cameras/lens_system_bands.cpp) and with hero
+  the ratio of the two renders side by side in each), as it renders by
+  default (each ray carrying bands of the spectrum:
+  native/src/cameras/lens_system_bands.cpp) and with hero
   wavelengths drawn (render(sample_wavelengths=True)), a ray for each of 1, 2
   (their default: lenscompare.render_spectral.traced_wavelengths_for) or 4
   of the four per sample;

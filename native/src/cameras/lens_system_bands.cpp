@@ -168,8 +168,8 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     clearance_stretches(n, known, shift_x_mm, shift_y_mm, slope, margin_d, 1.0 / film_mm_per_px_x,
                         1.0 / film_mm_per_px_y, band_parameter_runs, out->sample_alive, gx, gy, k_from, k_to);
     const int first_entry = out->count;
-    out->whole_points = false;  // whole_ray_rows reads sample_rows
-    split_into_bands(n, raster_px, gx, gy, band_parameter_runs, 1.0, 1.0, out, nullptr, k_from, k_to);
+    // No whole points: whole_ray_rows reads sample_rows.
+    split_into_bands(n, raster_px, gx, gy, band_parameter_runs, 1.0, 1.0, out, nullptr, k_from, k_to, false);
     // The new split rays: their sample's exit-pupil point and pick area;
     // those in their sample's own pixel are its ray, the others are still
     // to trace (trace_split_rays).

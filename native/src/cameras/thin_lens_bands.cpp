@@ -45,7 +45,7 @@ float roulette_uniform(Point2f raster_px) {
 __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_bands(
     int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m, const DispersionRuns& runs,
     double x_scale, double y_scale, BandRays* out, const double* k_ref_by_sample, const double* k_from_by_sample,
-    const double* k_to_by_sample) {
+    const double* k_to_by_sample, bool whole_points) {
     const double k_all_lowest = runs.lowest(), k_all_highest = runs.highest();
     // Each sample's stretch of k (a lens system's ray passes its rims over part of the spectrum only).
     double k_from[kCameraBatch], k_to[kCameraBatch];
@@ -72,7 +72,6 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
                    !(k_to[i] > k_from[i]);
     }
     // Sample i as whole sample w.
-    const bool whole_points = out->whole_points;
     auto write_whole = [&](int w, int i) {
         out->whole_sample[w] = i;
         if (!whole_points) return;

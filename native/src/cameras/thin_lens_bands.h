@@ -45,9 +45,6 @@ struct BandRays {
     int whole_sample[kCameraBatch];
     Point2f whole_raster_px[kCameraBatch];
     float whole_lens_x_m[kCameraBatch], whole_lens_y_m[kCameraBatch];
-    // Whether whole_raster_px and whole_lens_* are written: not for a camera
-    // that keeps its whole samples' rays as traced (the lens system: sample_rows).
-    bool whole_points = true;
 
     int count = 0;
     std::vector<int> sample;
@@ -103,10 +100,13 @@ struct BandRayWeights {
 // where a lens system's ray passes its rims), the reference plane
 // runs.reference() (or each sample's own, k_ref_by_sample), x_scale and
 // y_scale the raster pixels per screen unit (y against raster y). A sample
-// whose stretch is empty is written as whole.
+// whose stretch is empty is written as whole. whole_points false: the whole
+// samples' film and lens points (whole_raster_px, whole_lens_*) are not
+// written, for a camera that keeps their rays as traced (the lens system:
+// sample_rows).
 void split_into_bands(int n, const Point2f* raster_px, const double* lens_x_m, const double* lens_y_m,
                       const DispersionRuns& runs, double x_scale, double y_scale, BandRays* out,
                       const double* k_ref_by_sample = nullptr, const double* k_from_by_sample = nullptr,
-                      const double* k_to_by_sample = nullptr);
+                      const double* k_to_by_sample = nullptr, bool whole_points = true);
 
 }  // namespace lc
