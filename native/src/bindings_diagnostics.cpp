@@ -512,14 +512,22 @@ void bind_lens(nb::module_& m) {
 
     m.def("set_lens_pencils",
           [](LensSystemCamera& camera, const std::string& mode) {
-              if (mode == "none") camera.pencils = nullptr;
-              else if (mode == "measured") camera.pencils = LensPencils::of(camera);
-              else if (mode == "collapsed") camera.pencils = LensPencils::of(camera)->collapsed();
-              else throw std::invalid_argument("pencils: \"measured\", \"collapsed\" or \"none\", not " + mode);
+              if (mode != "none" && mode != "measured" && mode != "collapsed")
+                  throw std::invalid_argument("pencils: \"measured\", \"collapsed\" or \"none\", not " + mode);
+              // The band rays' (open trace) alike, where the camera carries bands.
+              camera.pencils = camera.band_pencils = nullptr;
+              if (mode == "none") return;
+              camera.pencils = LensPencils::of(camera);
+              if (camera.carries_bands()) camera.band_pencils = LensPencils::of(camera, true);
+              if (mode == "collapsed") {
+                  camera.pencils = camera.pencils->collapsed();
+                  if (camera.band_pencils) camera.band_pencils = camera.band_pencils->collapsed();
+              }
           },
           "camera"_a, "mode"_a,
-          "The camera's per-tile pencils (lens_pencil.h): \"measured\" (the render's), \"collapsed\" (every "
-          "screen range shrunk to a point, so the render's check falls back nearly everywhere) or \"none\".");
+          "The camera's per-tile pencils (lens_pencil.h), and its band rays' where it carries bands: "
+          "\"measured\" (the render's), \"collapsed\" (every screen range shrunk to a point, so the render's "
+          "check falls back nearly everywhere) or \"none\".");
 
     m.def("lens_rays_within_pencil",
           [](const LensSystemCamera& camera, double x0_px, double y0_px, double x1_px, double y1_px,
@@ -532,6 +540,16 @@ void bind_lens(nb::module_& m) {
               if (lens.shape(0) != count) throw std::invalid_argument("one lens sample per raster sample");
               // Batch by batch, as the render checks them: the batches whose rays all lie within.
               size_t within = 0, batches = 0;
+              if (camera.carries_bands()) {  // each batch's own rays and its split rays (render_tile_bands.h)
+                  for (size_t first = 0; first < count; first += kCameraBatch) {
+                      const int n = int(std::min<size_t>(kCameraBatch, count - first));
+                      BandRays rays;
+                      const bool own = camera.band_rays(points(raster_px) + first, points(lens) + first, n, &rays,
+                                                        &check);
+                      within += own && camera.trace_split_rays(&rays, &check), ++batches;
+                  }
+                  return std::make_tuple(within, batches);
+              }
               for_each_ray_rows_batch(camera, points(raster_px), points(lens), count, &check,
                                       [&](size_t, int, const CameraRayRows&, const float*, const bool*,
                                           bool batch_within) { within += batch_within, ++batches; });

@@ -22,6 +22,11 @@ constexpr int kAngles = 16;
 // each way (what lies between the sampled film and pupil points), and by
 // kScreenPad; the rays' lateral reach by kRadiusMargin.
 constexpr double kScreenWiden = 0.5, kScreenPad = 2e-4, kRadiusMargin = 0.05;
+// How far past the front surface's rim the open pencils' plane reaches:
+// a ray there has a clearance of 1 - 1.2^2 = -0.44, past what any band
+// makes up on the shipped lenses (a ray beyond fails the check: the tile
+// then tests every primitive).
+constexpr double kOpenReach = 1.2;
 
 struct SampledRay {
     double l_mm[2], slope[2];
@@ -64,12 +69,14 @@ LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRaysF
     return rays_within<float, int32_t>(c, b, alive);
 }
 
-std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera) {
+std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera, bool open) {
     auto p = std::make_shared<LensPencils>();
     // Every ray leaves from the front surface, within its semi-aperture: the
-    // pencil plane a micron behind its cap (toward the film).
+    // pencil plane a micron behind its cap (toward the film). The open
+    // trace's rays may leave it a little beyond its rim (a band passes them
+    // there): the cap to kOpenReach times the semi-aperture.
     const LensElement& front = camera.elements.front();
-    const double h = front.semi_aperture_mm, c = front.curvature_per_mm;
+    const double h = front.semi_aperture_mm * (open ? kOpenReach : 1.0), c = front.curvature_per_mm;
     const double sag_mm = c == 0.0               ? 0.0
                           : std::fabs(c) * h >= 1.0 ? 1.0 / c
                                                     : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
@@ -99,8 +106,15 @@ std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camer
                 const int n = int(std::min<size_t>(kLensBatch, u.size() - first));
                 for (int k = 0; k < n; ++k) raster[k] = film, lens[k] = u[first + size_t(k)];
                 LensRayBatch b;
-                double area_mm2[kLensBatch], cos_theta[kLensBatch];
-                camera.trace_batch(raster, lens, n, &b, area_mm2, cos_theta);
+                if (open) {  // (a split ray starts a pixel away: LensSystemCamera::checked_pencil)
+                    double margin_d[kLensBatch];
+                    bool alive[kCameraBatch];
+                    camera.trace_open_from(raster, lens, n, &b, margin_d, alive);
+                    camera.keep_band_carriers(raster, n, &b, margin_d);
+                } else {
+                    double area_mm2[kLensBatch], cos_theta[kLensBatch];
+                    camera.trace_batch(raster, lens, n, &b, area_mm2, cos_theta);
+                }
                 for (int k = 0; k < n; ++k) {
                     if (!b.alive[k]) continue;
                     const double w = -b.dz[k];

@@ -51,8 +51,11 @@ bool lens_rays_within(const LensPencilCheck& check, const LensRaysF& b, const bo
 class LensPencils {
   public:
     // Measured from camera's own rays (its pupil, trace and film); a camera
-    // whose rays turn back from the scene anywhere gets no pencils.
-    static std::shared_ptr<const LensPencils> of(const LensSystemCamera& camera);
+    // whose rays turn back from the scene anywhere gets no pencils. open:
+    // the rays the band rays send (lens_system_bands.cpp), traced at d with
+    // the rims stopping none and kept where some band of the spectrum
+    // passes, which holds those a rim stops at d but not in blue.
+    static std::shared_ptr<const LensPencils> of(const LensSystemCamera& camera, bool open = false);
 
     // The bound of the rays through raster rectangle [x0, x1] x [y0, y1]:
     // as a pencil in world space for the cull, and as the check of the

@@ -115,6 +115,11 @@ struct LensSystemCamera {
     // The measured bounds of its rays per film cell (lens_pencil.h; set
     // after calibration): null, the render's tiles test every own primitive.
     std::shared_ptr<const LensPencils> pencils;
+    // The same for the band rays' open trace (LensPencils::of(camera, true);
+    // set_band_rays): the d-line pencils above do not hold the rays a rim
+    // stops at d but not in blue, and with them nearly every tile of a band
+    // render left its cull (session 51: 85 of showcase's tiles at 180x120).
+    std::shared_ptr<const LensPencils> band_pencils;
     // The film mirrors whose rays are the traced rays' mirror images
     // (lens_mirror_axes; set with the elements): the render traces a quarter
     // of the samples and reflects them (render_mirrored.h). 0: every pixel
@@ -186,7 +191,8 @@ struct LensSystemCamera {
         for (const std::vector<LensElement>& row : elements_by_nm) reversed_by_nm.push_back(reversed_lens(row));
         reversed_elements = reversed_lens(elements);
         reversed_dispersion = LensDispersion::of(reversed_by_nm);
-        band_parameter_by_nm.clear(), band_table = nullptr, band_rays_on = false;  // set_band_rays builds them
+        band_parameter_by_nm.clear(), band_table = nullptr, band_pencils = nullptr;  // set_band_rays builds them
+        band_rays_on = false;
     }
 
     // Band rays (lens_system_bands.cpp, render_tile_bands.h): one ray per
@@ -211,6 +217,11 @@ struct LensSystemCamera {
     // lens), for the band model's measures (check_band_model, band_shifts).
     void trace_open_from(const Point2f* raster_px, const Point2f* lens_sample, int n, LensRayBatch* leaving,
                          double* margin_d, bool* alive) const;
+    // Lanes [0, n) of leaving (trace_open_from's, margin_d its clearances)
+    // left alive only where some band of the spectrum passes, as band_rays
+    // decides it but with the back-trace for the band table (the band
+    // pencils' measure: LensPencils::of(camera, true)).
+    void keep_band_carriers(const Point2f* raster_px, int n, LensRayBatch* leaving, const double* margin_d) const;
     // The split rays band_rays left to trace, all of rays' entries so far
     // (render_tile_bands.h pools them across batches: a batch's few, traced
     // alone, cost a whole trace of 32 lanes).
@@ -449,8 +460,14 @@ struct LensSystemCamera {
     // (camera_pencil.h), measured, so with the check each traced batch must
     // pass for the cull to hold (render_tile, lens_pencil.h). False: no
     // pencil (none measured, or a cell of the rectangle has none).
+    // A band render's (carries_bands) are the open trace's, over the
+    // rectangle grown by a pixel each way: its split rays start up to a
+    // pixel outside the tile.
     bool checked_pencil(double x0_px, double y0_px, double x1_px, double y1_px, CameraPencil* pencil,
                         LensPencilCheck* check) const {
+        if (carries_bands())
+            return band_pencils && band_pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px - 1.0,
+                                                      y0_px - 1.0, x1_px + 1.0, y1_px + 1.0, pencil, check);
         return pencils && pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px, y0_px, x1_px, y1_px, pencil,
                                         check);
     }

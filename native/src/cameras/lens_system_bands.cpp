@@ -127,6 +127,7 @@ void LensSystemCamera::set_band_rays(bool on) {
         band_table = build_lens_band_table(elements, reversed_blue_elements,
                                            band_parameter_by_nm.front() - band_parameter_runs.reference(), *pupil,
                                            film_z_mm, kBandTableRadialCells, kBandTableAroundCells);
+    if (pencils) band_pencils = LensPencils::of(*this, true);  // none where the d line's are none
 }
 
 bool LensSystemCamera::trace_open_aimed(int n, LensRayBatch* rays, const double* area_mm2, double* margin,
@@ -149,8 +150,8 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     sample_batch(raster_px, lens_sample, n, &leaving, out->sample_area_mm2);
     // Where each aimed ray crosses the exit-pupil plane: its split rays aim there too.
     pupil_points(n, leaving, pupil->plane_z_mm() - film_z_mm, out->sample_pupil_x_mm, out->sample_pupil_y_mm);
-    const bool within = trace_open_aimed(n, &leaving, out->sample_area_mm2, margin_d, &out->sample_rows,
-                                         out->sample_weight, out->sample_alive, check);
+    trace_open_aimed(n, &leaving, out->sample_area_mm2, margin_d, &out->sample_rows, out->sample_weight,
+                     out->sample_alive, nullptr);
     // How the film point (mm) and the clearance move per unit of k: from the
     // table, or traced back at 380 nm where it cannot answer.
     double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
@@ -167,6 +168,10 @@ bool LensSystemCamera::band_rays(const Point2f* raster_px, const Point2f* lens_s
     double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
     clearance_stretches(n, known, shift_x_mm, shift_y_mm, slope, margin_d, 1.0 / film_mm_per_px_x,
                         1.0 / film_mm_per_px_y, band_parameter_runs, out->sample_alive, gx, gy, k_from, k_to);
+    // Checked once each ray's stretch of the spectrum is known: the rays no
+    // wavelength passes never reach the scene, and the pencils hold only those
+    // some band passes (band_pencils).
+    const bool within = !check || lens_rays_within(*check, leaving, out->sample_alive);
     const int first_entry = out->count;
     // No whole points: whole_ray_rows reads sample_rows.
     split_into_bands(n, raster_px, gx, gy, band_parameter_runs, 1.0, 1.0, out, nullptr, k_from, k_to, false);
@@ -263,6 +268,18 @@ bool LensSystemCamera::trace_split_rays(BandRays* rays, const LensPencilCheck* c
         }
     }
     return within;
+}
+
+void LensSystemCamera::keep_band_carriers(const Point2f* raster_px, int n, LensRayBatch* leaving,
+                                          const double* margin_d) const {
+    bool alive[kCameraBatch] = {}, known[kLensBatch] = {};
+    for (int i = 0; i < n; ++i) alive[i] = leaving->alive[i];
+    double shift_x_mm[kLensBatch], shift_y_mm[kLensBatch], slope[kLensBatch];
+    trace_band_shifts(*leaving, raster_px, n, margin_d, alive, shift_x_mm, shift_y_mm, slope, known);
+    double gx[kCameraBatch], gy[kCameraBatch], k_from[kCameraBatch], k_to[kCameraBatch];
+    clearance_stretches(n, known, shift_x_mm, shift_y_mm, slope, margin_d, 1.0 / film_mm_per_px_x,
+                        1.0 / film_mm_per_px_y, band_parameter_runs, alive, gx, gy, k_from, k_to);
+    for (int i = 0; i < n; ++i) leaving->alive[i] = alive[i];
 }
 
 void LensSystemCamera::whole_ray_rows(const BandRays& rays, CameraRayRows* out, BandRayWeights* weights) const {
