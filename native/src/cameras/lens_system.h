@@ -117,8 +117,8 @@ struct LensSystemCamera {
     std::shared_ptr<const LensPencils> pencils;
     // The same for the band rays' open trace (LensPencils::of(camera, true);
     // set_band_rays): the d-line pencils above do not hold the rays a rim
-    // stops at d but not in blue, and with them nearly every tile of a band
-    // render left its cull (session 51: 85 of showcase's tiles at 180x120).
+    // stops at d but not in blue, and with them most tiles of a band render
+    // left their cull (session 51: 85 fell back in showcase at 180x120).
     std::shared_ptr<const LensPencils> band_pencils;
     // The film mirrors whose rays are the traced rays' mirror images
     // (lens_mirror_axes; set with the elements): the render traces a quarter
