@@ -39,63 +39,54 @@ float roulette_uniform(Point2f raster_px) {
     return float(mix64((uint64_t(x) << 32) | y) >> 40) * 0x1.0p-24f;
 }
 
-// A split sample's segment of film points, x + g (k - k_ref) for k over
-// [k_lowest, k_highest): its first and last pixel columns and rows; where it
-// crosses at most one pixel edge each way (near: a spread under a pixel, most
-// split samples), the planes where it crosses them (k_first <= k_second,
-// k_highest for an edge it does not cross), which it crosses first, and
-// whether it crosses one edge only, over the whole spectrum (BandRoulette's case).
-struct SegmentEdges {
-    double x_from, x_to, y_from, y_to;
-    bool near;
-    double k_first, k_second;
-    bool x_first;
-    bool once_over_all;
-};
-
-__attribute__((always_inline)) inline SegmentEdges segment_edges(double x, double y, double gx, double gy,
-                                                                double k_ref, double k_lowest, double k_highest,
-                                                                double k_all_lowest, double k_all_highest) {
-    SegmentEdges e;
-    const double below = k_lowest - k_ref, above = k_highest - k_ref;
-    e.x_from = std::floor(x + gx * below), e.x_to = std::floor(x + gx * above);
-    e.y_from = std::floor(y + gy * below), e.y_to = std::floor(y + gy * above);
-    e.near = (std::fabs(e.x_to - e.x_from) <= 1.0) & (std::fabs(e.y_to - e.y_from) <= 1.0);
-    auto edge_k = [&](double from, double to, double position, double g) {
-        return to != from ? std::clamp(k_ref + (std::max(from, to) - position) / g, k_lowest, k_highest)
-                          : k_highest;
-    };
-    const double kx = edge_k(e.x_from, e.x_to, x, gx), ky = edge_k(e.y_from, e.y_to, y, gy);
-    e.k_first = std::min(kx, ky), e.k_second = std::max(kx, ky);
-    e.x_first = kx <= ky;
-    // (The tests joined by & rather than &&, one branch for all: callgrind 70.8 -> 70.3 a sample.)
-    e.once_over_all = e.near & (e.k_second == k_highest) & (e.k_first > k_lowest) & (e.k_first < k_highest) &
-                      (k_lowest == k_all_lowest) & (k_highest == k_all_highest);
-    return e;
-}
-
 // floor(v), exactly, for |v| < 2^51 (film coordinates in pixels; NaN and
 // infinities pass through): v rounded to the nearest integer by adding and
 // taking away 1.5 x 2^52, less one where that went up (baseline x86-64 has
 // no rounding instruction to vectorise). A zero comes back +0 where
-// std::floor keeps -0: the tests below do not tell them apart.
+// std::floor keeps -0: nothing below tells them apart.
 inline Double4 floor_lanes(Double4 v) {
     const Double4 magic = Double4{} + 0x1.8p52;
     const Double4 nearest = (v + magic) - magic;
     return nearest > v ? nearest - 1.0 : nearest;
 }
 
-// segment_edges' once_over_all, k_first (k_lowest where not split once) and
-// own pixel test (the segment's first pixel is the sample's) for four
-// samples at once: the same IEEE operations, lane by lane.
-inline void segment_edges_lanes(Double4 x, Double4 y, Double4 gx, Double4 gy, Double4 k_ref, Double4 k_lowest,
-                                Double4 k_highest, double k_all_lowest, double k_all_highest, Mask4* once_over_all,
-                                Double4* k_first_or_lowest, Mask4* own_below) {
-    const Double4 below = k_lowest - k_ref, above = k_highest - k_ref, one = Double4{} + 1.0;
+// Split samples' segments of film points, x + g (k - k_ref) for k over
+// [k_lowest, k_highest), one entry a sample: the first and last pixel
+// columns and rows; where a segment crosses at most one pixel edge each way
+// (near: a spread under a pixel, most split samples), the planes where it
+// crosses them (k_first <= k_second, k_highest for an edge it does not
+// cross), whether it crosses x's first, whether it crosses one edge only,
+// over the whole spectrum (BandRoulette's case), and whether its first pixel
+// is the sample's own. Masks are all ones where true.
+struct SplitSegments {
+    static constexpr int kRoom = kCameraBatch + 3;  // whole groups of four lanes
+    double x_from[kRoom], x_to[kRoom], y_from[kRoom], y_to[kRoom], k_first[kRoom], k_second[kRoom];
+    long long near[kRoom], x_first[kRoom], once_over_all[kRoom], own_first[kRoom];
+};
+
+// Entries [first, first + 4) of *out from the samples' columns at first:
+// four lanes at a time, the per-sample walk's IEEE operations lane by lane
+// (a sample at a time, its chain of floors, divisions and clamps was most of
+// split_into_bands: below).
+inline void segments_lanes(int first, const double* x_px, const double* y_px, const double* gx_px,
+                           const double* gy_px, const double* k_ref_at, const double* k_lowest_at,
+                           const double* k_highest_at, double k_all_lowest, double k_all_highest,
+                           SplitSegments* out) {
+    auto lanes = [&](const double* v) {
+        Double4 l;
+        std::memcpy(&l, v + first, sizeof l);
+        return l;
+    };
+    auto store = [&](auto value, auto* to) { std::memcpy(to + first, &value, sizeof value); };
+    const Double4 x = lanes(x_px), y = lanes(y_px), gx = lanes(gx_px), gy = lanes(gy_px), k_ref = lanes(k_ref_at);
+    const Double4 k_lowest = lanes(k_lowest_at), k_highest = lanes(k_highest_at), one = Double4{} + 1.0;
+    const Double4 below = k_lowest - k_ref, above = k_highest - k_ref;
     const Double4 x_from = floor_lanes(x + gx * below), x_to = floor_lanes(x + gx * above);
     const Double4 y_from = floor_lanes(y + gy * below), y_to = floor_lanes(y + gy * above);
     const Double4 dx = x_to - x_from, dy = y_to - y_from;
     const Mask4 near = ((dx < 0.0 ? -dx : dx) <= 1.0) & ((dy < 0.0 ? -dy : dy) <= 1.0);
+    // Where the segment crosses an edge between from and to: divided whatever
+    // the test (by 1 where it crosses none), the choice a select.
     auto edge_k = [&](Double4 from, Double4 to, Double4 position, Double4 g) {
         const Mask4 crosses = to != from;
         const Double4 far = from < to ? to : from;  // std::max(from, to)
@@ -105,10 +96,13 @@ inline void segment_edges_lanes(Double4 x, Double4 y, Double4 gx, Double4 gy, Do
     };
     const Double4 kx = edge_k(x_from, x_to, x, gx), ky = edge_k(y_from, y_to, y, gy);
     const Double4 k_first = ky < kx ? ky : kx, k_second = kx < ky ? ky : kx;  // std::min, std::max
-    *once_over_all = near & (k_second == k_highest) & (k_first > k_lowest) & (k_first < k_highest) &
-                     (k_lowest == k_all_lowest) & (k_highest == k_all_highest);
-    *k_first_or_lowest = *once_over_all ? k_first : Double4{} + k_all_lowest;
-    *own_below = (x_from == floor_lanes(x)) & (y_from == floor_lanes(y));
+    store(x_from, out->x_from), store(x_to, out->x_to), store(y_from, out->y_from), store(y_to, out->y_to);
+    store(k_first, out->k_first), store(k_second, out->k_second);
+    store(near, out->near), store(Mask4(kx <= ky), out->x_first);
+    store(Mask4(near & (k_second == k_highest) & (k_first > k_lowest) & (k_first < k_highest) &
+                (k_lowest == k_all_lowest) & (k_highest == k_all_highest)),
+          out->once_over_all);
+    store(Mask4((x_from == floor_lanes(x)) & (y_from == floor_lanes(y))), out->own_first);
 }
 
 }  // namespace
@@ -159,54 +153,47 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
         split[split_count] = i;
         split_count += int(!whole[i]);
     }
-    // The roulette's draws before the walk: a split sample it shades whole
-    // (55 % of them on showcase through the Double Gauss) goes to the whole
-    // samples, in order, and skips the walk. Each sample's edges four lanes at
-    // a time, then its draw: split_into_bands 33.9 -> 27.1 cycles a sample
-    // (rdtsc, the lens system's band render at 64 spp; drawn in a scalar pass
-    // without a branch, 31.8, and no faster end to end: its chain of floors,
-    // divisions and clamps a sample at a time cost about what the walk did).
-    if (out->roulette && split_count > 0) {
-        // The split samples' columns, four lanes at a time (padded with the first's).
-        constexpr int kRoom = kCameraBatch + 3;
+    // Each split sample's segment four lanes at a time, then the roulette's
+    // draws: a sample it shades whole (55 % of the split samples on showcase
+    // through the Double Gauss) goes to the whole samples, in order, and
+    // skips the walk. Before, the walk found each sample's segment and drew
+    // a sample at a time: split_into_bands 29.6-30.1 -> 23.5-23.8 cycles a
+    // sample (rdtsc around it, the lens system's band render at 64 spp, three
+    // runs each; the dispersive thin lens's 28.7 -> 19.8). Drawn in a scalar
+    // pass without a branch before the walk, it was no faster end to end.
+    SplitSegments segments;
+    {
+        constexpr int kRoom = SplitSegments::kRoom;
         double x[kRoom], y[kRoom], gx[kRoom], gy[kRoom], k_ref[kRoom], k_lo[kRoom], k_hi[kRoom];
-        for (int s = 0; s < split_count + 3; ++s) {
+        for (int s = 0; s < split_count + 3; ++s) {  // padded with the first's
             const int i = split[s < split_count ? s : 0];
             x[s] = raster_px[i].x, y[s] = raster_px[i].y;
             gx[s] = lens_x_m[i] * x_scale, gy[s] = -lens_y_m[i] * y_scale;
             k_ref[s] = k_refs[i], k_lo[s] = k_from[i], k_hi[s] = k_to[i];
         }
-        double k_split[kRoom];
-        long long once[kRoom], own_below[kRoom];
-        for (int s = 0; s < split_count; s += 4) {
-            auto lanes = [&](const double* v) {
-                Double4 l;
-                std::memcpy(&l, v + s, sizeof l);
-                return l;
-            };
-            Mask4 lane_once, lane_own;
-            Double4 lane_k;
-            segment_edges_lanes(lanes(x), lanes(y), lanes(gx), lanes(gy), lanes(k_ref), lanes(k_lo), lanes(k_hi),
-                                k_all_lowest, k_all_highest, &lane_once, &lane_k, &lane_own);
-            std::memcpy(once + s, &lane_once, sizeof lane_once), std::memcpy(own_below + s, &lane_own, sizeof lane_own);
-            std::memcpy(k_split + s, &lane_k, sizeof lane_k);
-        }
-        int kept = 0, drawn[kCameraBatch];
-        std::copy_n(split, split_count, drawn);  // read from a copy: the kept are written over split
-        for (int s = 0; s < split_count; ++s) {
-            const int i = drawn[s];
-            const float q = out->roulette->probability(k_split[s], own_below[s] == 0);
-            const bool dropped = (once[s] != 0) & !(roulette_uniform(raster_px[i]) < q);
-            write_whole(whole_count, i);
-            whole_count += int(dropped);
-            split[kept] = i;
-            kept += int(!dropped);
-        }
-        split_count = kept;
+        for (int s = 0; s < split_count; s += 4)
+            segments_lanes(s, x, y, gx, gy, k_ref, k_lo, k_hi, k_all_lowest, k_all_highest, &segments);
     }
-    out->whole_count = whole_count;
+    // The walk's samples: their index in segments, and the roulette's q for those it keeps.
+    int walked[kCameraBatch];
+    float q_of[kCameraBatch];
+    int walk_count = 0;
     for (int s = 0; s < split_count; ++s) {
         const int i = split[s];
+        const float q = !out->roulette ? 1.0f
+                                       : out->roulette->probability(segments.once_over_all[s] ? segments.k_first[s]
+                                                                                              : k_all_lowest,
+                                                                    segments.own_first[s] == 0);
+        const bool dropped = (out->roulette != nullptr) & (segments.once_over_all[s] != 0) &
+                             !(roulette_uniform(raster_px[i]) < q);
+        write_whole(whole_count, i);
+        whole_count += int(dropped);
+        walked[walk_count] = s, q_of[walk_count] = q;
+        walk_count += int(!dropped);
+    }
+    out->whole_count = whole_count;
+    for (int w = 0; w < walk_count; ++w) {
+        const int s = walked[w], i = split[s];
         const double x = raster_px[i].x, y = raster_px[i].y;
         const double k_ref = k_refs[i], k_lowest = k_from[i], k_highest = k_to[i];
         const double gx = lens_x_m[i] * x_scale, gy = -lens_y_m[i] * y_scale;
@@ -221,21 +208,18 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
             out->k_lo[at] = k_from, out->k_hi[at] = k_to;
             out->entry_scale[at] = scale, out->entry_whole_part[at] = whole_part;
         };
-        const SegmentEdges e =
-            segment_edges(x, y, gx, gy, k_ref, k_lowest, k_highest, k_all_lowest, k_all_highest);
-        const double x_from = e.x_from, x_to = e.x_to, y_from = e.y_from, y_to = e.y_to;
-        if (e.near) {
+        if (segments.near[s]) {
             // At most one edge each way: crossings' walk written out.
             out->reserve_more(3);
-            const double k_first = e.k_first, k_second = e.k_second;
-            const bool x_first = e.x_first;
-            // Split once, over the whole spectrum and kept by the roulette (drawn above): the
-            // ray a pixel away weighed 1 / q.
-            if (out->roulette && e.once_over_all) {
+            const double x_from = segments.x_from[s], x_to = segments.x_to[s];
+            const double y_from = segments.y_from[s], y_to = segments.y_to[s];
+            const double k_first = segments.k_first[s], k_second = segments.k_second[s];
+            const bool x_first = segments.x_first[s];
+            if (out->roulette && segments.once_over_all[s]) {
+                // Split once, over the whole spectrum, and kept by the roulette: the ray a pixel away weighed 1 / q.
                 const double far_x = x_first ? x_to : x_from, far_y = x_first ? y_from : y_to;
-                const bool own_below = (x_from == pixel_x) & (y_from == pixel_y);
-                const float q = out->roulette->probability(k_first, !own_below);
-                const float scale = 1.0f / q;
+                const bool own_below = segments.own_first[s];
+                const float q = q_of[w], scale = 1.0f / q;
                 emit_one(x_from, y_from, k_lowest, k_first, scale, own_below ? q - 1.0f : 0.0f);
                 emit_one(far_x, far_y, k_first, k_highest, scale, own_below ? 0.0f : q - 1.0f);
                 continue;
