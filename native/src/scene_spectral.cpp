@@ -98,12 +98,13 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
     map_colour_lanes(shading_kernel_, spectra.film_of_basis, start, rgb);
     // Where each ray's band begins and ends in the integrals' tables, shared by the basis and the lights.
     FocusBandIntegrals::End lo[kPacketSize], hi[kPacketSize];
+    FocusBandIntegrals::LastRead last_read;  // per table, over the packet's rays in order
     if (bands)
         for (int i = 0; i < rays.count; ++i) {
             lo[i] = bands->integrals->end_at(bands->k_lo[i]), hi[i] = bands->integrals->end_at(bands->k_hi[i]);
             if (start[0][i] == 0.0f && start[1][i] == 0.0f && start[2][i] == 0.0f) continue;  // no light of its own
             float mapped[3];
-            bands->integrals->apply(0, lo[i], hi[i], start[0][i], start[1][i], start[2][i], mapped);
+            bands->integrals->apply(0, lo[i], hi[i], start[0][i], start[1][i], start[2][i], mapped, &last_read);
             const float t = bands->whole_part[i];
             rgb[0][i] = mapped[0] + t * rgb[0][i], rgb[1][i] = mapped[1] + t * rgb[1][i];
             rgb[2][i] = mapped[2] + t * rgb[2][i];
@@ -136,12 +137,13 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
             ShadowRays shadow;
             if (!trace_shadow_rays(l, hits, shadow)) continue;
             map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
+            last_read = {};
             if (bands)
                 for (int i = 0; i < rays.count; ++i) {
                     if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
                     float mapped[3];
                     bands->integrals->apply(1 + int(l), lo[i], hi[i], albedo[0][i], albedo[1][i], albedo[2][i],
-                                            mapped);
+                                            mapped, &last_read);
                     const float t = bands->whole_part[i];
                     surface.albedo[0][i] = mapped[0] + t * surface.albedo[0][i];
                     surface.albedo[1][i] = mapped[1] + t * surface.albedo[1][i];

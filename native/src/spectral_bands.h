@@ -77,11 +77,18 @@ class FocusBandIntegrals {
         return {int(i), float((k - breaks_[i]) * inverse_width_[i])};
     }
 
+    // The last end a caller's apply read, kept by the caller across a
+    // packet's rays for one table: a split sample's two rays, one after the
+    // other, meet at one plane (the first's band ends where the second's
+    // begins), so the second reads it from here.
+    struct LastRead;
+
     // Table table's map over [lo, hi) applied to a colour: out_k = sum_c map[k][c] colour_c.
-    void apply(int table, const End& lo, const End& hi, float c0, float c1, float c2, float out[3]) const {
+    void apply(int table, const End& lo, const End& hi, float c0, float c1, float c2, float out[3],
+               LastRead* last = nullptr) const {
         Entries from, to;
-        read(table, lo, from);
-        read(table, hi, to);
+        read(table, lo, from, last);
+        read(table, hi, to, last);
         const Lanes mapped = (to[0] - from[0]) * c0 + (to[1] - from[1]) * c1 + (to[2] - from[2]) * c2;
         out[0] = mapped[0], out[1] = mapped[1], out[2] = mapped[2];
     }
@@ -118,7 +125,14 @@ class FocusBandIntegrals {
         Entries e;
     };
 
-    void read(int table, const End& at, Entries& out) const {
+  public:
+    struct LastRead {
+        End at{-1, 0.0f};  // an end inside the table once anything is kept
+        Entries entries;
+    };
+
+  private:
+    void read(int table, const End& at, Entries& out, LastRead* last) const {
         if (at.interval < 0) {
             for (int v = 0; v < kVectors; ++v) out[v] = Lanes{};
             return;
@@ -127,10 +141,18 @@ class FocusBandIntegrals {
             for (int v = 0; v < kVectors; ++v) out[v] = whole_[size_t(table)].e[v];
             return;
         }
+        if (last && at.interval == last->at.interval && at.s == last->at.s) {
+            for (int v = 0; v < kVectors; ++v) out[v] = last->entries[v];
+            return;
+        }
         const Cell& cell = cells_[size_t(at.interval) * size_t(tables_) + size_t(table)];
         const float s = at.s;
         for (int v = 0; v < kVectors; ++v)
             out[v] = cell.c[0][v] + s * (cell.c[1][v] + s * (cell.c[2][v] + s * (cell.c[3][v] + s * cell.c[4][v])));
+        if (last) {
+            last->at = at;
+            for (int v = 0; v < kVectors; ++v) last->entries[v] = out[v];
+        }
     }
 
     int tables_ = 0;
