@@ -121,11 +121,14 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
     double k_refs[kCameraBatch];
     if (k_ref_by_sample) std::copy_n(k_ref_by_sample, n, k_refs);
     else std::fill_n(k_refs, n, runs.reference());
-    // Every sample's test first, in a loop of its own that GCC vectorises (a
+    // Every sample's test first, in a loop of its own without a branch (a
     // fifth of the samples split, at random: a branch on it was a third of
-    // this function, and the test's scalar floors most of the rest, perf and
-    // callgrind); then each written as a whole sample, kept only where it is
-    // one, and its index kept for the walk below where it is not.
+    // this function, and the test's floors in software most of the rest at
+    // baseline x86-64, perf and callgrind; GCC keeps the loop scalar, and four
+    // lanes at a time, as the segments below, were no faster: 23.5-23.8 ->
+    // 23.7-26.0 cycles a sample, rdtsc); then each written as a whole sample,
+    // kept only where it is one, and its index kept for the walk below where
+    // it is not.
     bool whole[kCameraBatch];
     for (int i = 0; i < n; ++i) {
         const double x = raster_px[i].x, y = raster_px[i].y;
