@@ -64,10 +64,10 @@ struct SplitSegments {
     long long near[kRoom], x_first[kRoom], once_over_all[kRoom], own_first[kRoom];
 };
 
-// Entries [first, first + 4) of *out from the samples' columns at first:
-// four lanes at a time, the per-sample walk's IEEE operations lane by lane
-// (a sample at a time, its chain of floors, divisions and clamps was most of
-// split_into_bands: below).
+// Entries [first, first + 4) of *out from the samples' columns at first,
+// four lanes at a time: the IEEE operations the walk below made a sample at
+// a time until session 52 (their chain of floors, divisions and clamps was
+// most of split_into_bands), lane by lane, so the same bits.
 inline void segments_lanes(int first, const double* x_px, const double* y_px, const double* gx_px,
                            const double* gy_px, const double* k_ref_at, const double* k_lowest_at,
                            const double* k_highest_at, double k_all_lowest, double k_all_highest,
