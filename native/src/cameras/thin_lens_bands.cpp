@@ -124,11 +124,11 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
     // Every sample's test first, in a loop of its own without a branch (a
     // fifth of the samples split, at random: a branch on it was a third of
     // this function, and the test's floors in software most of the rest at
-    // baseline x86-64, perf and callgrind; GCC keeps the loop scalar, and four
-    // lanes at a time, as the segments below, were no faster: 23.5-23.8 ->
-    // 23.7-26.0 cycles a sample, rdtsc); then each written as a whole sample,
-    // kept only where it is one, and its index kept for the walk below where
-    // it is not.
+    // baseline x86-64, perf and callgrind; GCC keeps the loop scalar, and in
+    // four lanes, as the segments below, it was no faster: docs/how-it-was-
+    // made-fast.md, session 52); then each written as a whole sample, kept
+    // only where it is one, and its index kept for the walk below where it
+    // is not.
     bool whole[kCameraBatch];
     for (int i = 0; i < n; ++i) {
         const double x = raster_px[i].x, y = raster_px[i].y;
@@ -160,10 +160,10 @@ __attribute__((target_clones("default", "avx2", "avx512f"))) void split_into_ban
     // draws: a sample it shades whole (55 % of the split samples on showcase
     // through the Double Gauss) goes to the whole samples, in order, and
     // skips the walk. Before, the walk found each sample's segment and drew
-    // a sample at a time: split_into_bands 29.6-30.1 -> 23.5-23.8 cycles a
-    // sample (rdtsc around it, the lens system's band render at 64 spp, three
-    // runs each; the dispersive thin lens's 28.7 -> 19.8). Drawn in a scalar
-    // pass without a branch before the walk, it was no faster end to end.
+    // a sample at a time: split_into_bands 29.6-30.1 -> 22.3-23.8 cycles a
+    // sample (rdtsc around it, the lens system's band render at 64 spp; the
+    // dispersive thin lens's 28.7 -> 19.8-20.0). Drawn in a scalar pass
+    // without a branch before the walk, it was no faster end to end.
     SplitSegments segments;
     {
         constexpr int kRoom = SplitSegments::kRoom;
