@@ -137,19 +137,28 @@ LC_BUILT_PER_ISA void Scene::spectral_band_radiance(const RayBatch& rays, const 
             ShadowRays shadow;
             if (!trace_shadow_rays(l, hits, shadow)) continue;
             map_colour_lanes(shading_kernel_, film_of_lights_[l].of_basis, albedo, surface.albedo);
+            if (!bands) {
+                add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
+                continue;
+            }
+            // Each lit ray's band map of its albedo, and add_light_lanes' sum
+            // for it here, lane by lane: that function's whole-row loads of
+            // rows just written a lane at a time here waited for those stores
+            // to reach the cache (a load spanning several stores is not
+            // forwarded from them). The same operations in the same order.
             last_read = {};
-            if (bands)
-                for (int i = 0; i < rays.count; ++i) {
-                    if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
-                    float mapped[3];
-                    bands->integrals->apply(1 + int(l), lo[i], hi[i], albedo[0][i], albedo[1][i], albedo[2][i],
-                                            mapped, &last_read);
-                    const float t = bands->whole_part[i];
-                    surface.albedo[0][i] = mapped[0] + t * surface.albedo[0][i];
-                    surface.albedo[1][i] = mapped[1] + t * surface.albedo[1][i];
-                    surface.albedo[2][i] = mapped[2] + t * surface.albedo[2][i];
+            for (int i = 0; i < rays.count; ++i) {
+                if (!surface.diffuse[i] || !shadow.lit(i)) continue;  // this light adds nothing there
+                float mapped[3];
+                bands->integrals->apply(1 + int(l), lo[i], hi[i], albedo[0][i], albedo[1][i], albedo[2][i], mapped,
+                                        &last_read);
+                const float t = bands->whole_part[i];
+                const float scale = shadow.lanes.cos_theta[i] * shadow.lanes.falloff[i];
+                for (int k = 0; k < 3; ++k) {
+                    const float lit_albedo = mapped[k] + t * surface.albedo[k][i];
+                    rgb[k][i] = rgb[k][i] + lit_albedo * white[k] * scale;
                 }
-            add_light_lanes(shading_kernel_, white, surface, shadow.lanes, shadow.packet.tfar, rgb);
+            }
         }
     }
     write_radiance(rays.count, rgb, out);
