@@ -27,7 +27,8 @@ inline Double4 lanes_of(const double* values, int first, int n) {
 // Lanes [first, first + 4) of values (false at or past n) as a mask: four
 // whole lanes widened at once (a bool is one byte, 0 or 1), not a lane at a
 // time with a test of n each. The four bytes are read as one word and each
-// lane shifts its own byte down (GCC's __builtin_convertvector of the bytes
+// lane shifts its own byte down (x86-64 is little-endian: byte l is bits
+// 8l to 8l + 7) (GCC's __builtin_convertvector of the bytes
 // went through general registers a byte at a time: most of
 // clearance_stretches' time, perf, session 53).
 inline Mask4 lanes_of(const bool* values, int first, int n) {
@@ -54,7 +55,8 @@ inline void store_lanes(Double4 v, int first, int n, double* out) {
 // as bools, those before n.
 inline void store_lanes(Mask4 m, int first, int n, bool* out) {
     if (first + 4 <= n) {
-        // Each lane's low byte picked out by a shuffle (the conversion, as above, went byte by byte).
+        // Each lane's low byte (its first, little-endian) picked out by a shuffle (the conversion,
+        // as above, went byte by byte).
         typedef signed char Char32 __attribute__((vector_size(32)));
         const Mask4 ones = m & 1;
         const Char32 chars = (Char32)ones;
