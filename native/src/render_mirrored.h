@@ -114,6 +114,7 @@ RenderStats render_mirrored_tile(const Scene& scene, const LensSystemCamera& cam
         sums[m].emplace(Tile(rect[m].y0, rect[m].y1, rect[m].x0, rect[m].x1), with_variance);
         if constexpr (spectral) packets[m] = &packet_of[m].emplace(scene, *sums[m]);
         else packets[m] = &packet_of[m].emplace(scene, *sums[m], kind == MirroredRender::RgbIntegrated);
+        packets[m]->set_stream(int(m));  // the four images' packets take turns: a cache each
     }
     Batcher batcher = [&] {
         if constexpr (spectral)

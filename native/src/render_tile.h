@@ -219,6 +219,8 @@ class RayPacket {
     void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
     // From now on the rays test every own primitive again (a ray left the pencil).
     void uncull() { batch_.uncull(); }
+    // The packets' stream (RayBatch::stream), [0, RayBatch::kStreams).
+    void set_stream(int stream) { batch_.stream = stream; }
 
     // Queues a ray for the pixel at slot, seen at shutter time u; a full packet is shaded at once.
     void add(const CameraRay& ray, float time_u, size_t slot) {

@@ -149,6 +149,8 @@ class SpectralRayPacket {
     // ray of pencil may meet, or (uncull) every one again.
     void cull_by(const CameraPencil& pencil) { scene_.camera_candidates(pencil, &batch_); }
     void uncull() { batch_.uncull(); }
+    // The packets' stream (RayBatch::stream), [0, RayBatch::kStreams).
+    void set_stream(int stream) { batch_.stream = stream; }
 
     // Queues a ray carrying the lanes of *w in lanes (bit m: lane m), each
     // weighted by s (the ray's weight over the sample's traced wavelength

@@ -52,6 +52,14 @@ struct RayBatch {
     // camera rays skip those its pencil cannot reach (Scene::camera_candidates).
     uint64_t sphere_candidates = kAllCandidates, quad_candidates = kAllCandidates;
     bool faces_culled = false;  // quad_candidates leaves out the boxes' faces the origins are behind
+    // Which of a thread's interleaved packet streams these rays are (the
+    // lens system's mirror images, render_mirrored.h: four pixels a quarter
+    // of the image apart, their packets shaded in turn), each with its own
+    // per-thread caches of what the packets before it found (the boxes'
+    // faces a region of origins sees, the shadow cull's ball): one cache for
+    // all four was replaced at every packet. Any stream gives the same bits.
+    static constexpr int kStreams = 4;
+    int stream = 0;  // [0, kStreams)
 
     // The rays test every own primitive again (their tile's cull no longer holds).
     void uncull() { sphere_candidates = quad_candidates = kAllCandidates, faces_culled = false; }
@@ -184,6 +192,7 @@ class Scene {
         bool single_found = false;
         SinglePrimitive single;
         bool cull_ball_taken = false;  // the thread's ShadowCullCache has this packet's ball
+        int stream = 0;                // the rays' RayBatch::stream: whose caches
         bool missed(int i) const { return packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID; }
     };
     struct ShadowRays {  // one packet of shadow rays toward one light, traced

@@ -30,6 +30,7 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(kPacketAlignment) int valid[kPacketSize];
     RTCRayHitPacket& packet = hits.packet;
+    hits.stream = rays.stream;
     // Whole rows copied, then idle lanes (past count: only a tile's last
     // packet has them) given a harmless ray.
     for (int i = 0; i < kPacketSize; ++i) {
@@ -95,14 +96,14 @@ LC_BUILT_PER_ISA void Scene::trace_camera_rays(const RayBatch& rays, CameraHits&
     if (!own_quads_.empty()) {
         // The quad the thread's last packet met is tested first (any order
         // gives the same hits: quads_closest).
-        thread_local int first_quad = 0;
+        thread_local int first_quad[RayBatch::kStreams] = {};
         // Boxes' faces the packet's origins are behind: never a first hit (solid_faces.h).
-        thread_local OriginRegion region;
+        thread_local OriginRegion region[RayBatch::kStreams];
         const uint64_t candidates =
             rays.faces_culled ? rays.quad_candidates
-                              : own_solids_.first_hits_from(origin, valid, &region) & rays.quad_candidates;
+                              : own_solids_.first_hits_from(origin, valid, &region[rays.stream]) & rays.quad_candidates;
         quads_closest(sphere_kernel_, own_quads_.data(), int(own_quads_.size()), origin, direction, valid,
-                      packet.ray.tfar, index, normal, &first_quad, candidates);
+                      packet.ray.tfar, index, normal, &first_quad[rays.stream], candidates);
         record_hits(own_quads_id_);
     }
     if (embree_still_) intersect_packet(valid, scene_, &context, &packet);
@@ -214,7 +215,8 @@ LC_BUILT_PER_ISA bool Scene::trace_shadow_rays(size_t light_index, CameraHits& h
     // rest are not tested. Without the cull every primitive is a candidate.
     uint64_t near_spheres = kAllCandidates, near_quads = kAllCandidates;
     if (occluders.packet_cull) {
-        thread_local ShadowCullCache cache;
+        thread_local ShadowCullCache caches[RayBatch::kStreams];
+        ShadowCullCache& cache = caches[hits.stream];
         if (!hits.cull_ball_taken) cache.take(id_, hits.surface), hits.cull_ball_taken = true;
         const uint64_t near =
             light_index < size_t(ShadowCullCache::kLights)
