@@ -39,7 +39,7 @@ class MirroredSpectralBatcher {
             if (pending_ == 0)
                 for (SpectralRayPacket* packet : packets_)
                     if (packet) packet->release(wavelengths_, wavelengths_ + kCameraBatch);
-            staged_.take(pending_, x, y, samples, k, slot, image_first);
+            staged_.take(pending_, x, y, samples, k, 1, slot, image_first);
             sample_hero_wavelengths(spectra_, samples.wavelength[size_t(k)], &wavelengths_[pending_]);
             if (++pending_ == kCameraBatch) flush();
         }

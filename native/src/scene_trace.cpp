@@ -137,9 +137,11 @@ void Scene::camera_candidates(const CameraPencil& pencil, RayBatch* batch) const
             lo[a] = centre[a] - reach, hi[a] = centre[a] + reach;
         }
         quads &= own_solids_.first_hits_from_box(lo, hi);
+    } else if (!own_solids_.empty() && pencil.origins_in_box) {
+        quads &= own_solids_.first_hits_from_box(pencil.origins_lo_m, pencil.origins_hi_m);
     }
     batch->sphere_candidates = spheres, batch->quad_candidates = quads;
-    batch->faces_culled = pencil.origins_on_lens_disk || own_solids_.empty();
+    batch->faces_culled = pencil.origins_on_lens_disk || pencil.origins_in_box || own_solids_.empty();
 }
 
 LC_BUILT_PER_ISA void Scene::write_radiance(int count, const float (&rgb)[3][kPacketSize], Vec3f* out) {

@@ -36,6 +36,11 @@ struct CameraPencil {
     // cull the faces from their own origins, which measured faster than a
     // box round that surface (lit_showcase, 3 ns per sample).
     bool origins_on_lens_disk = true;
+    // Else, whether they start within a box (world space, m; widened past
+    // their rounding): a lens system's round its first surface
+    // (LensSystemCamera::bound_origins), its faces culled likewise.
+    bool origins_in_box = false;
+    double origins_lo_m[3] = {}, origins_hi_m[3] = {};
     // A moving camera's rays over the shutter: the pencil's translated by an
     // offset within sweep_half_m of sweep_mid_m (world space, m; zero for a
     // still camera). A ball meets such a ray only if the ball moved back by

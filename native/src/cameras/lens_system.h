@@ -468,8 +468,49 @@ struct LensSystemCamera {
         if (carries_bands())
             return band_pencils && band_pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px - 1.0,
                                                       y0_px - 1.0, x1_px + 1.0, y1_px + 1.0, pencil, check);
-        return pencils && pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px, y0_px, x1_px, y1_px, pencil,
-                                        check);
+        if (!pencils || !pencils->tile(world_from_camera, entrance_pupil_z_mm, x0_px, y0_px, x1_px, y1_px, pencil,
+                                       check))
+            return false;
+        bound_origins(pencil);
+        return true;
+    }
+
+    // Sets pencil's box round every origin of this camera's batch rays (not a
+    // band render's): a ray leaves from the first surface within its clear
+    // aperture, or from the ray table's interpolated origins; in the world,
+    // widened past the float rounding of both and of the world transform.
+    // Per tile, so the boxes' faces behind the whole lens are culled once
+    // (Scene::camera_candidates), not per packet from the rays' origins.
+    void bound_origins(CameraPencil* pencil) const {
+        const LensElement& first = elements.front();
+        const double c = first.curvature_per_mm, a = first.semi_aperture_mm;
+        // The sag at the rim (a hemisphere's depth where the rim is past it).
+        const double sag_mm = c * c * a * a < 1.0 ? c * a * a / (1.0 + std::sqrt(1.0 - c * c * a * a)) : 1.0 / c;
+        double radius_mm = a;
+        double z_lo_mm = first.vertex_z_mm + std::min(0.0, sag_mm), z_hi_mm = first.vertex_z_mm + std::max(0.0, sag_mm);
+        if (ray_table) {
+            radius_mm = std::max(radius_mm, ray_table->origin_radius_mm);
+            z_lo_mm = std::min(z_lo_mm, ray_table->origin_z_lo_mm), z_hi_mm = std::max(z_hi_mm, ray_table->origin_z_hi_mm);
+        }
+        if (!(std::isfinite(radius_mm) && std::isfinite(z_lo_mm) && std::isfinite(z_hi_mm))) return;
+        const double slack_mm = 1e-4 * (1.0 + radius_mm + std::fabs(z_lo_mm) + std::fabs(z_hi_mm));
+        radius_mm += slack_mm, z_lo_mm -= slack_mm, z_hi_mm += slack_mm;
+        // Lens frame (mm, +z toward the film) -> camera frame (m, +z toward the scene): lens_to_world.h.
+        const double mid_m = (entrance_pupil_z_mm - 0.5 * (z_lo_mm + z_hi_mm)) * 1e-3;
+        const double half_depth_m = 0.5 * (z_hi_mm - z_lo_mm) * 1e-3, radius_m = radius_mm * 1e-3;
+        const Frame& f = world_from_camera;
+        const Vec3d centre = f.origin + f.forward * mid_m;
+        const double c3[3] = {centre.x, centre.y, centre.z};
+        const double right[3] = {f.right.x, f.right.y, f.right.z}, up[3] = {f.up.x, f.up.y, f.up.z};
+        const double forward[3] = {f.forward.x, f.forward.y, f.forward.z};
+        const double margin_m =
+            1e-6 * (std::fabs(c3[0]) + std::fabs(c3[1]) + std::fabs(c3[2]) + radius_m + half_depth_m);
+        for (int k = 0; k < 3; ++k) {
+            const double reach_m = radius_m * std::sqrt(right[k] * right[k] + up[k] * up[k]) +
+                                   half_depth_m * std::fabs(forward[k]) + margin_m;
+            pencil->origins_lo_m[k] = c3[k] - reach_m, pencil->origins_hi_m[k] = c3[k] + reach_m;
+        }
+        pencil->origins_in_box = true;
     }
 
     // Traced lanes -> camera rays in world space with their weights; lanes

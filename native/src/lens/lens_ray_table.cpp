@@ -67,6 +67,16 @@ std::shared_ptr<const LensRayTable> build_lens_ray_table(const std::vector<LensE
     table->for_each_node(pupil, [&](int ring, int end, double film_r_mm, double s, float u, size_t node) {
         trace_node(elements, pupil, planes, ring, film_r_mm, s, u, table->nodes[node].end[end]);
     });
+    double radius2_mm2 = 0.0, z_lo = INFINITY, z_hi = -INFINITY;
+    for (const LensTableNode& node : table->nodes)
+        for (const float* v : node.end) {
+            const double x = v[kTableOriginX], y = v[kTableOriginY], z = v[kTableOriginZ];
+            if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) continue;
+            radius2_mm2 = std::max(radius2_mm2, x * x + y * y);
+            z_lo = std::min(z_lo, z), z_hi = std::max(z_hi, z);
+        }
+    table->origin_radius_mm = std::sqrt(radius2_mm2);
+    table->origin_z_lo_mm = z_lo <= z_hi ? z_lo : 0.0, table->origin_z_hi_mm = z_lo <= z_hi ? z_hi : 0.0;
     return table;
 }
 

@@ -90,6 +90,11 @@ struct LensTableGrid {
 
 struct LensRayTable : LensTableGrid {
     std::vector<LensTableNode> nodes;  // [ring][radial][around, u.y from 0 to 1/2]
+    // Round the axis, the farthest and the z range of the nodes' finite
+    // origins (lens frame, mm): an interpolated origin, a weighted mean of
+    // its cell's corners turned about the axis, lies within them (to the
+    // float rounding of the interpolation).
+    double origin_radius_mm = 0.0, origin_z_lo_mm = 0.0, origin_z_hi_mm = 0.0;
 
     const LensTableNode* node(int ring, int radial, int around) const { return &nodes[node_index(ring, radial, around)]; }
     LensTableNode* node(int ring, int radial, int around) { return &nodes[node_index(ring, radial, around)]; }
