@@ -66,7 +66,9 @@ class MirroredBatcher {
   public:
     // packets[m]: mirror m's packet, or null when the tile has no image there.
     MirroredBatcher(const LensSystemCamera& camera, const SceneMotion& motion, RayPacket* const* packets)
-        : camera_(camera), motion_(motion), to_world_(camera.lens_to_world()) {
+        : camera_(camera), motion_(motion), to_world_(camera.lens_to_world()),
+          table_frames_{mirrored_frame(LensToWorldF(to_world_), 0), mirrored_frame(LensToWorldF(to_world_), 1),
+                        mirrored_frame(LensToWorldF(to_world_), 2), mirrored_frame(LensToWorldF(to_world_), 3)} {
         std::copy_n(packets, 4, packets_);
     }
 
@@ -107,14 +109,21 @@ class MirroredBatcher {
     // mirror's reflected and sent to the world in float, as the unmirrored
     // table path does (LensSystemCamera::look_up_ray_rows); a moving camera's
     // offset added to the float rows, as for every camera there.
+    // Each mirror's rays are not reflected: its frame is (mirrored_frame),
+    // and its check (reflected_check), the same bits without a copy.
     void flush_from_table(int n) {
         camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
-        const LensToWorldF to_world(to_world_);
-        for_each_mirror(n, table_rays_, &table_image_, [&](const LensRaysF& rays, const bool* taken) {
-            lens_to_world_rows(to_world, rays, &rows_, weight_);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!packets_[m]) continue;
+            const bool* taken = staged_.taken[m];
+            if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
+            lens_to_world_rows(table_frames_[m], table_rays_, &rows_, weight_);
             if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
-            for (int i = 0; i < kCameraBatch; ++i) alive_[i] = i < n && rays.alive[i] && taken[i];
-        });
+            for (int i = 0; i < kCameraBatch; ++i) alive_[i] = i < n && table_rays_.alive[i] && taken[i];
+            if (const LensPencilCheck* check = check_[m].active())
+                check_[m].passed(lens_rays_within(reflected_check(*check, m), table_rays_, alive_), *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
+        }
     }
 
     // Each mirror whose image takes some of the n samples: rays reflected
@@ -138,10 +147,11 @@ class MirroredBatcher {
     const LensSystemCamera& camera_;
     const SceneMotion& motion_;
     LensToWorld to_world_;
+    LensToWorldF table_frames_[4];  // the table's rays to the world, mirror by mirror (flush_from_table)
     RayPacket* packets_[4];
     MirroredColumns staged_;
     LensRayBatch traced_, image_;
-    LensRaysF table_rays_, table_image_;
+    LensRaysF table_rays_;
     double area_mm2_[kLensBatch], cos_theta_[kLensBatch];
     CameraRayRows rows_;
     CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 #include <utility>
@@ -22,6 +23,7 @@
 #include "cameras/camera_ray.h"
 #include "cameras/lens_pencil.h"
 #include "motion.h"
+#include "packet_append.h"
 #include "render_settings.h"
 #include "samplers.h"
 #include "scene.h"
@@ -262,6 +264,16 @@ class RayPacket {
                 i += kPacketSize;
                 continue;
             }
+            if (append_in_vectors_ && i + kPacketSize <= n) {
+                // The run's live rays after the queued ones, a full packet shaded on the way.
+                uint32_t live = alive ? live_bits(alive + i) : (uint32_t(1) << kPacketSize) - 1u;
+                while (live) {
+                    append_live_rows(rows, i, time_u, weight, slot, &live, &batch_, weight_, slot_);
+                    if (batch_.count == kPacketSize) flush();
+                }
+                i += kPacketSize;
+                continue;
+            }
             queue_row(rows, i, time_u[i], weight ? weight[i] : 1.0f, slot[i], alive ? alive[i] : true);
             ++i;
         }
@@ -309,6 +321,7 @@ class RayPacket {
     const Scene& scene_;
     TileAccumulator& sums_;
     bool integrate_wavelengths_;
+    bool append_in_vectors_ = packet_append_available() && !std::getenv("LC_AB_OFF");
     RayBatch batch_;
     float weight_[kPacketSize];
     size_t slot_[kPacketSize];

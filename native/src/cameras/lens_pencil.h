@@ -48,6 +48,19 @@ bool lens_rays_within(const LensPencilCheck& check, const LensRayBatch& b, const
 // like the rays' own rounding above, far below may_meet_ball's 1e-5.
 bool lens_rays_within(const LensPencilCheck& check, const LensRaysF& b, const bool* alive);
 
+// The check that rays pass exactly when their mirror images (mirror bit 0:
+// x turned over, bit 1: y; mirror_lens_rays) pass check: its screen window
+// reflected. The test's arithmetic is odd in x and in y, and IEEE rounding
+// is symmetric, so the answers are the same for every ray, not only nearly.
+inline LensPencilCheck reflected_check(LensPencilCheck check, unsigned mirror) {
+    for (int a = 0; a < 2; ++a) {
+        if (!((mirror >> a) & 1u)) continue;
+        const double lo = check.screen_lo[a], hi = check.screen_hi[a];
+        check.screen_lo[a] = -hi, check.screen_hi[a] = -lo;
+    }
+    return check;
+}
+
 class LensPencils {
   public:
     // Measured from camera's own rays (its pupil, trace and film); a camera

@@ -47,4 +47,15 @@ struct LensToWorldF {
 
 void lens_to_world_rows(const LensToWorldF& t, const LensRaysF& lens, CameraRayRows* rows, float* weight);
 
+// The frame that takes a lens ray to the world as t takes its mirror image
+// (mirror bit 0: the lens frame's x turned over, bit 1: y): right and up
+// turned over instead. The same bits: each is a product's sign.
+inline LensToWorldF mirrored_frame(LensToWorldF t, unsigned mirror) {
+    for (int a = 0; a < 3; ++a) {
+        if (mirror & 1u) t.right[a] = -t.right[a];
+        if (mirror & 2u) t.up[a] = -t.up[a];
+    }
+    return t;
+}
+
 }  // namespace lc

@@ -1,0 +1,61 @@
+#include "packet_append.h"
+
+#include <immintrin.h>
+
+#include "shading_lanes.h"
+
+namespace lc {
+
+bool packet_append_available() {
+    static const bool on = shading_kernel() == ShadingKernel::Avx512;
+    return on;
+}
+
+uint32_t live_bits(const bool* alive) {
+    static_assert(kPacketSize == 16, "one 16-byte compare");
+    const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(alive));
+    return ~uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(flags, _mm_setzero_si128()))) & 0xFFFFu;
+}
+
+namespace {
+
+// The lowest `keep` of bits' set bits.
+inline uint32_t lowest_bits(uint32_t bits, int keep) {
+    while (__builtin_popcount(bits) > keep) bits &= ~(0x80000000u >> __builtin_clz(bits));
+    return bits;
+}
+
+[[gnu::target("avx512f")]] inline void append_floats(const float* from, __mmask16 take, int taken, float* to) {
+    const __m512 v = _mm512_maskz_compress_ps(take, _mm512_loadu_ps(from));
+    _mm512_mask_storeu_ps(to, __mmask16((1u << taken) - 1u), v);
+}
+
+}  // namespace
+
+[[gnu::target("avx512f")]] void append_live_rows(const CameraRayRows& rows, int at, const float* time_u,
+                                                 const float* weight, const size_t* slot, uint32_t* live,
+                                                 RayBatch* batch, float* batch_weight, size_t* batch_slot) {
+    const int count = batch->count;
+    const uint32_t take = lowest_bits(*live, kPacketSize - count);
+    const int taken = __builtin_popcount(take);
+    const __mmask16 mask = __mmask16(take);
+    for (int a = 0; a < 3; ++a) {
+        append_floats(rows.origin[a] + at, mask, taken, batch->origin[a] + count);
+        append_floats(rows.direction[a] + at, mask, taken, batch->direction[a] + count);
+    }
+    append_floats(time_u + at, mask, taken, batch->time + count);
+    if (weight) append_floats(weight + at, mask, taken, batch_weight + count);
+    else _mm512_mask_storeu_ps(batch_weight + count, __mmask16((1u << taken) - 1u), _mm512_set1_ps(1.0f));
+    // The slots, 8 bytes each: two halves of eight.
+    static_assert(sizeof(size_t) == 8, "64-bit slots");
+    const __mmask8 low = __mmask8(take & 0xFFu), high = __mmask8(take >> 8);
+    const int low_taken = __builtin_popcount(take & 0xFFu), high_taken = taken - low_taken;
+    const __m512i low_slots = _mm512_maskz_compress_epi64(low, _mm512_loadu_si512(slot + at));
+    const __m512i high_slots = _mm512_maskz_compress_epi64(high, _mm512_loadu_si512(slot + at + 8));
+    _mm512_mask_storeu_epi64(batch_slot + count, __mmask8((1u << low_taken) - 1u), low_slots);
+    _mm512_mask_storeu_epi64(batch_slot + count + low_taken, __mmask8((1u << high_taken) - 1u), high_slots);
+    batch->count = count + taken;
+    *live &= ~take;
+}
+
+}  // namespace lc
