@@ -14,7 +14,7 @@
 
 namespace lc {
 
-// Whether this CPU runs append_live_rows (AVX-512 F), and the shading kernel
+// Whether this CPU runs append_live_rows (AVX-512 F, BMI2), and the shading kernel
 // (LENSCOMPARE_SHADING_KERNEL) asks for AVX-512 code.
 bool packet_append_available();
 

@@ -14,7 +14,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 #include <utility>
@@ -321,7 +320,7 @@ class RayPacket {
     const Scene& scene_;
     TileAccumulator& sums_;
     bool integrate_wavelengths_;
-    bool append_in_vectors_ = packet_append_available() && !std::getenv("LC_AB_OFF");
+    bool append_in_vectors_ = packet_append_available();
     RayBatch batch_;
     float weight_[kPacketSize];
     size_t slot_[kPacketSize];
