@@ -99,6 +99,25 @@ def test_the_camera_cull_changes_no_bit_at_its_edges(monkeypatch, name, model):
     assert np.array_equal(culled, tested)
 
 
+@pytest.mark.parametrize("table_mirrored", [False, True])
+@pytest.mark.parametrize("name", list(camera_edge_scenes()) + ["faces_through_the_lens"])
+def test_the_lens_systems_tile_cull_changes_no_bit(monkeypatch, name, table_mirrored):
+    """A lens system's tiles cull the boxes' faces from a box round its first surface (and the
+    ray table's origins), once per tile; with the cull off its packets cull them from their own
+    origins. Boxes whose faces' planes pass through the lens (one 7 mm under its centre, which
+    the top rows' rays from the lens's lower part meet from below), and the camera inside a box."""
+    scenes = dict(camera_edge_scenes())
+    scenes["faces_through_the_lens"] = (HEADER + box((-3.0, 0.993, -1.95), (3.0, 3.0, 6.0))
+                                        + box((0.5, 0.0, -2.0), (2.0, 0.9, 3.0)) + light((0.5, 0.95, 2.0)))
+    scene = parse_scene(scenes[name]).with_camera(lens="dgauss.50mm", focal_length_mm=None, f_number=None)
+    options = dict(lens_rays="table", lens_mirrors=True) if table_mirrored else {}
+    culled, tested = render_both(monkeypatch, scene, model="lens", spp=8, threads=2, **options)
+    assert np.isfinite(culled).all()
+    # (A sphere across the lens plane holds the whole lens system: black.)
+    assert culled.mean() > 0.0 or name == "across_the_lens"
+    assert np.array_equal(culled, tested)
+
+
 def render_both(monkeypatch, scene, **options):
     images = {}
     for cull in ("1", "0"):
