@@ -32,9 +32,12 @@ struct CameraPencil {
     double screen_lo[2] = {}, screen_hi[2] = {};  // the tile's screen rectangle, x and y at z = 1
     // Whether the rays start on the lens disk (the thin lens, the pinhole):
     // then the boxes' faces behind the whole disk are culled per tile. A lens
-    // system's rays leave from its front surface (lens_pencil.h): its packets
-    // cull the faces from their own origins, which measured faster than a
-    // box round that surface (lit_showcase, 3 ns per sample).
+    // system's rays leave from its front surface (lens_pencil.h): see
+    // origins_in_box. (Commit 9428382 measured such a box 3 ns a sample
+    // slower than each packet's own origins on lit_showcase; in session 54
+    // the per-packet test was 4 % of a mirrored table render's perf samples
+    // on showcase, a third of that with the box, the end-to-end change
+    // within the host's spread.)
     bool origins_on_lens_disk = true;
     // Else, whether they start within a box (world space, m; widened past
     // their rounding): a lens system's round its first surface
