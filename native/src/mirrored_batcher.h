@@ -110,25 +110,34 @@ class MirroredBatcher {
     // table path does (LensSystemCamera::look_up_ray_rows); a moving camera's
     // offset added to the float rows, as for every camera there.
     // Each mirror's rays are not reflected: its frame is (mirrored_frame),
-    // and its check (reflected_check), the same bits without a copy.
+    // and its check's window (lens_rays_within_mirrors: the four checks in
+    // one pass over the rays), the same bits without a copy.
     void flush_from_table(int n) {
         camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
+        const LensPencilCheck* checks[4] = {};
+        const bool* alive[4] = {};
+        bool any_taken[4] = {};
         for (unsigned m = 0; m < 4; ++m) {
             if (!packets_[m]) continue;
             // & rather than && (and no early exit): loops GCC vectorises,
             // where the branches per lane were a tenth of this loop (perf).
             const bool* taken = staged_.taken[m];
-            bool any_taken = false;
+            bool* image_alive = mirror_alive_[m];
             for (int i = 0; i < kCameraBatch; ++i) {
-                alive_[i] = (i < n) & table_rays_.alive[i] & taken[i];
-                any_taken |= (i < n) & taken[i];
+                image_alive[i] = (i < n) & table_rays_.alive[i] & taken[i];
+                any_taken[m] |= (i < n) & taken[i];
             }
-            if (!any_taken) continue;
+            checks[m] = any_taken[m] ? check_[m].active() : nullptr;
+            alive[m] = image_alive;
+        }
+        bool within[4] = {true, true, true, true};
+        lens_rays_within_mirrors(checks, table_rays_, alive, within);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!any_taken[m]) continue;
             lens_to_world_rows(table_frames_[m], table_rays_, &rows_, weight_);
             if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
-            if (const LensPencilCheck* check = check_[m].active())
-                check_[m].passed(lens_rays_within(reflected_check(*check, m), table_rays_, alive_), *packets_[m]);
-            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
+            if (checks[m]) check_[m].passed(within[m], *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], mirror_alive_[m], weight_);
         }
     }
 
@@ -163,6 +172,7 @@ class MirroredBatcher {
     CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera
     float weight_[kCameraBatch];
     bool alive_[kCameraBatch];
+    bool mirror_alive_[4][kCameraBatch];  // flush_from_table's, each image's
     TileCheck check_[4];
     int pending_ = 0;
 };

@@ -48,6 +48,15 @@ bool lens_rays_within(const LensPencilCheck& check, const LensRayBatch& b, const
 // like the rays' own rounding above, far below may_meet_ball's 1e-5.
 bool lens_rays_within(const LensPencilCheck& check, const LensRaysF& b, const bool* alive);
 
+// For each mirror m (bit 0: x turned over, bit 1: y) whose checks[m] is not
+// null: whether every lane of b that alive[m] marks, turned over as m says,
+// lies within checks[m] (the mirrored table path: one pass for the four
+// images of the same rays). The checks share their pencil plane, radius and
+// focus (a LensPencils' own); each answer is lens_rays_within's for the
+// mirrored rays, bit for bit (reflected_check, below).
+void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRaysF& b, const bool* const alive[4],
+                              bool within[4]);
+
 // The check that rays pass exactly when their mirror images (mirror bit 0:
 // x turned over, bit 1: y; mirror_lens_rays) pass check: its screen window
 // reflected. The test's arithmetic is odd in x and in y, and IEEE rounding
