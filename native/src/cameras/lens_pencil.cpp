@@ -113,6 +113,13 @@ std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camer
                           : std::fabs(c) * h >= 1.0 ? 1.0 / c
                                                     : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
     p->pencil_z_mm_ = front.vertex_z_mm + std::max(sag_mm, 0.0) + 1e-3;
+    // The ray table's interpolated origins may lie past the cap (its nodes
+    // are traced without the rims, so a node past the rim leaves deeper in
+    // the surface's sphere): the plane behind them all, else a live ray near
+    // the rim fails the check and its tile tests every primitive from then on
+    // (24 of 256 mirrored tiles of showcase from the table did).
+    if (camera.ray_table && !open)
+        p->pencil_z_mm_ = std::max(p->pencil_z_mm_, camera.ray_table->origin_z_hi_mm + 1e-3);
 
     p->columns_ = std::clamp(camera.width_px / kMinCellPx, 1, kMaxCells);
     p->rows_ = std::clamp(camera.height_px / kMinCellPx, 1, kMaxCells);
