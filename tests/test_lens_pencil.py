@@ -85,6 +85,22 @@ def tile_samples(x0, y0, size_px, n, rng):
     return raster, rng.random((n, 2)).astype(np.float32)
 
 
+def batches_within_pencils(camera, *, seed, tiles_without=False):
+    """(batches within their tile's pencil, batches) for 1024 random samples in each 16-pixel
+    tile of a 240 x 160 film; tiles_without: tiles with no pencil (skipped) are expected."""
+    rng = np.random.default_rng(seed)
+    within = batches = 0
+    for y0 in range(0, 160, 16):
+        for x0 in range(0, 240, 16):
+            if diagnostics.lens_pencil(camera, x0, y0, x0 + 16, y0 + 16) is None:
+                assert tiles_without
+                continue
+            raster, u = tile_samples(x0, y0, 16, 1024, rng)
+            w, b = diagnostics.lens_rays_within_pencil(camera, x0, y0, x0 + 16, y0 + 16, raster, u)
+            within, batches = within + w, batches + b
+    return within, batches
+
+
 @pytest.mark.parametrize("lens, least_fraction", [("dgauss.50mm", 1.0), ("wide.22mm", 1.0),
                                                   ("telephoto.250mm", 1.0), ("fisheye.10mm", 0.9)])
 def test_pencils_hold_the_rays(lens, least_fraction):
@@ -92,16 +108,7 @@ def test_pencils_hold_the_rays(lens, least_fraction):
     of them but the fisheye's, whose rays bend most; its corners outside the
     image circle have none)."""
     scene, camera = lens_camera_scene(lens, resolution=(240, 160))
-    rng = np.random.default_rng(2)
-    within = batches = 0
-    for y0 in range(0, 160, 16):
-        for x0 in range(0, 240, 16):
-            if diagnostics.lens_pencil(camera, x0, y0, x0 + 16, y0 + 16) is None:
-                assert lens == "fisheye.10mm"
-                continue
-            raster, u = tile_samples(x0, y0, 16, 1024, rng)
-            w, b = diagnostics.lens_rays_within_pencil(camera, x0, y0, x0 + 16, y0 + 16, raster, u)
-            within, batches = within + w, batches + b
+    within, batches = batches_within_pencils(camera, seed=2, tiles_without=lens == "fisheye.10mm")
     assert batches > 0
     assert within / batches >= least_fraction
 
@@ -116,14 +123,7 @@ def test_pencils_hold_the_ray_tables_rays(lens):
     python_camera = camera_for(scene, "lens")
     camera = python_camera.native()
     assert use_ray_table(python_camera, camera)["from"] == "table" and camera.uses_ray_table
-    rng = np.random.default_rng(3)
-    within = batches = 0
-    for y0 in range(0, 160, 16):
-        for x0 in range(0, 240, 16):
-            assert diagnostics.lens_pencil(camera, x0, y0, x0 + 16, y0 + 16) is not None
-            raster, u = tile_samples(x0, y0, 16, 1024, rng)
-            w, b = diagnostics.lens_rays_within_pencil(camera, x0, y0, x0 + 16, y0 + 16, raster, u)
-            within, batches = within + w, batches + b
+    within, batches = batches_within_pencils(camera, seed=3)
     assert batches == 150 * 32 and within == batches
 
 
@@ -142,14 +142,7 @@ def test_band_pencils_hold_the_band_rays(lens):
     native_camera = camera.native()
     info = make_spectral(build_native_scene(scene), native_camera, scene, camera)
     assert info["lens_bands"]["used"]
-    rng = np.random.default_rng(2)
-    within = batches = 0
-    for y0 in range(0, 160, 16):
-        for x0 in range(0, 240, 16):
-            assert diagnostics.lens_pencil(native_camera, x0, y0, x0 + 16, y0 + 16) is not None
-            raster, u = tile_samples(x0, y0, 16, 1024, rng)
-            w, b = diagnostics.lens_rays_within_pencil(native_camera, x0, y0, x0 + 16, y0 + 16, raster, u)
-            within, batches = within + w, batches + b
+    within, batches = batches_within_pencils(native_camera, seed=2)
     assert batches == 150 * 32
     assert within == batches
 
