@@ -112,13 +112,13 @@ class MirroredBatcher {
     }
 
   private:
-    // flush through the lens-ray table: its float rays looked up once, each
-    // mirror's reflected and sent to the world in float, as the unmirrored
-    // table path does (LensSystemCamera::look_up_ray_rows); a moving camera's
-    // offset added to the float rows, as for every camera there.
-    // Each mirror's rays are not reflected: its frame is (mirrored_frame),
-    // and its check's window (lens_rays_within_mirrors: the four checks in
-    // one pass over the rays), the same bits without a copy.
+    // flush through the lens-ray table: its float rays looked up once and
+    // sent to the world in float for each mirror, as the unmirrored table
+    // path does (LensSystemCamera::look_up_ray_rows); a moving camera's
+    // offset added to the float rows, as for every camera there. The rays are
+    // not reflected: each mirror's frame is (mirrored_frame), and its check's
+    // window (lens_rays_within_mirrors: the four checks in one pass over the
+    // rays), the same bits as reflected rays without a copy of them.
     void flush_from_table(int n) {
         camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
         const LensPencilCheck* checks[4] = {};

@@ -74,16 +74,20 @@ LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const chec
     const LensPencilCheck* any = nullptr;
     for (int m = 0; m < 4; ++m) any = any ? any : checks[m];
     if (!any) return;
-    // The windows, each reflected for its mirror (a mirror with no check: one no lane fails).
+    // The windows, each reflected for its mirror (a mirror with no check:
+    // the whole screen, and none of its lanes checked).
     float lo[4][2], hi[4][2];
     int32_t checked[4][kLensBatch];
     for (int m = 0; m < 4; ++m) {
         const LensPencilCheck c = checks[m] ? reflected_check(*checks[m], unsigned(m)) : LensPencilCheck{};
-        for (int a = 0; a < 2; ++a)
-            lo[m][a] = checks[m] ? float(c.screen_lo[a]) : -INFINITY, hi[m][a] = checks[m] ? float(c.screen_hi[a]) : INFINITY;
+        for (int a = 0; a < 2; ++a) {
+            lo[m][a] = checks[m] ? float(c.screen_lo[a]) : -INFINITY;
+            hi[m][a] = checks[m] ? float(c.screen_hi[a]) : INFINITY;
+        }
         for (int i = 0; i < kLensBatch; ++i) checked[m][i] = checks[m] ? alive[m][i] : 0;
     }
-    const float pencil_z_mm = float(any->pencil_z_mm), radius_mm = float(any->radius_mm), k_per_mm = float(any->k_per_mm);
+    const float pencil_z_mm = float(any->pencil_z_mm), radius_mm = float(any->radius_mm);
+    const float k_per_mm = float(any->k_per_mm);
     int32_t outside[4] = {0, 0, 0, 0};
     for (int i = 0; i < kLensBatch; ++i) {
         // rays_within's arithmetic, once for the four images

@@ -490,7 +490,8 @@ struct LensSystemCamera {
         double z_lo_mm = first.vertex_z_mm + std::min(0.0, sag_mm), z_hi_mm = first.vertex_z_mm + std::max(0.0, sag_mm);
         if (ray_table) {
             radius_mm = std::max(radius_mm, ray_table->origin_radius_mm);
-            z_lo_mm = std::min(z_lo_mm, ray_table->origin_z_lo_mm), z_hi_mm = std::max(z_hi_mm, ray_table->origin_z_hi_mm);
+            z_lo_mm = std::min(z_lo_mm, ray_table->origin_z_lo_mm);
+            z_hi_mm = std::max(z_hi_mm, ray_table->origin_z_hi_mm);
         }
         if (!(std::isfinite(radius_mm) && std::isfinite(z_lo_mm) && std::isfinite(z_hi_mm))) return;
         const double slack_mm = 1e-4 * (1.0 + radius_mm + std::fabs(z_lo_mm) + std::fabs(z_hi_mm));
