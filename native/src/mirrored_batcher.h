@@ -68,12 +68,15 @@ inline void mirrored_rows(const LensToWorld& to_world, const SceneMotion& motion
 }
 
 // Samples waiting for the lens: traced once per batch, then each mirror's
-// rays reflected, moved to the world and queued in that mirror's packet.
+// rays moved to the world through its reflected frame (the traced rays'
+// mirror images, bit for bit) and queued in that mirror's packet.
 class MirroredBatcher {
   public:
     // packets[m]: mirror m's packet, or null when the tile has no image there.
     MirroredBatcher(const LensSystemCamera& camera, const SceneMotion& motion, RayPacket* const* packets)
         : camera_(camera), motion_(motion), to_world_(camera.lens_to_world()),
+          traced_frames_{mirrored_frame(to_world_, 0), mirrored_frame(to_world_, 1), mirrored_frame(to_world_, 2),
+                         mirrored_frame(to_world_, 3)},
           table_frames_{mirrored_frame(LensToWorldF(to_world_), 0), mirrored_frame(LensToWorldF(to_world_), 1),
                         mirrored_frame(LensToWorldF(to_world_), 2), mirrored_frame(LensToWorldF(to_world_), 3)} {
         std::copy_n(packets, 4, packets_);
@@ -103,11 +106,17 @@ class MirroredBatcher {
             pending_ = 0;
             return;
         }
+        // The traced rays are not reflected either: as flush_from_table.
         camera_.trace_batch(staged_.raster_px, staged_.lens, n, &traced_, area_mm2_, cos_theta_);
-        for_each_mirror(n, traced_, &image_, [&](const LensRayBatch& rays, const bool* taken) {
-            mirrored_rows(to_world_, motion_, rays, cos_theta_, area_mm2_, n, staged_.time, taken, &columns_, &rows_,
-                          weight_, alive_);
-        });
+        ImageFlags images = image_flags(n, traced_.alive);
+        lens_rays_within_mirrors(images.checks, traced_, images.alive, images.within);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!images.any_taken[m]) continue;
+            mirrored_rows(traced_frames_[m], motion_, traced_, cos_theta_, area_mm2_, n, staged_.time,
+                          staged_.taken[m], &columns_, &rows_, weight_, alive_);
+            if (images.checks[m]) check_[m].passed(images.within[m], *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
+        }
         pending_ = 0;
     }
 
@@ -121,70 +130,65 @@ class MirroredBatcher {
     // rays), the same bits as reflected rays without a copy of them.
     void flush_from_table(int n) {
         camera_.look_up_rays(staged_.raster_px, staged_.lens, n, &table_rays_);
+        ImageFlags images = image_flags(n, table_rays_.alive);
+        lens_rays_within_mirrors(images.checks, table_rays_, images.alive, images.within);
+        for (unsigned m = 0; m < 4; ++m) {
+            if (!images.any_taken[m]) continue;
+            lens_to_world_rows(table_frames_[m], table_rays_, &rows_, weight_);
+            if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
+            if (images.checks[m]) check_[m].passed(images.within[m], *packets_[m]);
+            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], mirror_alive_[m], weight_);
+        }
+    }
+
+    // Each image's lanes for a batch of n canonical rays: its live ones (in
+    // mirror_alive_), whether it takes any of the samples, and its pencil
+    // check (null: none, or it takes none); within: the checks' answers,
+    // lens_rays_within_mirrors' to fill.
+    struct ImageFlags {
         const LensPencilCheck* checks[4] = {};
         const bool* alive[4] = {};
         bool any_taken[4] = {};
+        bool within[4] = {true, true, true, true};
+    };
+    ImageFlags image_flags(int n, const bool* rays_alive) {
+        ImageFlags images;
         for (unsigned m = 0; m < 4; ++m) {
             if (!packets_[m]) continue;
             // Flags as bytes ANDed, no branch and no early exit: a loop GCC
-            // vectorises, where the branches per lane were a tenth of this
-            // function (perf).
+            // vectorises, where the branches per lane were a tenth of
+            // flush_from_table (perf).
             const bool* taken = staged_.taken[m];
             bool* image_alive = mirror_alive_[m];
             const bool* queued = kFirstOfBatch + (kCameraBatch - n);  // lane i: i < n
             uint8_t any = 0;
             for (int i = 0; i < kCameraBatch; ++i) {
                 const uint8_t mine = uint8_t(queued[i]) & uint8_t(taken[i]);
-                image_alive[i] = mine & uint8_t(table_rays_.alive[i]);
+                image_alive[i] = mine & uint8_t(rays_alive[i]);
                 any |= mine;
             }
-            any_taken[m] = any != 0;
-            checks[m] = any_taken[m] ? check_[m].active() : nullptr;
-            alive[m] = image_alive;
+            images.any_taken[m] = any != 0;
+            images.checks[m] = images.any_taken[m] ? check_[m].active() : nullptr;
+            images.alive[m] = image_alive;
         }
-        bool within[4] = {true, true, true, true};
-        lens_rays_within_mirrors(checks, table_rays_, alive, within);
-        for (unsigned m = 0; m < 4; ++m) {
-            if (!any_taken[m]) continue;
-            lens_to_world_rows(table_frames_[m], table_rays_, &rows_, weight_);
-            if (motion_.moves_camera()) move_origins(motion_, n, staged_.time, &rows_);
-            if (checks[m]) check_[m].passed(within[m], *packets_[m]);
-            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], mirror_alive_[m], weight_);
-        }
-    }
-
-    // Each mirror whose image takes some of the n samples: rays reflected
-    // into image (the canonical ones for mirror 0), made into rows_, weight_
-    // and alive_ by to_rows(rays, taken), checked and queued in its packet.
-    template <class Rays, class ToRows>
-    void for_each_mirror(int n, const Rays& traced, Rays* image, ToRows to_rows) {
-        for (unsigned m = 0; m < 4; ++m) {
-            if (!packets_[m]) continue;
-            const bool* taken = staged_.taken[m];
-            if (std::none_of(taken, taken + n, [](bool t) { return t; })) continue;
-            const Rays* rays = &traced;
-            if (m) mirror_lens_rays(traced, m, image), rays = image;
-            to_rows(*rays, taken);
-            if (const LensPencilCheck* check = check_[m].active())
-                check_[m].passed(lens_rays_within(*check, *rays, alive_), *packets_[m]);
-            packets_[m]->add_rows(rows_, n, staged_.time, staged_.slot[m], alive_, weight_);
-        }
+        return images;
     }
 
     const LensSystemCamera& camera_;
     const SceneMotion& motion_;
     LensToWorld to_world_;
-    LensToWorldF table_frames_[4];  // the table's rays to the world, mirror by mirror (flush_from_table)
+    LensToWorld traced_frames_[4];  // the traced rays to the world, mirror by mirror (mirrored_frame)
+    LensToWorldF table_frames_[4];  // the table's (flush_from_table)
     RayPacket* packets_[4];
     MirroredColumns staged_{};  // zeroed: flush_from_table reads whole rows, past the queued samples too
-    LensRayBatch traced_, image_;
+    LensRayBatch traced_;
     LensRaysF table_rays_;
     double area_mm2_[kLensBatch], cos_theta_[kLensBatch];
     CameraRayRows rows_;
     CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera
     float weight_[kCameraBatch];
     bool alive_[kCameraBatch];
-    bool mirror_alive_[4][kCameraBatch];  // flush_from_table's, each image's
+    bool mirror_alive_[4][kCameraBatch];  // image_flags', each image's
     TileCheck check_[4];
     int pending_ = 0;
 };

@@ -69,40 +69,55 @@ LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRaysF
     return rays_within<float, int32_t>(c, b, alive);
 }
 
-LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRaysF& b,
-                                                const bool* const alive[4], bool within[4]) {
+namespace {
+
+// lens_rays_within_mirrors' test in the rays' own precision T, as rays_within.
+template <class T, class Flag, class Rays>
+__attribute__((always_inline)) inline void rays_within_mirrors(const LensPencilCheck* const checks[4], const Rays& b,
+                                                               const bool* const alive[4], bool within[4]) {
     const LensPencilCheck* any = nullptr;
     for (int m = 0; m < 4; ++m) any = any ? any : checks[m];
     if (!any) return;
     // The windows, each reflected for its mirror (a mirror with no check:
     // the whole screen, and none of its lanes checked).
-    float lo[4][2], hi[4][2];
-    int32_t checked[4][kLensBatch];
+    T lo[4][2], hi[4][2];
+    Flag checked[4][kLensBatch];
     for (int m = 0; m < 4; ++m) {
         const LensPencilCheck c = checks[m] ? reflected_check(*checks[m], unsigned(m)) : LensPencilCheck{};
         for (int a = 0; a < 2; ++a) {
-            lo[m][a] = checks[m] ? float(c.screen_lo[a]) : -INFINITY;
-            hi[m][a] = checks[m] ? float(c.screen_hi[a]) : INFINITY;
+            lo[m][a] = checks[m] ? T(c.screen_lo[a]) : -T(INFINITY);
+            hi[m][a] = checks[m] ? T(c.screen_hi[a]) : T(INFINITY);
         }
         for (int i = 0; i < kLensBatch; ++i) checked[m][i] = checks[m] ? alive[m][i] : 0;
     }
-    const float pencil_z_mm = float(any->pencil_z_mm), radius_mm = float(any->radius_mm);
-    const float k_per_mm = float(any->k_per_mm);
-    int32_t outside[4] = {0, 0, 0, 0};
+    const T pencil_z_mm = T(any->pencil_z_mm), radius_mm = T(any->radius_mm), k_per_mm = T(any->k_per_mm);
+    Flag outside[4] = {0, 0, 0, 0};
     for (int i = 0; i < kLensBatch; ++i) {
         // rays_within's arithmetic, once for the four images
-        const float w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
-        const float lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
-        const float sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
-        const float rw = radius_mm * w;
-        const bool reach = (w > 0.0f) & (z_mm >= 0.0f) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw);
+        const T w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
+        const T lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
+        const T sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
+        const T rw = radius_mm * w;
+        const bool reach = (w > T(0)) & (z_mm >= T(0)) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw);
         for (int m = 0; m < 4; ++m) {
             const bool within_m = reach & (sw_x >= lo[m][0] * w) & (sw_x <= hi[m][0] * w) & (sw_y >= lo[m][1] * w) &
                                   (sw_y <= hi[m][1] * w);
-            outside[m] |= checked[m][i] & int32_t(!within_m);
+            outside[m] |= checked[m][i] & Flag(!within_m);
         }
     }
     for (int m = 0; m < 4; ++m) within[m] = outside[m] == 0;
+}
+
+}  // namespace
+
+LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRayBatch& b,
+                                                const bool* const alive[4], bool within[4]) {
+    rays_within_mirrors<double, int64_t>(checks, b, alive, within);
+}
+
+LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRaysF& b,
+                                                const bool* const alive[4], bool within[4]) {
+    rays_within_mirrors<float, int32_t>(checks, b, alive, within);
 }
 
 std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera, bool open) {

@@ -56,6 +56,9 @@ bool lens_rays_within(const LensPencilCheck& check, const LensRaysF& b, const bo
 // mirrored rays, bit for bit (reflected_check, below).
 void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRaysF& b, const bool* const alive[4],
                               bool within[4]);
+// The same for traced rays, in double (as lens_rays_within's).
+void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRayBatch& b,
+                              const bool* const alive[4], bool within[4]);
 
 // The check that rays pass exactly when their mirror images (mirror bit 0:
 // x turned over, bit 1: y; mirror_lens_rays) pass check: its screen window

@@ -50,6 +50,11 @@ void lens_to_world_rows(const LensToWorldF& t, const LensRaysF& lens, CameraRayR
 // The frame that takes a lens ray to the world as t takes its mirror image
 // (mirror bit 0: the lens frame's x turned over, bit 1: y): right and up
 // turned over instead. The same bits: each is a product's sign.
+inline LensToWorld mirrored_frame(LensToWorld t, unsigned mirror) {
+    if (mirror & 1u) t.world_from_camera.right = t.world_from_camera.right * -1.0;
+    if (mirror & 2u) t.world_from_camera.up = t.world_from_camera.up * -1.0;
+    return t;
+}
 inline LensToWorldF mirrored_frame(LensToWorldF t, unsigned mirror) {
     for (int a = 0; a < 3; ++a) {
         if (mirror & 1u) t.right[a] = -t.right[a];
