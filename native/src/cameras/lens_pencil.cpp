@@ -36,27 +36,59 @@ struct SampledRay {
 
 namespace {
 
-// Both forms' test, in the rays' own precision T (the check's bounds rounded
-// to T once). Division-free: each test multiplied through by w = -dz > 0.
-// Flag as wide as T, so that one loop of both vectorises.
-template <class T, class Flag, class Rays>
-__attribute__((always_inline)) inline bool rays_within(const LensPencilCheck& c, const Rays& b, const bool* alive) {
-    Flag checked[kLensBatch];
-    for (int i = 0; i < kLensBatch; ++i) checked[i] = alive[i];
-    const T pencil_z_mm = T(c.pencil_z_mm), radius_mm = T(c.radius_mm), k_per_mm = T(c.k_per_mm);
-    const T lo_x = T(c.screen_lo[0]), lo_y = T(c.screen_lo[1]), hi_x = T(c.screen_hi[0]), hi_y = T(c.screen_hi[1]);
-    Flag outside = 0;
+// The test of both forms (traced rays, table rays) against M checks at once,
+// in the rays' own precision T (the checks' bounds rounded to T once):
+// within[m], whether every lane alive[m] marks, turned over as mirror m says
+// (reflected_check), lies within checks[m] (null: a mirror with no check,
+// answered true). The checks share their pencil plane, radius and focus (a
+// LensPencils' own), so the rays' arithmetic is done once for all M.
+// Division-free: each test multiplied through by w = -dz > 0. Flag as wide
+// as T, so that the loop vectorises.
+template <class T, class Flag, int M, class Rays>
+__attribute__((always_inline)) inline void rays_within_all(const LensPencilCheck* const checks[M], const Rays& b,
+                                                           const bool* const alive[M], bool within[M]) {
+    const LensPencilCheck* any = nullptr;
+    for (int m = 0; m < M; ++m) any = any ? any : checks[m];
+    for (int m = 0; m < M; ++m) within[m] = true;
+    if (!any) return;
+    // The windows, each reflected for its mirror (a mirror with no check:
+    // the whole screen, and none of its lanes checked).
+    T lo[M][2], hi[M][2];
+    Flag checked[M][kLensBatch];
+    for (int m = 0; m < M; ++m) {
+        const LensPencilCheck c = checks[m] ? reflected_check(*checks[m], unsigned(m)) : LensPencilCheck{};
+        for (int a = 0; a < 2; ++a) {
+            lo[m][a] = checks[m] ? T(c.screen_lo[a]) : -T(INFINITY);
+            hi[m][a] = checks[m] ? T(c.screen_hi[a]) : T(INFINITY);
+        }
+        for (int i = 0; i < kLensBatch; ++i) checked[m][i] = checks[m] ? alive[m][i] : 0;
+    }
+    const T pencil_z_mm = T(any->pencil_z_mm), radius_mm = T(any->radius_mm), k_per_mm = T(any->k_per_mm);
+    Flag outside[M] = {};
     for (int i = 0; i < kLensBatch; ++i) {
         const T w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
         const T lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
         const T sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
         const T rw = radius_mm * w;
         // & rather than &&: no branches, so the loop vectorises
-        const bool within = (w > T(0)) & (z_mm >= T(0)) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw) &
-                            (sw_x >= lo_x * w) & (sw_x <= hi_x * w) & (sw_y >= lo_y * w) & (sw_y <= hi_y * w);
-        outside |= checked[i] & Flag(!within);
+        const bool reach = (w > T(0)) & (z_mm >= T(0)) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw);
+        for (int m = 0; m < M; ++m) {
+            const bool within_m = reach & (sw_x >= lo[m][0] * w) & (sw_x <= hi[m][0] * w) & (sw_y >= lo[m][1] * w) &
+                                  (sw_y <= hi[m][1] * w);
+            outside[m] |= checked[m][i] & Flag(!within_m);
+        }
     }
-    return outside == 0;
+    for (int m = 0; m < M; ++m) within[m] = outside[m] == 0;
+}
+
+// One check (mirror 0: no reflection).
+template <class T, class Flag, class Rays>
+__attribute__((always_inline)) inline bool rays_within(const LensPencilCheck& c, const Rays& b, const bool* alive) {
+    const LensPencilCheck* checks[1] = {&c};
+    const bool* lanes[1] = {alive};
+    bool within[1];
+    rays_within_all<T, Flag, 1>(checks, b, lanes, within);
+    return within[0];
 }
 
 }  // namespace
@@ -69,55 +101,14 @@ LC_BUILT_PER_ISA bool lens_rays_within(const LensPencilCheck& c, const LensRaysF
     return rays_within<float, int32_t>(c, b, alive);
 }
 
-namespace {
-
-// lens_rays_within_mirrors' test in the rays' own precision T, as rays_within.
-template <class T, class Flag, class Rays>
-__attribute__((always_inline)) inline void rays_within_mirrors(const LensPencilCheck* const checks[4], const Rays& b,
-                                                               const bool* const alive[4], bool within[4]) {
-    const LensPencilCheck* any = nullptr;
-    for (int m = 0; m < 4; ++m) any = any ? any : checks[m];
-    if (!any) return;
-    // The windows, each reflected for its mirror (a mirror with no check:
-    // the whole screen, and none of its lanes checked).
-    T lo[4][2], hi[4][2];
-    Flag checked[4][kLensBatch];
-    for (int m = 0; m < 4; ++m) {
-        const LensPencilCheck c = checks[m] ? reflected_check(*checks[m], unsigned(m)) : LensPencilCheck{};
-        for (int a = 0; a < 2; ++a) {
-            lo[m][a] = checks[m] ? T(c.screen_lo[a]) : -T(INFINITY);
-            hi[m][a] = checks[m] ? T(c.screen_hi[a]) : T(INFINITY);
-        }
-        for (int i = 0; i < kLensBatch; ++i) checked[m][i] = checks[m] ? alive[m][i] : 0;
-    }
-    const T pencil_z_mm = T(any->pencil_z_mm), radius_mm = T(any->radius_mm), k_per_mm = T(any->k_per_mm);
-    Flag outside[4] = {0, 0, 0, 0};
-    for (int i = 0; i < kLensBatch; ++i) {
-        // rays_within's arithmetic, once for the four images
-        const T w = -b.dz[i], z_mm = pencil_z_mm - b.oz[i];
-        const T lw_x = b.ox[i] * w - z_mm * b.dx[i], lw_y = b.oy[i] * w - z_mm * b.dy[i];
-        const T sw_x = b.dx[i] + k_per_mm * lw_x, sw_y = b.dy[i] + k_per_mm * lw_y;
-        const T rw = radius_mm * w;
-        const bool reach = (w > T(0)) & (z_mm >= T(0)) & (std::fabs(lw_x) <= rw) & (std::fabs(lw_y) <= rw);
-        for (int m = 0; m < 4; ++m) {
-            const bool within_m = reach & (sw_x >= lo[m][0] * w) & (sw_x <= hi[m][0] * w) & (sw_y >= lo[m][1] * w) &
-                                  (sw_y <= hi[m][1] * w);
-            outside[m] |= checked[m][i] & Flag(!within_m);
-        }
-    }
-    for (int m = 0; m < 4; ++m) within[m] = outside[m] == 0;
-}
-
-}  // namespace
-
 LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRayBatch& b,
                                                 const bool* const alive[4], bool within[4]) {
-    rays_within_mirrors<double, int64_t>(checks, b, alive, within);
+    rays_within_all<double, int64_t, 4>(checks, b, alive, within);
 }
 
 LC_BUILT_PER_ISA void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRaysF& b,
                                                 const bool* const alive[4], bool within[4]) {
-    rays_within_mirrors<float, int32_t>(checks, b, alive, within);
+    rays_within_all<float, int32_t, 4>(checks, b, alive, within);
 }
 
 std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camera, bool open) {
@@ -127,10 +118,7 @@ std::shared_ptr<const LensPencils> LensPencils::of(const LensSystemCamera& camer
     // trace's rays may leave it a little beyond its rim (a band passes them
     // there): the cap to kOpenReach times the semi-aperture.
     const LensElement& front = camera.elements.front();
-    const double h = front.semi_aperture_mm * (open ? kOpenReach : 1.0), c = front.curvature_per_mm;
-    const double sag_mm = c == 0.0               ? 0.0
-                          : std::fabs(c) * h >= 1.0 ? 1.0 / c
-                                                    : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
+    const double sag_mm = rim_sag_mm(front.curvature_per_mm, front.semi_aperture_mm * (open ? kOpenReach : 1.0));
     p->pencil_z_mm_ = front.vertex_z_mm + std::max(sag_mm, 0.0) + 1e-3;
     // The ray table's interpolated origins may lie past the cap (its nodes
     // are traced without the rims, so a node past the rim leaves deeper in

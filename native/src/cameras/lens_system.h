@@ -483,10 +483,8 @@ struct LensSystemCamera {
     // (Scene::camera_candidates), not per packet from the rays' origins.
     void bound_origins(CameraPencil* pencil) const {
         const LensElement& first = elements.front();
-        const double c = first.curvature_per_mm, a = first.semi_aperture_mm;
-        // The sag at the rim (a hemisphere's depth where the rim is past it).
-        const double sag_mm = c * c * a * a < 1.0 ? c * a * a / (1.0 + std::sqrt(1.0 - c * c * a * a)) : 1.0 / c;
-        double radius_mm = a;
+        const double sag_mm = rim_sag_mm(first.curvature_per_mm, first.semi_aperture_mm);
+        double radius_mm = first.semi_aperture_mm;
         double z_lo_mm = first.vertex_z_mm + std::min(0.0, sag_mm), z_hi_mm = first.vertex_z_mm + std::max(0.0, sag_mm);
         if (ray_table) {
             radius_mm = std::max(radius_mm, ray_table->origin_radius_mm);

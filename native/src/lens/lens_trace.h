@@ -59,6 +59,15 @@ inline bool inside_blades(const LensElement& e, double x, double y) {
     return true;
 }
 
+// The sag (mm, along +z from the vertex) of a surface of curvature c at
+// height h from the axis; a hemisphere's depth where h reaches past its radius.
+inline double rim_sag_mm(double curvature_per_mm, double height_mm) {
+    const double c = curvature_per_mm, h = height_mm;
+    return c == 0.0                 ? 0.0
+           : std::fabs(c) * h >= 1.0 ? 1.0 / c
+                                     : c * h * h / (1.0 + std::sqrt(1.0 - c * c * h * h));
+}
+
 struct LensRay {
     Vec3d origin_mm;
     Vec3d direction;  // unit
