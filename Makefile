@@ -31,6 +31,7 @@ bench: install
 	$(PY) bench/bench_quads.py
 	$(PY) bench/bench_native.py
 	$(PY) bench/bench_lens.py
+	$(PY) bench/bench_lens_ceiling.py
 	$(PY) bench/check_lens_ray_table.py
 	$(PY) bench/bench_lens_mirrors.py
 	$(PY) bench/bench_povray.py

@@ -314,6 +314,17 @@ class _Diagnostics(types.ModuleType):
         """(samples, traced, passed) for the given film and lens samples, traced one at a time."""
 
     @staticmethod
+    def lens_stage_seconds(
+        camera: LensSystemCamera,
+        pinhole: PinholeCamera,
+        raster_px: numpy.ndarray,  # float32 (n, 2)
+        lens: numpy.ndarray,  # float32 (n, 2)
+    ) -> tuple[float, float, float, float]:
+        """(sample, trace, whole, pinhole) CPU seconds of this thread for the samples' camera rays in the
+        render loop's batches: film points, pupil picks and aim; the batch trace alone; the lens camera's
+        float rows whole; the pinhole's rows."""
+
+    @staticmethod
     def measure_lens_throughput(camera: LensSystemCamera, n: int, threads: int) -> tuple[float, int, int, int]:
         """(seconds, samples, traced, passed) for n random samples through the lens alone, no scene."""
 

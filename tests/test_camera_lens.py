@@ -84,6 +84,23 @@ def test_fisheye_corners_are_black_and_cost_no_trace():
     assert image.pixels[30, 45].min() > 0.9
 
 
+def test_lens_stage_timing_hook_times_every_stage_and_checks_its_arrays():
+    """bench_lens_ceiling.py's hook: four CPU times, each stage of the lens
+    camera's rays (and the pinhole's) timed, and mismatched arrays refused."""
+    scene = lens_scene("dgauss.50mm")
+    camera = camera_for(scene, "lens").native()
+    pinhole = camera_for(scene, "pinhole").native()
+    rng = np.random.default_rng(1)
+    raster = (rng.random((20000, 2)) * [360, 240]).astype(np.float32)
+    lens_u = rng.random((20000, 2)).astype(np.float32)
+    seconds = diagnostics.lens_stage_seconds(camera, pinhole, raster, lens_u)
+    assert len(seconds) == 4 and all(np.isfinite(s) and s > 0.0 for s in seconds), seconds
+    sample_s, trace_s, whole_s, pinhole_s = seconds
+    assert pinhole_s < whole_s  # a pinhole ray is a few operations; a lens ray, eleven surfaces
+    with pytest.raises(ValueError, match="one lens sample per film sample"):
+        diagnostics.lens_stage_seconds(camera, pinhole, raster, lens_u[:-1])
+
+
 @pytest.mark.parametrize("lens", SHIPPED)
 def test_at_least_90_percent_of_traced_rays_pass_at_full_aperture(lens):
     focus = 10.0 if lens.startswith("telephoto") else 3.0

@@ -26,6 +26,7 @@
 #include "cameras/pinhole.h"
 #include "cameras/thin_lens.h"
 #include "diagnostics/lens_passes.h"
+#include "diagnostics/lens_stages.h"
 #include "diagnostics/raw_throughput.h"
 #include "motion.h"
 #include "samplers.h"
@@ -229,6 +230,19 @@ void bind_lens(nb::module_& m) {
           },
           "camera"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>(),
           "(samples, traced, passed) for the given film and lens samples, traced one at a time.");
+
+    m.def("lens_stage_seconds",
+          [](const LensSystemCamera& camera, const PinholeCamera& pinhole, CArray<const float, -1, 2> raster_px,
+             CArray<const float, -1, 2> lens) {
+              if (lens.shape(0) != raster_px.shape(0)) throw std::invalid_argument("one lens sample per film sample");
+              const LensStageSeconds s =
+                  lens_stage_seconds(camera, pinhole, points(raster_px), points(lens), size_t(raster_px.shape(0)));
+              return std::make_tuple(s.sample, s.trace, s.whole, s.pinhole);
+          },
+          "camera"_a, "pinhole"_a, "raster_px"_a, "lens"_a, nb::call_guard<nb::gil_scoped_release>(),
+          "(sample, trace, whole, pinhole) CPU seconds of this thread for the samples' camera rays in the render "
+          "loop's batches: film points, pupil picks and aim; the batch trace alone; the lens camera's float rows "
+          "whole; the pinhole's rows.");
 
     m.def("measure_lens_throughput",
           [](const LensSystemCamera& camera, uint64_t n, int threads) {
