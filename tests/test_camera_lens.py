@@ -86,7 +86,8 @@ def test_fisheye_corners_are_black_and_cost_no_trace():
 
 def test_lens_stage_timing_hook_times_every_stage_and_checks_its_arrays():
     """bench_lens_ceiling.py's hook: four CPU times, each stage of the lens
-    camera's rays (and the pinhole's) timed, and mismatched arrays refused."""
+    camera's rays (and the pinhole's) timed, and mismatched arrays refused.
+    How they compare is the benchmark's to print, not a test's to assert."""
     scene = lens_scene("dgauss.50mm")
     camera = camera_for(scene, "lens").native()
     pinhole = camera_for(scene, "pinhole").native()
@@ -95,8 +96,6 @@ def test_lens_stage_timing_hook_times_every_stage_and_checks_its_arrays():
     lens_u = rng.random((20000, 2)).astype(np.float32)
     seconds = diagnostics.lens_stage_seconds(camera, pinhole, raster, lens_u)
     assert len(seconds) == 4 and all(np.isfinite(s) and s > 0.0 for s in seconds), seconds
-    sample_s, trace_s, whole_s, pinhole_s = seconds
-    assert pinhole_s < whole_s  # a pinhole ray is a few operations; a lens ray, eleven surfaces
     with pytest.raises(ValueError, match="one lens sample per film sample"):
         diagnostics.lens_stage_seconds(camera, pinhole, raster, lens_u[:-1])
 

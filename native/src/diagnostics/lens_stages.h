@@ -16,8 +16,8 @@ namespace lc {
 // sample (film points, exit-pupil picks and aiming: sample_batch), trace (the
 // batch trace through the elements, on the aimed rays), whole (the render's
 // own float rows, generate_weighted_ray_rows: sample, trace and the step to
-// the world; from the ray table where the camera has one) and pinhole (the pinhole's rows, generate_ray_rows, the same
-// samples).
+// the world; from the ray table where the camera has one) and pinhole (the
+// pinhole's rows, generate_ray_rows, the same samples).
 struct LensStageSeconds {
     double sample = 0.0, trace = 0.0, whole = 0.0, pinhole = 0.0;
 };
