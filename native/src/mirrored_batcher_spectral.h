@@ -1,6 +1,6 @@
 // The spectral form of mirrored_batcher.h: a lens system's canonical
 // samples, each with its four wavelengths, traced once per traced wavelength
-// and reflected into each mirror image. A lens of round surfaces is as
+// and sent to each mirror image through its reflected frame. A lens of round surfaces is as
 // symmetric at every wavelength as at one, so the mirrored rays of a
 // dispersed trace are the dispersed rays of the mirrored samples.
 #pragma once
@@ -25,7 +25,9 @@ class MirroredSpectralBatcher {
     MirroredSpectralBatcher(const LensSystemCamera& camera, const SceneMotion& motion, const SpectralTables& spectra,
                             SpectralPath path, SpectralRayPacket* const* packets)
         : camera_(camera), motion_(motion), spectra_(spectra),
-          dispersed_(path == SpectralPath::RayPerWavelength), to_world_(camera.lens_to_world()) {
+          dispersed_(path == SpectralPath::RayPerWavelength) {
+        const LensToWorld to_world = camera.lens_to_world();
+        for (unsigned m = 0; m < 4; ++m) frames_[m] = mirrored_frame(to_world, m);
         std::copy_n(packets, 4, packets_);
     }
 
@@ -60,15 +62,21 @@ class MirroredSpectralBatcher {
         camera_.trace_each_wavelength(
             staged_.raster_px, staged_.lens, nm, n, traced, nullptr,
             [&](int k, const LensRayBatch& batch, const double* cos_theta, const double* area_mm2) {
+                // As MirroredBatcher::flush: each mirror's frame and check
+                // window reflected, not its rays (the same bits), the four
+                // checks in one pass.
+                const LensPencilCheck* checks[4] = {};
+                const bool* alive[4] = {};
                 for (unsigned m = 0; m < 4; ++m) {
                     if (!any_taken[m]) continue;
-                    const LensRayBatch* rays = &batch;
-                    if (m) mirror_lens_rays(batch, m, &image_), rays = &image_;
-                    mirrored_rows(to_world_, motion_, *rays, cos_theta, area_mm2, n, staged_.time, staged_.taken[m],
-                                  &columns_, &rows_[m][k], weight_[m][k], alive_[m][k]);
-                    if (const LensPencilCheck* check = check_[m].active(); check && within[m])
-                        within[m] = lens_rays_within(*check, *rays, alive_[m][k]);
+                    mirrored_rows(frames_[m], motion_, batch, cos_theta, area_mm2, n, staged_.time,
+                                  staged_.taken[m], &columns_, &rows_[m][k], weight_[m][k], alive_[m][k]);
+                    checks[m] = within[m] ? check_[m].active() : nullptr;
+                    alive[m] = alive_[m][k];
                 }
+                bool passed[4];
+                lens_rays_within_mirrors(checks, batch, alive, passed);
+                for (unsigned m = 0; m < 4; ++m) within[m] = within[m] && passed[m];
                 return static_cast<const bool*>(nullptr);  // no check of its own (null above)
             });
         for (unsigned m = 0; m < 4; ++m) {
@@ -90,10 +98,9 @@ class MirroredSpectralBatcher {
     const SceneMotion& motion_;
     const SpectralTables& spectra_;
     bool dispersed_;
-    LensToWorld to_world_;
+    LensToWorld frames_[4];  // the traced rays to the world, mirror by mirror (mirrored_frame)
     SpectralRayPacket* packets_[4];
     MirroredColumns staged_;
-    LensRayBatch image_;
     CameraRayBatch columns_;  // mirrored_rows' scratch for a moving camera
     CameraRayRows rows_[4][kHeroWavelengths];
     float weight_[4][kHeroWavelengths][kCameraBatch];

@@ -60,10 +60,12 @@ void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const Lens
 void lens_rays_within_mirrors(const LensPencilCheck* const checks[4], const LensRayBatch& b,
                               const bool* const alive[4], bool within[4]);
 
-// The check that rays pass exactly when their mirror images (mirror bit 0:
-// x turned over, bit 1: y; mirror_lens_rays) pass check: its screen window
-// reflected. The test's arithmetic is odd in x and in y, and IEEE rounding
-// is symmetric, so the answers are the same for every ray, not only nearly.
+// The check that rays pass exactly when their mirror images (origins and
+// directions turned over in the lens frame's x for mirror bit 0, in y for
+// bit 1: what the reflected film and pupil points trace to) pass check: its
+// screen window reflected. The test's arithmetic is odd in x and in y, and
+// IEEE rounding is symmetric, so the answers are the same for every ray, not
+// only nearly.
 inline LensPencilCheck reflected_check(LensPencilCheck check, unsigned mirror) {
     for (int a = 0; a < 2; ++a) {
         if (!((mirror >> a) & 1u)) continue;

@@ -61,19 +61,6 @@ inline unsigned lens_mirror_axes(const std::vector<LensElement>& elements) {
     return axes;
 }
 
-// A batch's mirror image: lanes' origins and directions reflected in the
-// lens frame's x (mirror bit 0) and y (bit 1), what tracing the reflected
-// film and pupil points gives for a lens symmetric under them. Rays: the
-// trace's LensRayBatch (double) or the lens-ray table's LensRaysF (float).
-template <class Rays>
-inline void mirror_lens_rays(const Rays& in, unsigned mirror, Rays* out) {
-    *out = in;
-    if (mirror & 1u)
-        for (int i = 0; i < kLensBatch; ++i) out->ox[i] = -in.ox[i], out->dx[i] = -in.dx[i];
-    if (mirror & 2u)
-        for (int i = 0; i < kLensBatch; ++i) out->oy[i] = -in.oy[i], out->dy[i] = -in.dy[i];
-}
-
 static_assert(kLensBatch == kCameraBatch, "generate_ray_batch takes the render loop's whole camera batch");
 
 // How well band_rays' model (lens_system_bands.cpp) holds for a camera:
