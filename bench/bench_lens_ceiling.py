@@ -17,10 +17,10 @@ Gauss wide open, one thread (so CPU time is the render's time), best of
 - P: a one-thread render's seconds per sample (``metadata["seconds"]``, the
   render alone), pinhole and lens system traced alternating;
 - L and p: ``diagnostics.lens_stage_seconds`` on render-order samples
-  (16-pixel tiles, ``--camera-spp`` samples of a pixel in a row, a few dozen
-  batches at a time so that they stay in cache): the lens camera's picks and
-  aim, its batch trace alone and its float rows whole (L), and the pinhole's
-  rows (p), as the render's packets take them.
+  (``render_order.py``: 16-pixel tiles, ``--camera-spp`` samples of a pixel
+  in a row, a few dozen batches at a time so that they stay in cache): the
+  lens camera's picks and aim, its batch trace alone and its float rows
+  whole (L), and the pinhole's rows (p), as the render's packets take them.
 
 Prints one JSON object. Not a test. Usage::
 
@@ -34,8 +34,6 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
@@ -43,22 +41,10 @@ from lenscompare._native import diagnostics  # noqa: E402
 from lenscompare.cameras import camera_for  # noqa: E402
 from lenscompare.render import render  # noqa: E402
 from lenscompare.scene import load_scene  # noqa: E402
+from render_order import render_order_samples  # noqa: E402
 
 LENS = "dgauss.50mm"
-TILE_PX = 16
 GOAL = 0.85
-
-
-def render_order_samples(width_px, height_px, *, samples_per_pixel, seed):
-    """Raster points tile by tile, pixel by pixel, samples_per_pixel in a row; lens samples uniform."""
-    rng = np.random.default_rng(seed)
-    pixels = [(tx + x, ty + y)
-              for ty in range(0, height_px, TILE_PX) for tx in range(0, width_px, TILE_PX)
-              for y in range(min(TILE_PX, height_px - ty)) for x in range(min(TILE_PX, width_px - tx))]
-    corners = np.repeat(np.array(pixels, float), samples_per_pixel, axis=0)
-    raster = (corners + rng.random(corners.shape)).astype(np.float32)
-    lens = rng.random(corners.shape).astype(np.float32)
-    return raster, lens
 
 
 def main() -> int:

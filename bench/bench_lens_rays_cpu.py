@@ -39,22 +39,11 @@ from lenscompare._native import diagnostics  # noqa: E402
 from lenscompare.cameras import camera_for  # noqa: E402
 from lenscompare.cameras.lens_ray_table import TABLE_CELLS  # noqa: E402
 from lenscompare.scene import load_scene  # noqa: E402
+from render_order import render_order_samples  # noqa: E402
 
 LENS = "dgauss.50mm"
-WIDTH_PX, HEIGHT_PX, TILE_PX = 240, 160, 16
+WIDTH_PX, HEIGHT_PX = 240, 160
 PRECISIONS = ("single", "double")
-
-
-def render_order_samples(*, samples_per_pixel, seed):
-    """Raster points tile by tile, pixel by pixel, samples_per_pixel in a row; lens samples uniform."""
-    rng = np.random.default_rng(seed)
-    pixels = [(tx + x, ty + y)
-              for ty in range(0, HEIGHT_PX, TILE_PX) for tx in range(0, WIDTH_PX, TILE_PX)
-              for y in range(TILE_PX) for x in range(TILE_PX)]
-    corners = np.repeat(np.array(pixels, float), samples_per_pixel, axis=0)
-    raster = (corners + rng.random(corners.shape)).astype(np.float32)
-    lens = rng.random(corners.shape).astype(np.float32)
-    return raster, lens
 
 
 def main() -> int:
@@ -65,7 +54,7 @@ def main() -> int:
 
     scene = load_scene(ROOT / "reference_scenes" / "showcase.toml").with_camera(resolution=(WIDTH_PX, HEIGHT_PX))
     camera = camera_for(scene.with_camera(lens=LENS, f_number=None), "lens").native()
-    raster, lens = render_order_samples(samples_per_pixel=args.samples_per_pixel, seed=3)
+    raster, lens = render_order_samples(WIDTH_PX, HEIGHT_PX, samples_per_pixel=args.samples_per_pixel, seed=3)
     n = len(raster)
     out = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.float32)
     kernels = diagnostics.lens_trace_kernels()
