@@ -1,8 +1,8 @@
 // The spectral form of mirrored_batcher.h: a lens system's canonical
 // samples, each with its four wavelengths, traced once per traced wavelength
-// and sent to each mirror image through its reflected frame. A lens of round surfaces is as
-// symmetric at every wavelength as at one, so the mirrored rays of a
-// dispersed trace are the dispersed rays of the mirrored samples.
+// and sent to each mirror image through its reflected frame. A lens of round
+// surfaces is as symmetric at every wavelength as at one, so the mirrored
+// rays of a dispersed trace are the dispersed rays of the mirrored samples.
 #pragma once
 
 #include <algorithm>
