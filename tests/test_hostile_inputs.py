@@ -524,3 +524,38 @@ def test_a_bad_glass_column_is_exit_2_naming_the_line(tmp_path, main, capsys, mi
                  "--model", "lens"]) == 2
     assert words in one_error_line(capsys.readouterr().err)
     assert not (tmp_path / "o.exr").exists()
+
+
+# A stop behind every element that the elements magnify: its image, the entrance pupil, is 65.9
+# mm across behind a 29.3 mm front element, so the lens's own f-number is f/0.388 (found by
+# rendering random prescriptions, session 55).
+MAGNIFIED_STOP = """inf 3.4942 1.5626 29.2692
+-367.14416265419106 2.3611 1 29.2692
+-378.7289480928532 4.2784 1.8091 29.2692
+inf 2.3917 1 29.2692
+257.9532606952384 10.1567 1.8992 29.2692
+-22.42024360684536 6.9762 1 29.2692
+-183.533554493709 5.0030 1.8716 29.2692
+-1000000000.0 5.8533 1 29.2692
+0 0 0 23.4153
+"""
+
+
+def test_a_lens_whose_own_stop_is_faster_than_f_0_5_is_exit_2_naming_the_lens(tmp_path, main, capsys,
+                                                                                minimal_scene_text):
+    """The f-number came from the lens, not from the scene: the error names the lens file, why,
+    and the key that renders it; with camera.f_number set the same lens renders."""
+    lens = tmp_path / "magnified_stop.dat"
+    lens.write_text(MAGNIFIED_STOP)
+    scene = tmp_path / "s.toml"
+    scene.write_text(minimal_scene_text.replace("f_number = 2.8\n", ""))
+    out = tmp_path / "o.exr"
+    assert main(["render", str(scene), "-o", str(out), "--lens", str(lens), "--model", "lens"]) == 2
+    line = one_error_line(capsys.readouterr().err)
+    assert f"camera.lens: lens magnified_stop ({lens}): its stop images to an entrance pupil 65.92 mm across, " \
+           "wider than its front element (29.27 mm): f/0.388" in line, line
+    assert "set camera.f_number to stop it down" in line
+    assert not out.exists()
+    scene.write_text(minimal_scene_text.replace("f_number = 2.8\n", "f_number = 4.0\n"))
+    assert main(["render", str(scene), "-o", str(out), "--lens", str(lens), "--model", "lens", "--spp", "4"]) == 0
+    assert out.exists()

@@ -158,6 +158,16 @@ def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
         unusable.
     """
     if camera.f_number is not None and not camera.f_number >= MIN_F_NUMBER:  # values set in code, not by a file
+        lens = scene.camera.lens
+        if scene.camera.f_number is None and lens is not None:
+            # The lens's own stop, not a number the scene wrote: say so, and how to render it.
+            front_mm = 2.0 * lens.surfaces[0].semi_aperture_mm
+            wider = (f", wider than its front element ({front_mm:.4g} mm)"
+                     if camera.aperture_diameter_mm > front_mm else "")
+            raise InputError(scene.source, f"lens {lens.name} ({lens.source}): its stop images to an entrance pupil "
+                             f"{camera.aperture_diameter_mm:.4g} mm across{wider}: f/{camera.f_number:.3g}, faster "
+                             f"than any lens in air (f/{MIN_F_NUMBER:g}); set camera.f_number to stop it down",
+                             key="camera.lens")
         raise InputError(scene.source, f"f/{camera.f_number:g} is faster than any lens in air (f/{MIN_F_NUMBER:g})",
                          key="camera.f_number")
     if camera.f_number is not None and not camera.f_number <= MAX_F_NUMBER:
