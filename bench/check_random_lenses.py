@@ -7,12 +7,15 @@ centre calibration, the tile pencils, and at random the ray table, mirrored
 rays, a spectral render and a bladed stop. Each prescription has 1-4 singlets
 and a stop (radii inf, 1e9 or 1.05-400 x the clear radius; thicknesses 0.5-12
 mm, gaps 0-10 mm; n 1.4-1.95); those with a focal length under 5 mm are
-skipped. Every render must give finite, non-negative pixels or an InputError
+skipped. With ``--planner`` each scene is planned and rendered as
+``--model auto`` renders it (``render_planned``, a tolerance of 0.1, 0.5 or
+2 px, spectral at random): the planner sizes every effect through the lens
+first. Every render must give finite, non-negative pixels or an InputError
 (the scene or lens refused, exit 2 on the command line); anything else is
 printed and counted as bad. Runs for ``--seconds``; prints one JSON object.
 Not a test. Usage::
 
-    python bench/check_random_lenses.py [--seed 1] [--seconds 150]
+    python bench/check_random_lenses.py [--seed 1] [--seconds 150] [--planner]
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ sys.path.insert(0, str(ROOT))
 
 from lenscompare.errors import InputError  # noqa: E402
 from lenscompare.lenses import paraxial_data, parse_prescription  # noqa: E402
+from lenscompare.plan import render_planned  # noqa: E402
 from lenscompare.render import render  # noqa: E402
 from lenscompare.scene import parse_scene  # noqa: E402
 
@@ -86,11 +90,13 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--seconds", type=float, default=150.0)
+    parser.add_argument("--planner", action="store_true", help="plan each scene and render what the plan asks")
     args = parser.parse_args()
 
     rng = random.Random(args.seed)
     start = time.time()
     rendered = refused = bad = 0
+    models: dict[str, int] = {}
     while time.time() - start < args.seconds:
         data = random_prescription(rng)
         try:
@@ -99,8 +105,11 @@ def main() -> int:
                 continue
         except InputError:
             continue
-        options = dict(lens_rays=rng.choice([None, "table"]), lens_mirrors=rng.random() < 0.3,
-                       spectral=rng.random() < 0.25)
+        if args.planner:
+            options = dict(spectral=rng.random() < 0.3, tolerance_px=rng.choice([0.1, 0.5, 2.0]))
+        else:
+            options = dict(lens_rays=rng.choice([None, "table"]), lens_mirrors=rng.random() < 0.3,
+                           spectral=rng.random() < 0.25)
         blades = rng.choice([0, 0, 5, 6])
         focus_m = rng.choice([0.2, 0.5, 2.0, 10.0, 1e6])
         with tempfile.TemporaryDirectory() as folder:
@@ -109,8 +118,14 @@ def main() -> int:
             text = SCENE.format(lens=lens, focus_m=focus_m,
                                 blades=f"aperture_blades = {blades}\n" if blades else "")
             try:
-                image = render(parse_scene(text), spp=4, threads=2, progress=False, seed=rng.randint(0, 1000),
-                               **options)
+                if args.planner:
+                    image = render_planned(parse_scene(text), tolerance_px=options["tolerance_px"], spp=4, threads=2,
+                                           progress=False, spectral=options["spectral"])
+                    model = image.metadata["plan"]["model"]
+                    models[model] = models.get(model, 0) + 1
+                else:
+                    image = render(parse_scene(text), spp=4, threads=2, progress=False, seed=rng.randint(0, 1000),
+                                   **options)
                 rendered += 1
                 if not (np.all(np.isfinite(image.pixels)) and np.all(image.pixels >= 0)):
                     bad += 1
@@ -122,7 +137,8 @@ def main() -> int:
                 print("exception:", options, blades, focus_m, data, file=sys.stderr)
                 traceback.print_exc()
     print(json.dumps({"check": "renders through random lens prescriptions", "seed": args.seed,
-                      "seconds": args.seconds, "rendered": rendered, "refused": refused, "bad": bad}, indent=2))
+                      "seconds": args.seconds, "planner": args.planner, "rendered": rendered, "refused": refused,
+                      "bad": bad, "planned_models": models}, indent=2))
     return 1 if bad else 0
 
 

@@ -5,6 +5,7 @@ import json
 
 import pytest
 
+from lenscompare.lenses import load_prescription, paraxial_data
 from lenscompare.metrics import find_point_sources, relative_illumination_at
 from lenscompare.plan import plan_scene, render_planned
 from lenscompare.plan.prediction import compare_predictions
@@ -48,6 +49,21 @@ def test_close_up_at_f_1_4_plans_thin_and_the_pinhole_would_miss_the_blur():
     # The largest blur disk measured matches the prediction; the pinhole has none of it.
     assert max(thin) == pytest.approx(predicted, rel=0.08)
     assert max(thin) - max(pinhole) > plan.tolerance_px
+
+
+def test_a_lens_scene_without_an_f_number_renders_the_planned_thin_lens_at_the_lens_s_own():
+    """The plan sizes defocus at the lens's own f-number, wide open, when the scene gives none;
+    --model auto then renders the thin lens it chose at that f-number (it had stopped with
+    "camera.f_number: required for the thin model": session 55, found by planning random lenses)."""
+    scene = point_scene([0.5, 0.8, 1.6], f_number=2.0, focus_m=0.8)
+    scene = scene.with_camera(lens=load_prescription("dgauss.50mm"), f_number=None)
+    plan = plan_scene(scene, tolerance_px=3.0, tolerance_percent=100.0, measure_costs=False)
+    assert plan.model == "thin" and plan.needed["defocus"] and not plan.needed["aberrations"]
+    image = render_planned(scene, plan=plan, threads=2, progress=False)
+    assert image.metadata["camera"]["f_number"] == pytest.approx(paraxial_data(scene.camera.lens).f_number,
+                                                                 rel=1e-12)
+    predicted = plan.effects["defocus"].magnitude
+    assert max(measured_diameters(image)) == pytest.approx(predicted, rel=0.15)
 
 
 def flat_field(lens, *, focus_m, f_number=None, resolution=(96, 64)):

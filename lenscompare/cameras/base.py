@@ -20,7 +20,8 @@ from ..limits import MAX_F_NUMBER, MIN_F_NUMBER
 from ..units import mm_from_m
 from .frame import CameraFrame, Film
 
-__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable", "check_camera_numbers"]
+__all__ = ["CameraModel", "require", "scene_focal_length_mm", "check_focus_reachable", "check_camera_numbers",
+           "lens_f_number"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -143,6 +144,30 @@ def check_focus_reachable(scene, focal_length_mm: float) -> None:
                          f"{focal_length_mm:g} mm", key="camera.focus_distance")
 
 
+def lens_f_number(scene) -> float | None:
+    """The f-number the ideal models take for ``scene``: its own, else its
+    lens's wide open (paraxial, from the lens's stop), else None.
+
+    Raises
+    ------
+    InputError
+        Naming ``camera.lens``, when the lens's own stop is faster than any
+        lens in air: the elements before it magnify it (an entrance pupil
+        wider than the front element), and ``camera.f_number`` stops it down.
+    """
+    lens = scene.camera.lens
+    if scene.camera.f_number is not None or lens is None:
+        return scene.camera.f_number
+    data = paraxial_data(lens)
+    if not data.f_number >= MIN_F_NUMBER:
+        pupil_mm, front_mm = data.entrance_pupil_diameter_mm, 2.0 * lens.surfaces[0].semi_aperture_mm
+        wider = f", wider than its front element ({front_mm:.4g} mm)" if pupil_mm > front_mm else ""
+        raise InputError(scene.source, f"lens {lens.name} ({lens.source}): its stop images to an entrance pupil "
+                         f"{pupil_mm:.4g} mm across{wider}: f/{data.f_number:.3g}, faster than any lens in air "
+                         f"(f/{MIN_F_NUMBER:g}); set camera.f_number to stop it down", key="camera.lens")
+    return data.f_number
+
+
 def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
     """``camera``, after checking that every number the native tracer and
     POV-Ray will read from it is finite (and positive where it must be).
@@ -157,17 +182,9 @@ def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
         Naming the scene file, ``camera`` and the quantity that came out
         unusable.
     """
+    if scene.camera.f_number is None and scene.camera.lens is not None:
+        lens_f_number(scene)  # the lens's own stop: refused naming the lens
     if camera.f_number is not None and not camera.f_number >= MIN_F_NUMBER:  # values set in code, not by a file
-        lens = scene.camera.lens
-        if scene.camera.f_number is None and lens is not None:
-            # The lens's own stop, not a number the scene wrote: say so, and how to render it.
-            front_mm = 2.0 * lens.surfaces[0].semi_aperture_mm
-            wider = (f", wider than its front element ({front_mm:.4g} mm)"
-                     if camera.aperture_diameter_mm > front_mm else "")
-            raise InputError(scene.source, f"lens {lens.name} ({lens.source}): its stop images to an entrance pupil "
-                             f"{camera.aperture_diameter_mm:.4g} mm across{wider}: f/{camera.f_number:.3g}, faster "
-                             f"than any lens in air (f/{MIN_F_NUMBER:g}); set camera.f_number to stop it down",
-                             key="camera.lens")
         raise InputError(scene.source, f"f/{camera.f_number:g} is faster than any lens in air (f/{MIN_F_NUMBER:g})",
                          key="camera.f_number")
     if camera.f_number is not None and not camera.f_number <= MAX_F_NUMBER:

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..cameras import COLOR_PARTS, COMPOSITE_EFFECTS, camera_for
+from ..cameras.base import lens_f_number
 from ..cameras.lens_ray_table import TOLERANCE_PX as RAY_TABLE_TOLERANCE_PX
 from ..image import Image
 from ..postfilter import pinhole_pass_spp, postfilter_suffices
@@ -230,6 +231,10 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
         # The lens system's rays from a table: checked before the render to stay within
         # RAY_TABLE_TOLERANCE_PX of the traced ones (else it traces), inside the plan's tolerance.
         render_options["lens_rays"] = "table"
+    if plan.model in ("thin", "thick", "postfilter", "composite"):
+        # The f-number the plan sized their blur at: a scene naming a lens and no f-number
+        # gets its lens's own, wide open, as the lens system renders it (ideal_camera).
+        scene = scene.with_camera(f_number=lens_f_number(scene))
     if plan.model == "composite":
         image = render(scene, model="composite", effects=plan.composite_effects, **render_options)
     else:

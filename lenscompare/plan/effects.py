@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 
 from ..cameras import CameraModel, camera_for
+from ..cameras.base import lens_f_number
 from ..errors import InputError
 from ..lenses import (
     chief_ray_distortion_percent,
@@ -15,7 +16,6 @@ from ..lenses import (
     image_circle_radius_mm,
     lateral_color_mm,
     longitudinal_color_blur_mm,
-    paraxial_data,
     point_source_spot_mm,
     pupil_relative_illumination,
     stopped_down,
@@ -51,9 +51,7 @@ def ideal_camera(scene: Scene) -> CameraModel:
     """The camera the effects are sized against: the thin lens at the scene's
     f-number (its lens's own, wide open, when the scene gives none), or the
     pinhole when there is no aperture at all."""
-    f_number = scene.camera.f_number
-    if f_number is None and scene.camera.lens is not None:
-        f_number = paraxial_data(scene.camera.lens).f_number
+    f_number = lens_f_number(scene)
     if f_number is None:
         return camera_for(scene, "pinhole")
     return camera_for(scene.with_camera(f_number=f_number), "thin")
