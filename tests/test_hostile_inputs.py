@@ -544,7 +544,8 @@ inf 2.3917 1 29.2692
 def test_a_lens_whose_own_stop_is_faster_than_f_0_5_is_exit_2_naming_the_lens(tmp_path, main, capsys,
                                                                                 minimal_scene_text):
     """The f-number came from the lens, not from the scene: the error names the lens file, why,
-    and the key that renders it; with camera.f_number set the same lens renders."""
+    and the key that renders it; the pinhole, which takes no f-number, renders the scene, and
+    with camera.f_number set the lens system does."""
     lens = tmp_path / "magnified_stop.dat"
     lens.write_text(MAGNIFIED_STOP)
     scene = tmp_path / "s.toml"
@@ -556,6 +557,9 @@ def test_a_lens_whose_own_stop_is_faster_than_f_0_5_is_exit_2_naming_the_lens(tm
            "wider than its front element (29.27 mm): f/0.388" in line, line
     assert "set camera.f_number to stop it down" in line
     assert not out.exists()
+    # The pinhole takes no f-number: the same scene renders through it.
+    assert main(["render", str(scene), "-o", str(out), "--lens", str(lens), "--model", "pinhole", "--spp", "4"]) == 0
+    out.unlink()
     scene.write_text(minimal_scene_text.replace("f_number = 2.8\n", "f_number = 4.0\n"))
     assert main(["render", str(scene), "-o", str(out), "--lens", str(lens), "--model", "lens", "--spp", "4"]) == 0
     assert out.exists()

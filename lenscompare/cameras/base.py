@@ -182,9 +182,9 @@ def check_camera_numbers(camera: CameraModel, scene) -> CameraModel:
         Naming the scene file, ``camera`` and the quantity that came out
         unusable.
     """
-    if scene.camera.f_number is None and scene.camera.lens is not None:
-        lens_f_number(scene)  # the lens's own stop: refused naming the lens
     if camera.f_number is not None and not camera.f_number >= MIN_F_NUMBER:  # values set in code, not by a file
+        if scene.camera.f_number is None and scene.camera.lens is not None:
+            lens_f_number(scene)  # the lens's own stop: refused naming the lens
         raise InputError(scene.source, f"f/{camera.f_number:g} is faster than any lens in air (f/{MIN_F_NUMBER:g})",
                          key="camera.f_number")
     if camera.f_number is not None and not camera.f_number <= MAX_F_NUMBER:
