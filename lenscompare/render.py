@@ -51,7 +51,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
            camera: CameraModel | None = None, effects=None, spectral: bool | None = None,
            traced_wavelengths: int | None = None, sample_wavelengths: bool = False,
            postfilter_per_pixel_spp: bool = False,
-           postfilter_uniform_pass: bool = False, lens_mirrors: bool = False,
+           postfilter_uniform_pass: bool = False, lens_mirrors: bool | None = None,
            lens_rays: str | None = None, lens_bands: bool = True, band_roulette: bool = True) -> Image:
     """Render ``scene`` with the native tracer.
 
@@ -119,8 +119,8 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         accurate as before, but the four pixels' errors are correlated: a
         measure that averages mirror-image pixels (a radial vignetting
         profile, an on-axis blur disk) gains nothing from averaging them.
-        Off by default; ``LENSCOMPARE_LENS_MIRRORS=1`` turns it on for
-        every lens system.
+        Overrides ``[render] lens_mirrors``; off when neither says
+        (``LENSCOMPARE_LENS_MIRRORS=1`` turns it on for every lens system).
     lens_rays : {'traced', 'table'}, optional
         Override ``[render] lens_rays``: ``lens`` renders only, each
         sample's ray traced through every surface (``traced``, the default
@@ -170,7 +170,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
     if model not in RENDERABLE_MODELS:
         raise InputError("--model", f"expected one of {', '.join(RENDERABLE_MODELS)}, got {model!r}")
     scene = scene.with_render(spp=spp, sampler=sampler, seed=seed, adaptive=adaptive, diffraction=diffraction,
-                              spectral=spectral, lens_rays=lens_rays)
+                              spectral=spectral, lens_rays=lens_rays, lens_mirrors=lens_mirrors)
     settings = scene.render
     if not 1 <= settings.spp <= MAX_SPP:
         raise InputError("--spp", f"expected an integer from 1 to {MAX_SPP:,}, got {settings.spp}")
@@ -206,7 +206,7 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         settings = scene.with_render(spp=pinhole_pass_spp(settings.spp)).render
         pinhole = camera_for(scene, "pinhole")
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
-    if lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
+    if settings.lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
         native_camera.mirror_axes = native_camera.symmetric_mirror_axes
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,

@@ -120,6 +120,9 @@ class RenderSettings:
     # The lens system's rays: "traced" or "table" (not a dispersive lens's spectral renders; LENS_RAYS); None, not given:
     # traced, but --model auto may take the table when its check is within the plan's tolerance.
     lens_rays: str | None = None
+    # The lens system's mirror-image pixels take one traced set of samples, reflected (render's
+    # lens_mirrors); None, not given: off, but --model auto may turn it on for a lens-system plan.
+    lens_mirrors: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -387,7 +390,7 @@ def _read_lens(t: Table, base_dir: Path | None) -> Prescription | None:
 
 def _read_render(t: Table) -> RenderSettings:
     t.check_keys(["spp", "sampler", "seed", "disk_mapping", "adaptive", "diffraction", "effects", "shutter",
-                  "spectral", "lens_rays"])
+                  "spectral", "lens_rays", "lens_mirrors"])
     defaults = RenderSettings()
     return RenderSettings(
         spp=t.integer("spp", default=defaults.spp, minimum=1, maximum=MAX_SPP),
@@ -400,6 +403,7 @@ def _read_render(t: Table) -> RenderSettings:
         shutter_s=_read_shutter(t),
         spectral=t.boolean("spectral", default=defaults.spectral),
         lens_rays=t.string("lens_rays", default=defaults.lens_rays, choices=LENS_RAYS),
+        lens_mirrors=t.boolean("lens_mirrors", default=defaults.lens_mirrors),
     )
 
 

@@ -6,7 +6,8 @@ import math
 import pytest
 
 from lenscompare.cost import CostSettings, run_cost_study, time_table_rows
-from lenscompare.cost.study import TABLE_SERIES, fitted_slope, pareto_front, povray_series_wanted, time_to_error
+from lenscompare.cost.study import (TABLE_MIRRORED_SERIES, TABLE_SERIES, fitted_slope, pareto_front,
+                                    povray_series_wanted, time_to_error)
 from lenscompare.scene import load_scene
 
 from helpers import REFERENCE_SCENES, run_cli
@@ -144,10 +145,13 @@ def test_study_with_the_lens_system_gains_the_composite_rows(tmp_path):
     assert len(rows) == 1 and "composites" in (tmp_path / "a" / "index.html").read_text()
     # The lens system's rays from a table: a series of its own, scored against the traced lens's image.
     lens = results["scenes"]["flat_field"]["models"]["lens"]
-    assert set(lens) == {"jittered", TABLE_SERIES}
-    traced, table = (lens[k]["points"][-1] for k in ("jittered", TABLE_SERIES))
-    assert table["spp"] == traced["spp"] and table["relative_rmse"] < 2 * traced["relative_rmse"] + 1e-3
-    assert any(row[1] == "lens" and row[2] == TABLE_SERIES for row in time_table_rows(results))
+    assert set(lens) == {"jittered", TABLE_SERIES, TABLE_MIRRORED_SERIES}
+    traced, table, mirrored = (lens[k]["points"][-1] for k in ("jittered", TABLE_SERIES, TABLE_MIRRORED_SERIES))
+    for fast in (table, mirrored):
+        assert fast["spp"] == traced["spp"] and fast["relative_rmse"] < 2 * traced["relative_rmse"] + 1e-3
+    assert mirrored["relative_rmse"] != table["relative_rmse"]  # the mirrors are on: another image
+    for series in (TABLE_SERIES, TABLE_MIRRORED_SERIES):
+        assert any(row[1] == "lens" and row[2] == series for row in time_table_rows(results))
 
 
 def test_quick_study_times_pov_ray_on_still_scenes_only():

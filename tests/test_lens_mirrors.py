@@ -12,6 +12,7 @@ that traces every sample (differences within the two renders' own noise).
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -190,3 +191,52 @@ def test_render_option_and_metadata():
     # the mirrored image is exactly what the native bands give with the mirrors set
     camera = with_mirrors_on(camera_for(scene, "lens").native())
     np.testing.assert_array_equal(np.asarray(on.pixels), render_bands(scene, camera, [(0, 22)], spp=4)[0])
+
+
+def test_scene_key_and_command_line_flag(tmp_path):
+    """[render] lens_mirrors and render --lens-mirrors turn the mirrors on; an
+    explicit false (scene or caller) keeps them off; a non-boolean is refused
+    naming the key."""
+    import json
+    import subprocess
+    import sys
+
+    from lenscompare.errors import InputError
+    from lenscompare.render import render
+    text = PEERS.read_text().replace("[render]", "[render]\nlens_mirrors = true", 1)
+    path = tmp_path / "mirrored.toml"
+    path.write_text(text)
+    scene = load_scene(path).with_camera(lens="dgauss.50mm", f_number=None, resolution=(32, 22), focal_length_mm=None)
+    assert scene.render.lens_mirrors is True
+    options = dict(model="lens", spp=2, seed=3, threads=1, progress=False)
+    assert render(scene, **options).metadata["lens_mirror_axes"] == 3
+    assert "lens_mirror_axes" not in render(scene, lens_mirrors=False, **options).metadata
+    path.write_text(PEERS.read_text().replace("[render]", '[render]\nlens_mirrors = "yes"', 1))
+    with pytest.raises(InputError, match="render.lens_mirrors"):
+        load_scene(path)
+    # The command line: the flag on a scene that does not set the key.
+    plain = tmp_path / "plain.toml"
+    plain.write_text(PEERS.read_text().replace("resolution = [240, 160]", "resolution = [48, 32]", 1)
+                     .replace("f_number = 2.0", "f_number = 4.0", 1))  # the Double Gauss opens to f/2.03
+    out = tmp_path / "out.exr"
+    base = [sys.executable, "-m", "lenscompare", "render", str(plain), "-o", str(out), "--model", "lens",
+            "--lens", "dgauss.50mm", "--spp", "1", "--threads", "1", "--json"]
+    for flag, axes in (([], None), (["--lens-mirrors"], 3)):
+        done = subprocess.run(base + flag, capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        assert json.loads(done.stdout).get("lens_mirror_axes") == axes
+
+
+def test_model_auto_mirrors_a_lens_system_plan_unless_told_or_measuring_mirror_images():
+    from lenscompare.plan import plan_scene, render_planned
+    scene = load_scene(ROOT / "lenscompare" / "reference_scenes" / "showcase.toml").with_camera(
+        lens="dgauss.50mm", f_number=None, resolution=(240, 160), focal_length_mm=None).with_render(spp=1)
+    assert plan_scene(scene, measure_costs=False).model == "lens"  # aberrations 1.3 px: no composite
+    options = dict(threads=1, progress=False)
+    assert render_planned(scene, **options).metadata["lens_mirror_axes"] == 3
+    for told in (scene.with_render(lens_mirrors=False), scene):
+        kwargs = {"lens_mirrors": False} if told is scene else {}
+        assert "lens_mirror_axes" not in render_planned(told, **options, **kwargs).metadata
+    for measure in ("vignetting", "blur_disks", "distortion"):
+        measuring = dataclasses.replace(scene, measure=("similarity", measure))
+        assert "lens_mirror_axes" not in render_planned(measuring, **options).metadata

@@ -47,6 +47,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lens-rays", choices=LENS_RAYS,
                    help="--model lens: trace every sample's ray (traced, the default) or interpolate a "
                         "table of rays traced once (table: faster, rays within hundredths of a pixel)")
+    p.add_argument("--lens-mirrors", action="store_true", default=None,
+                   help="--model lens: a pixel and its mirror images across the film's centre lines share one "
+                        "traced set of samples, reflected (about 1.5x faster; their noise is correlated)")
     p.add_argument("--adaptive", action="store_true", default=None,
                    help="spp is the mean: a first pass finds the noisy pixels, the rest of the samples go there")
     p.add_argument("--diffraction", action="store_true", default=None,
@@ -60,7 +63,8 @@ def run(args) -> int:
     output = check_output_suffix(args.output, ".exr")  # before the work: a read-only folder fails now
     scene = with_lens_option(load_scene_argument(args.scene), args.lens)
     options = dict(spp=args.spp, sampler=args.sampler, seed=args.seed, threads=args.threads, adaptive=args.adaptive,
-                   diffraction=args.diffraction, lens_rays=args.lens_rays)
+                   diffraction=args.diffraction, lens_rays=args.lens_rays,
+                   lens_mirrors=args.lens_mirrors)
     if args.effects is not None and args.model is not None:
         raise InputError("--effects", f"renders a composite of exactly those effects; leave out --model {args.model}")
     if args.model == "auto":  # simulate only what the scene calls for

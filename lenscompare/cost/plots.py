@@ -6,12 +6,13 @@ import warnings
 from pathlib import Path
 
 from ..atomic import atomic_output
-from .study import TABLE_SERIES, TARGET_RELATIVE_RMSE, pareto_front
+from .study import TABLE_MIRRORED_SERIES, TABLE_SERIES, TARGET_RELATIVE_RMSE, pareto_front
 
 __all__ = ["plot_error_vs_time"]
 
 SAMPLER_STYLE = {"random": ("#7f7f7f", "o"), "jittered": ("#1f77b4", "s"), "regular": ("#ff7f0e", "^"),
-                 "poisson": ("#2ca02c", "D"), "sobol": ("#d62728", "v"), TABLE_SERIES: ("#9467bd", "P")}
+                 "poisson": ("#2ca02c", "D"), "sobol": ("#d62728", "v"), TABLE_SERIES: ("#9467bd", "P"),
+                 TABLE_MIRRORED_SERIES: ("#8c564b", "X")}
 
 
 def plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:

@@ -33,6 +33,10 @@ TARGET_RELATIVE_RMSE = 0.01
 # ([render] lens_rays = "table"): its error, against the traced lens's
 # converged image, holds the table's own besides the noise.
 TABLE_SERIES = "jittered, ray table"
+# The same with mirrored rays (render's lens_mirrors): the lens system's fastest path, what
+# --model auto renders for a lens-system plan. Each pixel's error is the table series'; mirror
+# images' errors are one error.
+TABLE_MIRRORED_SERIES = "jittered, ray table, mirrored"
 
 
 @dataclass(frozen=True)
@@ -140,17 +144,18 @@ def study_scene(scene: Scene, settings: CostSettings, *, progress=None, cluster:
 
 def study_series(model: str, settings: CostSettings) -> tuple[str, ...]:
     """The model's series: one per sampler, and for the lens system the jittered
-    sampler again with its rays from a table (:data:`TABLE_SERIES`)."""
+    sampler again with its rays from a table (:data:`TABLE_SERIES`), and from
+    the table with mirrored rays (:data:`TABLE_MIRRORED_SERIES`)."""
     if model == "lens" and "jittered" in settings.samplers:
-        return (*settings.samplers, TABLE_SERIES)
+        return (*settings.samplers, TABLE_SERIES, TABLE_MIRRORED_SERIES)
     return settings.samplers
 
 
 def _render_options(model: str, series: str, spp: int) -> dict:
     """render()'s keywords for one point of a series."""
     options = {"model": model, "spp": spp, "sampler": series, "seed": 0, "progress": False}
-    if series == TABLE_SERIES:  # scored against the traced lens system's converged image
-        options.update(sampler="jittered", lens_rays="table")
+    if series in (TABLE_SERIES, TABLE_MIRRORED_SERIES):  # scored against the traced lens system's converged image
+        options.update(sampler="jittered", lens_rays="table", lens_mirrors=series == TABLE_MIRRORED_SERIES)
     return options
 
 

@@ -27,7 +27,12 @@ from ..render import render
 from ..scene import MODELS, Scene
 from .effects import COLOR_EFFECTS, EFFECTS, Effect, ideal_camera
 
-__all__ = ["Plan", "plan_scene", "render_planned", "renders_color", "MODEL_ORDER"]
+__all__ = ["Plan", "plan_scene", "render_planned", "renders_color", "MODEL_ORDER", "MIRROR_AVERAGING_MEASURES"]
+
+# Measures that fit or average over points placed symmetrically about the film's centre lines
+# (a radial profile, a grid of dots, disks on both sides): with mirrored lens rays their
+# mirror images' noise is one noise, so --model auto leaves the mirrors off for them.
+MIRROR_AVERAGING_MEASURES = frozenset({"blur_disks", "distortion", "vignetting"})
 
 # Cheapest first. Effects name one of these (or "pinhole": a post-filter on
 # any render) as the cheapest part that simulates them.
@@ -215,7 +220,11 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
     ``image.metadata["plan"]``; ``render_options`` go to
     :func:`lenscompare.render.render`. A lens-system plan takes its rays
     from a table (``lens_rays = "table"``) unless the scene or the caller
-    says otherwise or ``tolerance_px`` is below the table's own bound.
+    says otherwise or ``tolerance_px`` is below the table's own bound, and
+    mirrors them (``lens_mirrors``: each pixel as accurate, mirror-image
+    pixels' noise correlated) unless the scene or the caller says otherwise
+    or the scene measures something that averages mirror-image pixels
+    (:data:`MIRROR_AVERAGING_MEASURES`).
     """
     if plan is None:
         plan = plan_scene(scene, tolerance_px=tolerance_px, tolerance_percent=tolerance_percent,
@@ -231,6 +240,9 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
         # The lens system's rays from a table: checked before the render to stay within
         # RAY_TABLE_TOLERANCE_PX of the traced ones (else it traces), inside the plan's tolerance.
         render_options["lens_rays"] = "table"
+    if (plan.model == "lens" and render_options.get("lens_mirrors") is None and scene.render.lens_mirrors is None
+            and not MIRROR_AVERAGING_MEASURES.intersection(scene.measure)):
+        render_options["lens_mirrors"] = True
     if plan.model in ("thin", "thick", "postfilter", "composite"):
         # The f-number the plan sized their blur at: a scene naming a lens and no f-number
         # gets its lens's own, wide open, as the lens system renders it (ideal_camera).
