@@ -16,7 +16,10 @@ lens system (below 1: mirroring pays; above 1: it costs):
 - ``blur_disk_<depth>``: the diameter of each emissive sphere of
   ``blur_disks`` through the Double Gauss by
   :func:`lenscompare.measure.measure_blur_disks` (an on-axis disk is its own
-  mirror image).
+  mirror image);
+- ``distortion_k1`` and ``max_abs_distortion_percent``: ``dot_grid`` through
+  ``wide.22mm`` by :func:`lenscompare.measure.measure_distortion` (the
+  grid's dots lie in mirror-image pairs, and the radial fit takes them all).
 
 Usage: python bench/bench_lens_mirrors.py [--seeds N] [--threads T]
 """
@@ -31,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from lenscompare.experiment import ExperimentSettings, Run, prepare_scene
-from lenscompare.measure import measure_blur_disks, measure_vignetting
+from lenscompare.measure import measure_blur_disks, measure_distortion, measure_vignetting
 from lenscompare.render import render
 from lenscompare.scene import load_scene
 
@@ -70,6 +73,12 @@ def _measures(scene, images) -> tuple[dict, dict]:
                 if row is not None and row.get("measured_px") is not None:
                     values.setdefault(f"blur_disk_{depth_m:.2f}m_px", []).append(row["measured_px"])
                     expected[f"blur_disk_{depth_m:.2f}m_px"] = row["expected_px"]
+    if "distortion" in scene.measure:
+        for run in runs:
+            found = measure_distortion(scene, [run])["renders"]["lens"]
+            if found is not None:
+                for name in ("k1", "max_abs_distortion_percent"):
+                    values.setdefault(f"distortion_{name}", []).append(found[name])
     return values, expected
 
 
@@ -87,7 +96,7 @@ def _compare(label: str, scene, *, spp: int, seeds: int, threads: int, image: bo
         # pixel, but a measure is not linear in the pixels.
         mean = {name: float(np.mean(v)) for name, v in whole.items()}
         modes["mirrored" if mirrored else "traced"] = {"seconds": seconds, "noise": noise, "mean": mean,
-                                                        "expected": {n: expected[n] for n in whole}}
+                                                        "expected": {n: expected.get(n) for n in whole}}
     traced, mirrored = modes["traced"], modes["mirrored"]
     # Time to a given error goes as seconds x noise^2 (the noise falls as 1/sqrt(spp)).
     ratio = {name: (mirrored["seconds"] * mirrored["noise"][name] ** 2) / (traced["seconds"] * value ** 2)
@@ -112,13 +121,15 @@ def main():
     flat = load_scene(SCENES / "flat_field.toml").with_camera(lens="wide.22mm", f_number=4.0)
     disks, _ = prepare_scene(load_scene(SCENES / "blur_disks.toml"), settings)
     disks = disks.with_camera(resolution=(360, 240))
+    dots = load_scene(SCENES / "dot_grid.toml").with_camera(lens="wide.22mm", f_number=4.0)
     kw = {"spp": args.spp, "seeds": args.seeds, "threads": args.threads}
     print(json.dumps({
         "benchmark": "lens_mirrors",
         "threads": args.threads,
         "results": [_compare("showcase (dgauss.50mm, full aperture)", showcase, image=True, **kw),
                     _compare("flat_field (wide.22mm, f/4)", flat, **kw),
-                    _compare("blur_disks (dgauss.50mm)", disks, **kw)],
+                    _compare("blur_disks (dgauss.50mm)", disks, **kw),
+                    _compare("dot_grid (wide.22mm, f/4)", dots, **kw)],
     }, indent=2))
 
 
