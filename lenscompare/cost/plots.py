@@ -68,13 +68,16 @@ def _plot_error_vs_time(scene_name: str, study: dict, path: Path) -> str:
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
-    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=min(5, len(handles)), frameon=False)
+    # As many columns as the figure's width holds at the longest label ("jittered, ray table, mirrored").
+    legend_columns = max(1, min(len(handles), int(3.5 * columns / 2.3)))
+    legend_rows = -(-len(handles) // legend_columns)
+    fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=legend_columns, frameon=False)
     # A scene name is shown literally: "$" would start matplotlib's mathematics.
     fig.suptitle("".join(c if c.isprintable() else "\ufffd" for c in f"{scene_name}: error against time")
                  .replace("$", r"\$"))
     with warnings.catch_warnings():  # a scene name in a script the font lacks: boxes, not stderr noise
         warnings.filterwarnings("ignore", message="Glyph .* missing")
-        fig.tight_layout(rect=(0, 0.07 if rows > 1 else 0.12, 1, 1))
+        fig.tight_layout(rect=(0, (0.22 * legend_rows + 0.15) / fig.get_figheight(), 1, 1))
         with atomic_output(path) as tmp:
             fig.savefig(tmp, format="png")
     plt.close(fig)
