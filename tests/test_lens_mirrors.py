@@ -243,3 +243,20 @@ def test_model_auto_mirrors_a_lens_system_plan_unless_told_or_measuring_mirror_i
     # blur disks gain from the mirrors (bench_lens_mirrors.py)
     measuring = dataclasses.replace(scene, measure=("blur_disks",))
     assert render_planned(measuring, **options).metadata["lens_mirror_axes"] == 3
+
+
+def test_plan_times_the_lens_system_as_model_auto_renders_it():
+    """The plan's predicted times hold the traced lens system and, as
+    ``lens_auto``, the one --model auto renders; the time saved is against it."""
+    from lenscompare.plan import auto_lens_options, plan_scene
+    scene = load_scene(ROOT / "lenscompare" / "reference_scenes" / "showcase.toml").with_camera(
+        lens="dgauss.50mm", f_number=None, resolution=(240, 160), focal_length_mm=None).with_render(spp=1)
+    assert auto_lens_options(scene, tolerance_px=0.5) == {"lens_rays": "table", "lens_mirrors": True}
+    assert auto_lens_options(scene, tolerance_px=0.01, lens_mirrors=False) == {}
+    data = plan_scene(scene, threads=1).to_json()
+    assert data["model"] == "lens" and {"lens", "lens_auto"} <= set(data["predicted_seconds"])
+    seconds = data["predicted_seconds"]
+    assert data["time_saved_seconds_vs_lens"] == pytest.approx(seconds["lens"] - seconds["lens_auto"])
+    # Another plan: no lens_auto to time.
+    thin = plan_scene(scene.with_camera(lens=None, focal_length_mm=50.0, f_number=2.8), threads=1).to_json()
+    assert thin["model"] != "lens" and "lens_auto" not in thin["predicted_seconds"]

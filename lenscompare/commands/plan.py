@@ -37,5 +37,6 @@ def run(args) -> int:
         flag = "needed " if e["needed"] else "omitted"
         print(f"  {flag} {name:18s} {e['magnitude']:9.3g} {e['unit']:2s}  {e['detail']}")
     for model, seconds in data["predicted_seconds"].items():
-        print(f"  predicted {model:7s} {seconds:8.2f} s")
+        how = "  (the lens system as render --model auto renders it)" if model == "lens_auto" else ""
+        print(f"  predicted {model:10s} {seconds:8.2f} s{how}")
     return 0

@@ -27,7 +27,8 @@ from ..render import render
 from ..scene import MODELS, Scene
 from .effects import COLOR_EFFECTS, EFFECTS, Effect, ideal_camera
 
-__all__ = ["Plan", "plan_scene", "render_planned", "renders_color", "MODEL_ORDER", "MIRROR_AVERAGING_MEASURES"]
+__all__ = ["Plan", "plan_scene", "render_planned", "auto_lens_options", "renders_color", "MODEL_ORDER",
+           "MIRROR_AVERAGING_MEASURES"]
 
 # Measures that average over points placed symmetrically about the film's centre lines (a
 # radial profile, a grid of dots): with mirrored lens rays their mirror images' noise is one
@@ -76,7 +77,9 @@ class Plan:
     def to_json(self) -> dict:
         saved = None
         if self.predicted_seconds:
-            saved = self.predicted_seconds.get("lens", math.nan) - self.predicted_seconds.get(self.model, math.nan)
+            # a lens-system plan renders as lens_auto where that was timed (rays from the table, mirrored)
+            chosen = "lens_auto" if self.model == "lens" and "lens_auto" in self.predicted_seconds else self.model
+            saved = self.predicted_seconds.get("lens", math.nan) - self.predicted_seconds.get(chosen, math.nan)
         data = {
             "model": self.model,
             "effects": {name: {"needed": self.needed[name], "magnitude": e.magnitude, "unit": e.unit,
@@ -175,8 +178,9 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
         suffices, edge_error = postfilter_suffices(scene, defocus_needed=needed["defocus"],
                                                    tolerance_px=tolerance_px, camera=camera, threads=threads)
         model = "postfilter" if suffices else model
-    costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None) \
-        if measure_costs else {}
+    costs = predicted_seconds(scene, threads=threads, composite_effects=parts if model == "composite" else None,
+                              lens_options=auto_lens_options(scene, tolerance_px=tolerance_px) if model == "lens"
+                              else None) if measure_costs else {}
     # at most min(spp, 16) pinhole samples (the refined pass draws fewer: a bound); the spread costs ms
     if "pinhole" in costs:
         costs["postfilter"] = costs["pinhole"] * pinhole_pass_spp(scene.render.spp) / scene.render.spp
@@ -188,10 +192,13 @@ def plan_scene(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: fl
 
 
 def predicted_seconds(scene: Scene, *, threads: int | None = None,
-                      composite_effects: tuple[str, ...] | None = None) -> dict[str, float]:
+                      composite_effects: tuple[str, ...] | None = None,
+                      lens_options: dict | None = None) -> dict[str, float]:
     """Each model's predicted time for the scene's full render, from an 8-spp
     render of a small copy (samples per second scale with pixels and spp);
-    with ``composite_effects``, the composite of those effects too."""
+    with ``composite_effects``, the composite of those effects too; with
+    ``lens_options`` (:func:`auto_lens_options`), the lens system rendered
+    with them as ``lens_auto``, beside the traced ``lens``."""
     w, h = scene.camera.resolution
     scale = max(1, int(math.sqrt(w * h / 20000)))
     small = scene.with_camera(resolution=(max(1, w // scale), max(1, h // scale)))
@@ -200,17 +207,40 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None,
     models = [m for m in MODELS if m != "lens" or scene.camera.lens]
     if composite_effects is not None:
         models.append("composite")
+    if lens_options and scene.camera.lens:
+        models.append("lens_auto")
     render(small, model="pinhole", spp=1, threads=threads, progress=False)  # warm up threads and caches
     out = {}
     for model in models:
-        effects = composite_effects if model == "composite" else None
+        options = {"effects": composite_effects} if model == "composite" else {}
+        if model == "lens_auto":
+            model_name, options = "lens", lens_options
+        else:
+            model_name = model
         try:
-            rate = max(render(small, model=model, effects=effects, spp=8, threads=threads, progress=False)
+            rate = max(render(small, model=model_name, spp=8, threads=threads, progress=False, **options)
                        .metadata["samples_per_second"] for _ in range(2))
         except InputError:
             continue  # the scene lacks what this model needs
         out[model] = w * h * scene.render.spp / rate
     return out
+
+
+def auto_lens_options(scene: Scene, *, tolerance_px: float, **render_options) -> dict:
+    """The render options ``--model auto`` adds for a lens-system plan: rays from
+    the table where the plan's tolerance allows, mirrored unless the scene
+    measures what mirrors make noisier; what the scene or ``render_options``
+    set stays theirs."""
+    options = {}
+    if (render_options.get("lens_rays") is None and scene.render.lens_rays is None
+            and tolerance_px >= RAY_TABLE_TOLERANCE_PX):
+        # The lens system's rays from a table: checked before the render to stay within
+        # RAY_TABLE_TOLERANCE_PX of the traced ones (else it traces), inside the plan's tolerance.
+        options["lens_rays"] = "table"
+    if (render_options.get("lens_mirrors") is None and scene.render.lens_mirrors is None
+            and not MIRROR_AVERAGING_MEASURES.intersection(scene.measure)):
+        options["lens_mirrors"] = True
+    return options
 
 
 def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent: float = 2.0,
@@ -237,14 +267,8 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
         scene = scene.with_render(shutter_s=(0.5 * (open_s + close_s),) * 2)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
-    if (plan.model == "lens" and render_options.get("lens_rays") is None and scene.render.lens_rays is None
-            and tolerance_px >= RAY_TABLE_TOLERANCE_PX):
-        # The lens system's rays from a table: checked before the render to stay within
-        # RAY_TABLE_TOLERANCE_PX of the traced ones (else it traces), inside the plan's tolerance.
-        render_options["lens_rays"] = "table"
-    if (plan.model == "lens" and render_options.get("lens_mirrors") is None and scene.render.lens_mirrors is None
-            and not MIRROR_AVERAGING_MEASURES.intersection(scene.measure)):
-        render_options["lens_mirrors"] = True
+    if plan.model == "lens":
+        render_options.update(auto_lens_options(scene, tolerance_px=tolerance_px, **render_options))
     if plan.model in ("thin", "thick", "postfilter", "composite"):
         # The f-number the plan sized their blur at: a scene naming a lens and no f-number
         # gets its lens's own, wide open, as the lens system renders it (ideal_camera).
