@@ -5,7 +5,8 @@ Prints one JSON object:
   showcase.toml, same resolution, spp and threads (goal >= 0.85x, issue 20; the first version's was 0.7x),
   traced (the default), mirrored, from the lens-ray table (``lens_rays = "table"``), and from
   the table with mirrored rays;
-- per shipped lens at full aperture: exit-pupil precomputation seconds (goal
+- per shipped lens at full aperture: samples/s traced and from the table with
+  mirrored rays over the pinhole's (``per_lens_over_pinhole``); exit-pupil precomputation seconds (goal
   <= 0.5 s), the fraction of traced rays that pass (goal >= 0.9), and the
   fraction of film samples traced at all (the fisheye's corners are not);
 - lens rays per second through the Double Gauss alone, no scene (goal >= 20x
@@ -33,6 +34,28 @@ from machine import describe as describe_machine
 SCENE = Path(__file__).resolve().parent.parent / "reference_scenes" / "showcase.toml"
 LENSES = {"dgauss.50mm": 3.0, "wide.22mm": 3.0, "fisheye.10mm": 3.0, "telephoto.250mm": 10.0}
 OPTILAND_RAYS_PER_SECOND = 0.5e6
+
+
+def per_lens_over_pinhole(scene, *, spp: int, threads: int, repeat: int) -> dict:
+    """Each shipped lens at full aperture on the scene: samples/s traced and as
+    --model auto renders it (rays from the table, mirrored) over the pinhole's,
+    best of ``repeat`` alternating rounds (and the medians)."""
+    paths = {"pinhole": {"model": "pinhole"}, "traced": {"model": "lens"},
+             "table_mirrored": {"model": "lens", "lens_rays": "table", "lens_mirrors": True}}
+    out = {}
+    for name, focus_m in LENSES.items():
+        lens_scene = scene.with_camera(lens=name, focus_distance_m=focus_m)
+        rounds = {key: [] for key in paths}
+        for _ in range(repeat):
+            for key, options in paths.items():
+                rounds[key].append(render(lens_scene, spp=spp, threads=threads, progress=False, **options)
+                                   .metadata["samples_per_second"])
+        best = {key: max(values) for key, values in rounds.items()}
+        median = {key: statistics.median(values) for key, values in rounds.items()}
+        out[name] = {f"{key}_over_pinhole": best[key] / best["pinhole"] for key in ("traced", "table_mirrored")}
+        out[name].update({f"median_{key}_over_pinhole": median[key] / median["pinhole"]
+                          for key in ("traced", "table_mirrored")})
+    return out
 
 
 def main():
@@ -83,6 +106,8 @@ def main():
         "goal_lens_over_pinhole": 0.85,
         "lenses": {},
     }
+    results["per_lens_over_pinhole"] = per_lens_over_pinhole(scene, spp=args.spp, threads=args.threads,
+                                                            repeat=args.repeat)
     for name, focus_m in LENSES.items():
         lens_scene = scene.with_camera(lens=name, focus_distance_m=focus_m)
         start = time.perf_counter()
