@@ -3,7 +3,7 @@
 ``render(..., lens_mirrors=True)`` traces a quarter of the camera samples and
 reflects them into the mirror-image pixels. Each pixel is then estimated as well
 as before at a fraction of the cost, but the errors of mirror-image pixels are
-the same, so a measure that averages them gains less. This prints, for three
+the same, so a measure that averages them gains less. This prints, for four
 measures, the noise (standard deviation over seeds) and the render time of each
 mode, and their product as the time to a given error relative to the traced
 lens system (below 1: mirroring pays; above 1: it costs):

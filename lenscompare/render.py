@@ -118,9 +118,10 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         polygon has). About 1.5x the samples per second, each pixel as
         accurate as before, but the four pixels' errors are correlated: a
         measure that averages mirror-image pixels (a radial vignetting
-        profile, an on-axis blur disk) gains nothing from averaging them.
-        Overrides ``[render] lens_mirrors``; off when neither says
-        (``LENSCOMPARE_LENS_MIRRORS=1`` turns it on for every lens system).
+        profile, a dot grid's distortion) gains nothing from averaging them
+        (``bench/bench_lens_mirrors.py``). Overrides ``[render]
+        lens_mirrors``; when neither says, off unless
+        ``LENSCOMPARE_LENS_MIRRORS=1``.
     lens_rays : {'traced', 'table'}, optional
         Override ``[render] lens_rays``: ``lens`` renders only, each
         sample's ray traced through every surface (``traced``, the default
@@ -206,8 +207,9 @@ def render(scene: Scene, *, model: str | None = None, spp: int | None = None, sa
         settings = scene.with_render(spp=pinhole_pass_spp(settings.spp)).render
         pinhole = camera_for(scene, "pinhole")
     native_camera = (pinhole if postfilter else camera).native(disk_mapping=settings.disk_mapping)
-    if settings.lens_mirrors and hasattr(native_camera, "symmetric_mirror_axes"):
-        native_camera.mirror_axes = native_camera.symmetric_mirror_axes
+    if settings.lens_mirrors is not None and hasattr(native_camera, "symmetric_mirror_axes"):
+        # Said either way, it holds over LENSCOMPARE_LENS_MIRRORS (which set the camera's default).
+        native_camera.mirror_axes = native_camera.symmetric_mirror_axes if settings.lens_mirrors else 0
     native_scene = build_native_scene(scene)
     spectral_info = (make_spectral(native_scene, native_camera, scene, pinhole if postfilter else camera,
                                    traced_wavelengths=traced_wavelengths, sample_wavelengths=sample_wavelengths,

@@ -260,3 +260,15 @@ def test_plan_times_the_lens_system_as_model_auto_renders_it():
     # Another plan: no lens_auto to time.
     thin = plan_scene(scene.with_camera(lens=None, focal_length_mm=50.0, f_number=2.8), threads=1).to_json()
     assert thin["model"] != "lens" and "lens_auto" not in thin["predicted_seconds"]
+
+
+def test_an_explicit_false_holds_over_the_environment_variable(monkeypatch):
+    """LENSCOMPARE_LENS_MIRRORS=1 mirrors every lens system whose render does
+    not say; lens_mirrors=False (or the scene's false) still traces every sample."""
+    from lenscompare.render import render
+    monkeypatch.setenv("LENSCOMPARE_LENS_MIRRORS", "1")
+    scene = lens_scene(resolution=(32, 22))
+    options = dict(model="lens", spp=2, seed=3, threads=1, progress=False)
+    assert render(scene, **options).metadata["lens_mirror_axes"] == 3
+    assert "lens_mirror_axes" not in render(scene, lens_mirrors=False, **options).metadata
+    assert "lens_mirror_axes" not in render(scene.with_render(lens_mirrors=False), **options).metadata
