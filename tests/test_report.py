@@ -56,6 +56,11 @@ def test_results_json_holds_every_render_and_measurement(quick_report):
         assert {(scene, m, "mitsuba") for m in ("pinhole", "thin")} <= labels
         assert results["scenes"][scene]["vs_mitsuba"]["thin"]["ssim"] > 0.95
     assert results["scenes"]["showcase"]["vs_mitsuba"] == {}
+    # The showcase's plan is the lens system, which --model auto renders from the table with mirrored
+    # rays: the report renders that too, and each of its pixels is as noisy as the traced render's.
+    plan = results["scenes"]["showcase"]["plan"]
+    assert plan["model"] == "lens" and plan["lens_options"] == {"lens_rays": "table", "lens_mirrors": True}
+    assert plan["chosen_seconds"] > 0 and 0.8 < plan["noise_variance_ratio_vs_lens"] < 1.25
     assert any("Mitsuba" in n and "falloff" in n for n in results["scenes"]["showcase"]["notes"])
     mitsuba_blur = results["scenes"]["blur_disks"]["blur_disks"]["renders"]["thin (Mitsuba)"]
     assert all(abs(row["error_percent"]) < 10 for row in mitsuba_blur if row and row["expected_px"] >= 4.0)

@@ -29,7 +29,7 @@ from ..experiment import (
 from ..figures import write_teaching_figures
 from ..lenses import load_prescription
 from ..mitsuba import mitsuba_version
-from ..plan import plan_scene, render_planned
+from ..plan import auto_lens_options, plan_scene, render_planned
 from ..povray import povray_version
 from ..progress import progress_bar
 from ..scene import MODELS, Scene
@@ -153,7 +153,8 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
     """The planner's predictions for this scene beside what the renders show.
 
     A plan for a render the report does not make anyway (a composite, the
-    postfilter) is rendered here, at the scene's spp. Time saved is measured
+    postfilter, the lens system as --model auto renders it: rays from the
+    table, mirrored) is rendered here, at the scene's spp. Time saved is measured
     twice: at equal spp, and at equal noise, scaling the chosen render's time
     by its mean per-pixel variance over the lens system's (Monte Carlo noise
     variance falls as 1/spp, so that is the time it needs to be as noisy).
@@ -163,6 +164,10 @@ def _plan_against_measured(scene: Scene, by_label: dict, settings: ExperimentSet
     seconds = {label: run.seconds for label, run in by_label.items()}
     plan["render_seconds"] = {m: seconds.get(m) for m in MODELS}
     chosen = by_label.get(plan["model"])
+    if plan["model"] == "lens":
+        plan["lens_options"] = auto_lens_options(scene, tolerance_px=planned.tolerance_px)
+        if plan["lens_options"]:
+            chosen = None  # the report's lens system is traced: render the faster one auto renders
     chosen_image = chosen.image if chosen is not None else None
     if chosen is None and "lens" in by_label:
         chosen_image = render_planned(scene, plan=planned, threads=settings.threads, progress=False)
