@@ -33,8 +33,8 @@ __all__ = ["Plan", "plan_scene", "render_planned", "auto_lens_options", "renders
 # Measures that average over points placed symmetrically about the film's centre lines (a
 # radial profile, a grid of dots): with mirrored lens rays their mirror images' noise is one
 # noise, and the measure gains nothing or takes longer to a given error than traced
-# (bench_lens_mirrors.py: relative illumination 1.0-1.2x, distortion's k1 1.6-1.8x), so
-# --model auto leaves the mirrors off. Blur disks gain from them (0.25-0.67x) and keep them.
+# (bench_lens_mirrors.py: relative illumination 1.0-1.2x, distortion's k1 1.5-1.7x), so
+# --model auto leaves the mirrors off. Blur disks gain from them (0.24-0.71x) and keep them.
 MIRROR_AVERAGING_MEASURES = frozenset({"distortion", "vignetting"})
 
 # Cheapest first. Effects name one of these (or "pinhole": a post-filter on
