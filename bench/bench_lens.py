@@ -36,20 +36,28 @@ LENSES = {"dgauss.50mm": 3.0, "wide.22mm": 3.0, "fisheye.10mm": 3.0, "telephoto.
 OPTILAND_RAYS_PER_SECOND = 0.5e6
 
 
+def alternating_rounds(scene, paths: dict, *, spp: int, threads: int, repeat: int) -> dict[str, list[float]]:
+    """Samples/s of each path (render keywords by name), one render of each per
+    round for ``repeat`` rounds: a slow spell of the machine then costs every
+    path alike instead of one."""
+    rounds = {key: [] for key in paths}
+    for _ in range(repeat):
+        for key, options in paths.items():
+            rounds[key].append(render(scene, spp=spp, threads=threads, progress=False, **options)
+                               .metadata["samples_per_second"])
+    return rounds
+
+
 def per_lens_over_pinhole(scene, *, spp: int, threads: int, repeat: int) -> dict:
     """Each shipped lens at full aperture on the scene: samples/s traced and as
     --model auto renders it (rays from the table, mirrored) over the pinhole's,
     best of ``repeat`` alternating rounds (and the medians)."""
-    paths = {"pinhole": {"model": "pinhole"}, "traced": {"model": "lens"},
+    paths = {"pinhole": {"model": "pinhole"}, "traced": {"model": "lens", "lens_mirrors": False},
              "table_mirrored": {"model": "lens", "lens_rays": "table", "lens_mirrors": True}}
     out = {}
     for name, focus_m in LENSES.items():
-        lens_scene = scene.with_camera(lens=name, focus_distance_m=focus_m)
-        rounds = {key: [] for key in paths}
-        for _ in range(repeat):
-            for key, options in paths.items():
-                rounds[key].append(render(lens_scene, spp=spp, threads=threads, progress=False, **options)
-                                   .metadata["samples_per_second"])
+        rounds = alternating_rounds(scene.with_camera(lens=name, focus_distance_m=focus_m), paths, spp=spp,
+                                    threads=threads, repeat=repeat)
         best = {key: max(values) for key, values in rounds.items()}
         median = {key: statistics.median(values) for key, values in rounds.items()}
         out[name] = {f"{key}_over_pinhole": best[key] / best["pinhole"] for key in ("traced", "table_mirrored")}
@@ -67,19 +75,14 @@ def main():
     args = parser.parse_args()
 
     scene = load_scene(SCENE).with_camera(lens="dgauss.50mm", f_number=None)
-    # Alternate the two models and keep each one's best of --repeat: a slow
-    # spell of the machine then costs both alike instead of one.
+    # Each path's best of --repeat alternating rounds.
     # lens_mirrored: render(lens_mirrors=True), a quarter of the samples traced, the rest reflected.
     # lens_table: [render] lens_rays = "table", the rays interpolated from a table traced once.
     # lens_table_mirrored: both (one look-up serves a sample and its mirror images).
-    rounds = {"pinhole": [], "lens": [], "lens_mirrored": [], "lens_table": [], "lens_table_mirrored": []}
-    for _ in range(args.repeat):
-        for key, values in rounds.items():
-            model = key.split("_")[0]
-            values.append(render(scene, model=model, spp=args.spp, threads=args.threads, progress=False,
-                                 lens_mirrors=key.endswith("_mirrored"),
-                                 lens_rays="table" if "_table" in key else None
-                                 ).metadata["samples_per_second"])
+    paths = {key: {"model": key.split("_")[0], "lens_mirrors": key.endswith("_mirrored"),
+                   "lens_rays": "table" if "_table" in key else None}
+             for key in ("pinhole", "lens", "lens_mirrored", "lens_table", "lens_table_mirrored")}
+    rounds = alternating_rounds(scene, paths, spp=args.spp, threads=args.threads, repeat=args.repeat)
     sps = {key: max(values) for key, values in rounds.items()}
     median = {key: statistics.median(values) for key, values in rounds.items()}
     results = {

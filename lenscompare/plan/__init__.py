@@ -212,13 +212,10 @@ def predicted_seconds(scene: Scene, *, threads: int | None = None,
     render(small, model="pinhole", spp=1, threads=threads, progress=False)  # warm up threads and caches
     out = {}
     for model in models:
-        options = {"effects": composite_effects} if model == "composite" else {}
-        if model == "lens_auto":
-            model_name, options = "lens", lens_options
-        else:
-            model_name = model
+        options = {"composite": {"effects": composite_effects}, "lens_auto": lens_options}.get(model, {})
         try:
-            rate = max(render(small, model=model_name, spp=8, threads=threads, progress=False, **options)
+            rate = max(render(small, model="lens" if model == "lens_auto" else model, spp=8, threads=threads,
+                              progress=False, **options)
                        .metadata["samples_per_second"] for _ in range(2))
         except InputError:
             continue  # the scene lacks what this model needs
@@ -267,8 +264,8 @@ def render_planned(scene: Scene, *, tolerance_px: float = 0.5, tolerance_percent
         scene = scene.with_render(shutter_s=(0.5 * (open_s + close_s),) * 2)
     if render_options.get("diffraction") is None:  # a post-filter on any model's image: on when needed
         render_options["diffraction"] = plan.needed["diffraction"]
-    if plan.model == "lens":
-        render_options.update(auto_lens_options(scene, tolerance_px=tolerance_px, **render_options))
+    if plan.model == "lens":  # at the plan's tolerance: a plan made elsewhere (the report's) keeps its own
+        render_options.update(auto_lens_options(scene, tolerance_px=plan.tolerance_px, **render_options))
     if plan.model in ("thin", "thick", "postfilter", "composite"):
         # The f-number the plan sized their blur at: a scene naming a lens and no f-number
         # gets its lens's own, wide open, as the lens system renders it (ideal_camera).

@@ -230,8 +230,7 @@ def render_page(results: dict) -> str:
         measured = _measured_effects(s)
         for effect, e in plan["effects"].items():
             rows.append([name, effect, e["magnitude"], e["unit"], measured.get(effect), "yes" if e["needed"] else "no"])
-        how = ", ".join(f"{k} {'table' if v == 'table' else 'on' if v is True else v}"
-                        for k, v in plan.get("lens_options", {}).items())
+        how = ", ".join(f"{k} {'on' if v is True else v}" for k, v in plan.get("lens_options", {}).items())
         rows.append([name, f"→ model {plan['model']}" + (f" ({how})" if how else ""), plan.get("time_saved_seconds"),
                      "s saved vs lens, equal spp", None, ""])
         rows.append([name, "", plan.get("time_saved_at_equal_noise_seconds"), "s saved vs lens, equal noise", None,
